@@ -1,0 +1,36 @@
+#include "core/methods.h"
+
+#include "core/check.h"
+#include "core/hbao.h"
+
+namespace aolab {
+
+const std::vector<Method>& methods() {
+  // Built on first use (no static-initialisation order issues); every method joins here.
+  static const std::vector<Method> all = {hbao_method()};
+  return all;
+}
+
+const Method& find_method(const std::string& name) {
+  std::string names;
+  for (const auto& m : methods()) {
+    if (m.name == name) return m;
+    names += (names.empty() ? "" : ", ") + m.name;
+  }
+  throw_invalid("method", "must be one of " + names, "'" + name + "'");
+}
+
+Image compute(const std::string& method, const GBuffer& g, const SettingValues& settings,
+              const RunOptions& options) {
+  const Method& m = find_method(method);
+  g.validate();
+  if (m.needs_normal && !g.has_normal())
+    throw_invalid("normal", "is required by " + m.name + ", which reads view-space normals",
+                  "none");
+  if (m.needs_color && !g.has_color())
+    throw_invalid("color", "is required by " + m.name, "none");
+  if (!settings.count("radius")) throw_invalid("radius", "is required", "nothing");
+  return m.run(g, settings, options);
+}
+
+}  // namespace aolab

@@ -1,0 +1,117 @@
+"""AO Lab: screen-space ambient occlusion methods scored against a Cycles reference.
+
+Conventions (docs/conventions.md): AO is ambient accessibility in [0, 1] (1 = unoccluded);
+view space is Blender's camera space (x right, y up, looking down -z); depth is planar
+depth d = -z > 0; background pixels (depth not finite, <= 0 or >= background_depth) get AO 1
+and are excluded from every metric.
+
+Arrays are numpy float32; C-contiguous float32 input is used in place, without copies.
+Bad input raises ValueError naming the parameter and its value. Heavy calls release the GIL.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+
+__all__ = [
+    "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
+    "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
+    "analytic_scene", "analytic_scene_names",
+]
+
+GBuffer = _core.GBuffer
+Progress = _core.Progress
+Cancelled = _core.Cancelled
+
+
+def methods() -> list[str]:
+    """Names of the available methods, e.g. ``['hbao']``."""
+    return _core.methods()
+
+
+def method_info(method: str) -> dict:
+    """Description of a method: paper, what it reads, and every setting with its default,
+    unit, range and meaning."""
+    return _core.method_info(method)
+
+
+def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
+            blur: bool = False, blur_sigma: float = 1.5, blur_taps: int = 5,
+            progress: Progress | None = None, **settings) -> np.ndarray:
+    """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1].
+
+    ``radius`` is the view-space radius of influence (the reference's AO distance).
+    ``settings`` are the method's own (see ``method_info``). ``blur`` applies the separable
+    Gaussian of :func:`gaussian_blur` afterwards; it is kept apart from the method so that it
+    can be timed apart. ``threads = 0`` uses all cores; results do not depend on it.
+    """
+    values = dict(settings)
+    values["radius"] = radius
+    ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress)
+    if blur:
+        ao = _core.gaussian_blur(ao, gbuffer, sigma=blur_sigma, taps=blur_taps,
+                                 threads=threads)
+    return ao
+
+
+def gaussian_blur(ao: np.ndarray, gbuffer: GBuffer, *, sigma: float = 1.5, taps: int = 5,
+                  threads: int = 0) -> np.ndarray:
+    """Separable Gaussian low-pass of an AO image over the G-buffer's valid pixels:
+    background pixels neither contribute nor change."""
+    return _core.gaussian_blur(ao, gbuffer, sigma=sigma, taps=taps, threads=threads)
+
+
+def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None) -> dict:
+    """Accuracy of ``ao`` against ``reference`` over ``mask`` (non-zero = scored pixel; all
+    pixels when None): dict with ``mae``, ``rmse``, ``psnr``, ``bias``, ``ssim``, ``count``."""
+    return _core.metrics(ao, reference, mask)
+
+
+def load_gbuffer(path) -> GBuffer:
+    """A G-buffer from a Blender multilayer EXR and its camera sidecar JSON (``<stem>.json``).
+    The returned GBuffer also carries ``reference`` (the AO pass, or None) and ``sidecar``."""
+    data = _core.load_gbuffer_arrays(str(path))
+    side = data["sidecar"]
+    g = GBuffer(data["depth"], data["normal"], data["color"], fx=side["fx"], fy=side["fy"],
+                cx=side["cx"], cy=side["cy"],
+                background_depth=side.get("background_depth", _core.DEFAULT_BACKGROUND_DEPTH))
+    g.reference = data["ao"]
+    g.sidecar = side
+    g.path = str(path)
+    return g
+
+
+def save_gbuffer(path, gbuffer: GBuffer, *, reference: np.ndarray | None = None,
+                 sidecar: dict | None = None) -> None:
+    """Writes ``gbuffer`` (and an optional AO reference) as a Blender-style multilayer EXR with
+    its camera sidecar, atomically."""
+    _core.save_gbuffer(str(path), gbuffer, reference, sidecar or {})
+
+
+def write_image(path, image: np.ndarray) -> None:
+    """Writes an AO image: ``.exr`` as float32, ``.png`` as 8-bit (value·255, no transfer
+    curve), atomically."""
+    _core.write_image(str(path), image)
+
+
+def analytic_scene_names() -> list[str]:
+    """Names of the built-in analytic scenes (docs/analytic_scenes.md)."""
+    return _core.analytic_scene_names()
+
+
+def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> GBuffer:
+    """A G-buffer of a built-in scene with known answers, rendered exactly. Its
+    ``reference`` is the closed-form Cycles AO for ``params['radius']`` (default 1) where the
+    scene has one, NaN elsewhere; ``camera_to_world`` is a 4x4 list (row-major)."""
+    data = _core.analytic_scene(name, width, height, params)
+    g = GBuffer(data["depth"], data["normal"], fx=data["fx"], fy=data["fy"], cx=data["cx"],
+                cy=data["cy"])
+    g.reference = data["reference"]
+    g.camera_to_world = data["camera_to_world"]
+    g.sidecar = {"width": width, "height": height, "fx": data["fx"], "fy": data["fy"],
+                 "cx": data["cx"], "cy": data["cy"], "camera_to_world": data["camera_to_world"],
+                 "ao_distance": params.get("radius", 1.0), "normal_space": "view",
+                 "scene": f"analytic:{name}", "params": params}
+    return g

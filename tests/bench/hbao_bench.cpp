@@ -1,0 +1,84 @@
+// HBAO timing at 1280x720 on the `blocks` analytic scene (not a test: run `aolab_bench`,
+// or `scripts/bench.sh`, and record the medians in docs/benchmarks.md).
+//  - BM_HbaoOracle: the straightforward scalar single-thread implementation (the oracle);
+//  - BM_Hbao/threads: the library's implementation, N_d = 8, N_s = 8;
+//  - BM_HbaoRadius/scale: how time grows with R at fixed N_d, N_s (the samples spread out,
+//    so cache misses grow) and BM_HbaoRadiusDensity/scale at constant sample density
+//    (N_s grows with R), 2 threads.
+#include <benchmark/benchmark.h>
+
+#include "core/analytic_scenes.h"
+#include "core/hbao.h"
+#include "tests/oracles/hbao_oracle.h"
+
+namespace {
+
+using namespace aolab;
+
+constexpr int kWidth = 1280, kHeight = 720;
+// R = 0.25 in the `blocks` scene (size 1) projects to ~40 px at mid-frame: the usual SSAO
+// setting; scales ×2..×8 reach ~320 px.
+constexpr float kRadius = 0.25f;
+
+const AnalyticGBuffer& scene() {
+  static const AnalyticGBuffer s = analytic_scene("blocks", kWidth, kHeight);
+  return s;
+}
+
+GBuffer gbuffer() {
+  const auto& s = scene();
+  GBuffer g;
+  g.depth = s.depth.view();
+  g.normal = s.normal.view();
+  g.camera = s.camera;
+  return g;
+}
+
+HbaoSettings settings(float radius_scale = 1.0f, int steps = kHbaoDefaultSteps) {
+  HbaoSettings st;
+  st.radius = kRadius * radius_scale;
+  st.steps = steps;
+  return st;
+}
+
+void BM_HbaoOracle(benchmark::State& state) {
+  const GBuffer g = gbuffer();
+  for (auto _ : state) benchmark::DoNotOptimize(hbao_oracle(g, settings()));
+  state.counters["threads"] = 1;
+}
+BENCHMARK(BM_HbaoOracle)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Hbao(benchmark::State& state) {
+  const GBuffer g = gbuffer();
+  RunOptions opt;
+  opt.threads = int(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(hbao(g, settings(), opt));
+  state.counters["threads"] = double(opt.threads);
+}
+BENCHMARK(BM_Hbao)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_HbaoRadius(benchmark::State& state) {
+  const GBuffer g = gbuffer();
+  RunOptions opt;
+  opt.threads = 2;
+  const float scale = float(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(hbao(g, settings(scale), opt));
+  state.counters["radius"] = kRadius * scale;
+}
+BENCHMARK(BM_HbaoRadius)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_HbaoRadiusDensity(benchmark::State& state) {
+  const GBuffer g = gbuffer();
+  RunOptions opt;
+  opt.threads = 2;
+  const int scale = int(state.range(0));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(hbao(g, settings(float(scale), kHbaoDefaultSteps * scale), opt));
+  state.counters["radius"] = kRadius * float(scale);
+  state.counters["steps"] = kHbaoDefaultSteps * scale;
+}
+BENCHMARK(BM_HbaoRadiusDensity)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
