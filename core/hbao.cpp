@@ -146,7 +146,8 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, int x, int y, float* dir
             kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(d, ds) / r;
         if (!(gain > tolerance)) continue;
       }
-      if (gain > best_gain) best_gain = gain, best_r = r;
+      if (gain > 0.0f && (best_r == 0.0f || gain > best_gain + kHbaoHorizonTie))
+        best_gain = gain, best_r = r;
     }
     occlusion += best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);
   }

@@ -33,6 +33,12 @@ constexpr float kHbaoDepthUlps = 8.0f;
 constexpr float kHbaoNormalUlps = 4.0f;
 constexpr float kHbaoNormalTolerance = 1e-6f;
 
+/// The horizon point's distance r sets W (eq. 3), so the choice among samples of nearly
+/// equal elevation must not hinge on rounding: a farther sample becomes the horizon only if
+/// its sin α - sin t exceeds the current one by more than this (ties go to the nearer
+/// sample, the first one met). 1e-5 in sine is far below any visible difference.
+constexpr float kHbaoHorizonTie = 1e-5f;
+
 struct HbaoSettings {
   /// R: radius of influence in view-space units (the reference's AO distance). (0, 1e20].
   float radius = 1.0f;

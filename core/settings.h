@@ -56,7 +56,7 @@ void validate_settings(const S& s, const SettingField<S> (&fields)[N]) {
     std::visit(
         [&](auto member) {
           const double v = double(s.*member);
-          using T = std::remove_reference_t<decltype(s.*member)>;
+          using T = std::remove_cvref_t<decltype(s.*member)>;
           if constexpr (std::is_same_v<T, bool>) return;
           if (!std::isfinite(v) || v < f.min || v > f.max)
             throw_invalid(f.name, std::string("must be in ") + detail::format_range(f.min, f.max) +
@@ -75,7 +75,7 @@ bool set_setting(S& s, const SettingField<S> (&fields)[N], const std::string& na
     if (name != f.name) continue;
     std::visit(
         [&](auto member) {
-          using T = std::remove_reference_t<decltype(s.*member)>;
+          using T = std::remove_cvref_t<decltype(s.*member)>;
           if constexpr (std::is_same_v<T, bool>) {
             if (value != 0.0 && value != 1.0) throw_invalid(name, "must be a boolean", value);
             s.*member = value != 0.0;
@@ -128,7 +128,7 @@ std::vector<SettingDescription> describe_settings(const SettingField<S> (&fields
     d.description = f.description;
     std::visit(
         [&](auto member) {
-          using T = std::remove_reference_t<decltype(defaults.*member)>;
+          using T = std::remove_cvref_t<decltype(defaults.*member)>;
           d.type = std::is_same_v<T, bool> ? SettingType::Bool
                    : std::is_same_v<T, int> ? SettingType::Int
                                             : SettingType::Float;

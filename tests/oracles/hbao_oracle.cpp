@@ -92,7 +92,8 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
                                      kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
-          if (gain > best_gain) best_gain = gain, best_r = r;
+          if (gain > 0.0 && (best_r == 0.0 || gain > best_gain + kHbaoHorizonTie))
+            best_gain = gain, best_r = r;
         }
         sum += best_gain * std::max(0.0, 1.0 - best_r / R);  // W = max(0, 1 - r/R)
       }

@@ -63,10 +63,12 @@ def gaussian_blur(ao: np.ndarray, gbuffer: GBuffer, *, sigma: float = 1.5, taps:
     return _core.gaussian_blur(ao, gbuffer, sigma=sigma, taps=taps, threads=threads)
 
 
-def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None) -> dict:
+def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, *,
+            threads: int = 0) -> dict:
     """Accuracy of ``ao`` against ``reference`` over ``mask`` (non-zero = scored pixel; all
-    pixels when None): dict with ``mae``, ``rmse``, ``psnr``, ``bias``, ``ssim``, ``count``."""
-    return _core.metrics(ao, reference, mask)
+    pixels when None): dict with ``mae``, ``rmse``, ``psnr``, ``bias`` (mean of ao - reference:
+    positive = under-occlusion), ``ssim`` and ``count`` (docs/metrics.md)."""
+    return _core.metrics(ao, reference, mask, threads=threads)
 
 
 def load_gbuffer(path) -> GBuffer:
