@@ -140,11 +140,11 @@ AnalyticScene plane_scene(const Params& p) {
 }
 
 AnalyticScene ceiling_scene(const Params& p) {
-  // Floor z = 0 under a parallel ceiling z = height (both infinite), seen from half height
+  // Floor z = 0 under a parallel ceiling z = ceiling_height (both infinite), seen from half height
   // looking along +y: every point has Cycles AO (h/R)² for R > h.
   AnalyticScene s;
-  const double h = p.at("height");
-  if (!(h > 0)) throw_invalid("height", "must be > 0", h);
+  const double h = p.at("ceiling_height");
+  if (!(h > 0)) throw_invalid("ceiling_height", "must be > 0", h);
   auto ao = [h](const glm::dvec3&, double r) { return cycles_ao_under_ceiling(h, r); };
   AnalyticFace floor = face({0, 0, 1}, 0), ceiling = face({0, 0, -1}, -h);
   floor.cycles_ao = ceiling.cycles_ao = ao;
@@ -194,13 +194,13 @@ AnalyticScene crease_scene(const Params& p) {
 
 AnalyticScene step_scene(const Params& p) {
   // A floor facing the camera at depth `distance` and, for x >= 0, a raised slab whose top is
-  // `height` closer; its side lies in the plane x = 0, edge-on to the camera, so the depth
+  // `step_height` closer; its side lies in the plane x = 0, edge-on to the camera, so the depth
   // buffer shows a clean step. A narrow field of view keeps it close to a heightfield seen
   // from straight above (HBAO's known answer is integrated numerically in the tests).
   AnalyticScene s;
-  const double d = p.at("distance"), h = p.at("height");
+  const double d = p.at("distance"), h = p.at("step_height");
   if (!(d > 0)) throw_invalid("distance", "must be > 0", d);
-  if (!(h > 0 && h < d)) throw_invalid("height", "must be in (0, distance)", h);
+  if (!(h > 0 && h < d)) throw_invalid("step_height", "must be in (0, distance)", h);
   s.faces.push_back(face({0, 0, 1}, -d, {{1, 0, 0, 0}}));
   s.faces.push_back(face({0, 0, 1}, -(d - h), {{-1, 0, 0, 0}}));
   s.faces.push_back(face({-1, 0, 0}, 0, {{0, 0, 1, -(d - h)}, {0, 0, -1, d}}));
@@ -236,10 +236,10 @@ struct SceneEntry {
 const std::vector<SceneEntry>& scene_table() {
   static const std::vector<SceneEntry> table = {
       {"plane", {{"distance", 5}, {"tilt", 0}, {"azimuth", 0}, {"fov", 60}}, plane_scene},
-      {"ceiling", {{"height", 1}, {"fov", 90}}, ceiling_scene},
+      {"ceiling", {{"ceiling_height", 1}, {"fov", 90}}, ceiling_scene},
       {"wall", {{"distance", 3}, {"camera_height", 1.5}, {"fov", 70}}, wall_scene},
       {"crease", {{"distance", 5}, {"fov", 60}}, crease_scene},
-      {"step", {{"distance", 50}, {"height", 0.5}, {"fov", 10}}, step_scene},
+      {"step", {{"distance", 50}, {"step_height", 0.5}, {"fov", 10}}, step_scene},
       {"blocks", {{"size", 1}, {"fov", 70}}, blocks_scene},
   };
   return table;

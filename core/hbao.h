@@ -40,7 +40,7 @@ constexpr float kHbaoNormalTolerance = 1e-6f;
 constexpr float kHbaoHorizonTie = 1e-5f;
 
 struct HbaoSettings {
-  /// R: radius of influence in view-space units (the reference's AO distance). (0, 1e20].
+  /// R: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
   float radius = 1.0f;
   /// N_d: directions around the view axis, uniformly spaced (§3). [1, 64].
   int directions = kHbaoDefaultDirections;
@@ -62,7 +62,7 @@ struct HbaoSettings {
 };
 
 inline const SettingField<HbaoSettings> kHbaoFields[] = {
-    {"radius", &HbaoSettings::radius, 1e-12, 1e20, "view-space units",
+    {"radius", &HbaoSettings::radius, 1e-12, 1e30, "view-space units",
      "R, radius of influence (same as the reference's AO distance)"},
     {"directions", &HbaoSettings::directions, 1, 64, "", "N_d, directions per pixel"},
     {"steps", &HbaoSettings::steps, 1, 512, "", "N_s, steps per direction"},

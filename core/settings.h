@@ -58,7 +58,9 @@ void validate_settings(const S& s, const SettingField<S> (&fields)[N]) {
           const double v = double(s.*member);
           using T = std::remove_cvref_t<decltype(s.*member)>;
           if constexpr (std::is_same_v<T, bool>) return;
-          if (!std::isfinite(v) || v < f.min || v > f.max)
+          // A float field holds its bounds rounded to float (1e30 becomes 1.0000000150e30).
+          const double lo = double(T(f.min)), hi = double(T(f.max));
+          if (!std::isfinite(v) || v < lo || v > hi)
             throw_invalid(f.name, std::string("must be in ") + detail::format_range(f.min, f.max) +
                                       (f.unit[0] ? std::string(" ") + f.unit : ""),
                           s.*member);

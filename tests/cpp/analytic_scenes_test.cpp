@@ -45,7 +45,7 @@ TEST(AnalyticScene, ReconstructedPointsLieOnTheirPlane) {
 }
 
 TEST(AnalyticScene, CeilingReferenceFollowsRadius) {
-  const auto s = analytic_scene("ceiling", 32, 32, {{"height", 1}, {"radius", 2}});
+  const auto s = analytic_scene("ceiling", 32, 32, {{"ceiling_height", 1}, {"radius", 2}});
   for (float v : s.reference.pixels()) EXPECT_NEAR(v, 0.25f, 1e-7f);
 }
 

@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 #include <limits>
 
-#include "tests/cpp/test_scenes.h"
+#include "tests/cpp/test_support.h"
 
 namespace aolab {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "tests/cpp/test_scenes.h"
+#include "tests/cpp/test_support.h"
 #include "tests/oracles/hbao_oracle.h"
 
 namespace aolab {

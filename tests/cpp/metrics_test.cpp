@@ -1,6 +1,7 @@
 // Known answers for core/metrics.h: identical images, constant offsets, masks, errors,
 // thread-count independence.
 #include "core/metrics.h"
+#include "tests/cpp/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -25,16 +26,6 @@ Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f, f
   return image;
 }
 
-// The message of the std::invalid_argument thrown by f, or "" if none.
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(Metrics, IdenticalImages) {
   const Image a = random_image(40, 30, 1);
@@ -115,29 +106,29 @@ TEST(Metrics, MaskedOutDifferencesLeaveIdenticalScores) {
 TEST(Metrics, RejectsMismatchedSizes) {
   const Image a(10, 8, 1, 0.5f), b(8, 10, 1, 0.5f);
   const std::string msg =
-      invalid_argument_message([&] { compute_metrics(a.view(), b.view()); });
+      testing::invalid_argument_message([&] { compute_metrics(a.view(), b.view()); });
   EXPECT_NE(msg.find("reference"), std::string::npos) << msg;
   EXPECT_NE(msg.find("8x10"), std::string::npos) << msg;
   const std::string mask_msg =
-      invalid_argument_message([&] { compute_metrics(a.view(), a.view(), b.view()); });
+      testing::invalid_argument_message([&] { compute_metrics(a.view(), a.view(), b.view()); });
   EXPECT_NE(mask_msg.find("mask"), std::string::npos) << mask_msg;
 }
 
 TEST(Metrics, RejectsMultiChannelImages) {
   const Image a(6, 6, 1, 0.5f), rgb(6, 6, 3, 0.5f);
-  EXPECT_NE(invalid_argument_message([&] { compute_metrics(rgb.view(), a.view()); }).find("ao"),
+  EXPECT_NE(testing::invalid_argument_message([&] { compute_metrics(rgb.view(), a.view()); }).find("ao"),
             std::string::npos);
-  EXPECT_NE(invalid_argument_message([&] { compute_metrics(a.view(), rgb.view()); })
+  EXPECT_NE(testing::invalid_argument_message([&] { compute_metrics(a.view(), rgb.view()); })
                 .find("reference"),
             std::string::npos);
-  EXPECT_NE(invalid_argument_message([&] { compute_metrics(a.view(), a.view(), rgb.view()); })
+  EXPECT_NE(testing::invalid_argument_message([&] { compute_metrics(a.view(), a.view(), rgb.view()); })
                 .find("mask"),
             std::string::npos);
 }
 
 TEST(Metrics, RejectsEmptyMask) {
   const Image a(6, 5, 1, 0.5f), mask(6, 5, 1, 0.0f);
-  EXPECT_EQ(invalid_argument_message([&] { compute_metrics(a.view(), a.view(), mask.view()); }),
+  EXPECT_EQ(testing::invalid_argument_message([&] { compute_metrics(a.view(), a.view(), mask.view()); }),
             "mask must select at least one pixel, got 0");
 }
 
@@ -147,7 +138,7 @@ TEST(Metrics, RejectsNonFiniteScoredPixel) {
   ao(3, 2) = std::numeric_limits<float>::quiet_NaN();
   ao(1, 4) = std::numeric_limits<float>::infinity();  // later in row-major order
   const std::string msg =
-      invalid_argument_message([&] { compute_metrics(ao.view(), reference.view()); });
+      testing::invalid_argument_message([&] { compute_metrics(ao.view(), reference.view()); });
   EXPECT_EQ(msg.rfind("ao ", 0), 0u) << msg;
   EXPECT_NE(msg.find("(x=3, y=2)"), std::string::npos) << msg;
   EXPECT_NE(msg.find("got nan"), std::string::npos) << msg;
@@ -155,7 +146,7 @@ TEST(Metrics, RejectsNonFiniteScoredPixel) {
   Image bad_reference = reference;
   bad_reference(6, 0) = -std::numeric_limits<float>::infinity();
   const std::string ref_msg =
-      invalid_argument_message([&] { compute_metrics(reference.view(), bad_reference.view()); });
+      testing::invalid_argument_message([&] { compute_metrics(reference.view(), bad_reference.view()); });
   EXPECT_EQ(ref_msg.rfind("reference ", 0), 0u) << ref_msg;
   EXPECT_NE(ref_msg.find("(x=6, y=0)"), std::string::npos) << ref_msg;
   EXPECT_NE(ref_msg.find("got -inf"), std::string::npos) << ref_msg;

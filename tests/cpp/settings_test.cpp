@@ -4,18 +4,11 @@
 
 #include "core/blur.h"
 #include "core/hbao.h"
+#include "tests/cpp/test_support.h"
 
 namespace aolab {
 namespace {
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(Settings, FromValuesSetsAndValidates) {
   const auto s = settings_from_values<HbaoSettings>(
@@ -27,16 +20,16 @@ TEST(Settings, FromValuesSetsAndValidates) {
 }
 
 TEST(Settings, ErrorsNameParameterAndValue) {
-  auto msg = message_of([] { settings_from_values<HbaoSettings>({{"directions", 0}}, kHbaoFields, "hbao"); });
+  auto msg = testing::invalid_argument_message([] { settings_from_values<HbaoSettings>({{"directions", 0}}, kHbaoFields, "hbao"); });
   EXPECT_NE(msg.find("directions"), std::string::npos) << msg;
   EXPECT_NE(msg.find("got 0"), std::string::npos) << msg;
-  msg = message_of([] { settings_from_values<HbaoSettings>({{"steps", 2.5}}, kHbaoFields, "hbao"); });
+  msg = testing::invalid_argument_message([] { settings_from_values<HbaoSettings>({{"steps", 2.5}}, kHbaoFields, "hbao"); });
   EXPECT_NE(msg.find("integer"), std::string::npos) << msg;
-  msg = message_of([] { settings_from_values<HbaoSettings>({{"jitter", 3}}, kHbaoFields, "hbao"); });
+  msg = testing::invalid_argument_message([] { settings_from_values<HbaoSettings>({{"jitter", 3}}, kHbaoFields, "hbao"); });
   EXPECT_NE(msg.find("boolean"), std::string::npos) << msg;
-  msg = message_of([] { settings_from_values<HbaoSettings>({{"radius", -1}}, kHbaoFields, "hbao"); });
+  msg = testing::invalid_argument_message([] { settings_from_values<HbaoSettings>({{"radius", -1}}, kHbaoFields, "hbao"); });
   EXPECT_NE(msg.find("radius"), std::string::npos) << msg;
-  msg = message_of([] { settings_from_values<HbaoSettings>({{"bogus", 1}}, kHbaoFields, "hbao"); });
+  msg = testing::invalid_argument_message([] { settings_from_values<HbaoSettings>({{"bogus", 1}}, kHbaoFields, "hbao"); });
   EXPECT_NE(msg.find("bogus"), std::string::npos) << msg;
   EXPECT_NE(msg.find("directions"), std::string::npos) << msg;  // lists the valid names
 }

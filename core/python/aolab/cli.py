@@ -1,0 +1,213 @@
+"""The ``aolab`` command.
+
+    aolab methods                         list the methods and their settings
+    aolab analytic NAME OUT.exr           write an analytic scene's G-buffer (+ sidecar)
+    aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
+    aolab bench [options]                 time a method (median of repeated runs)
+
+INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+
+def _parse_value(text: str):
+    low = text.lower()
+    if low in ("true", "on", "yes"):
+        return True
+    if low in ("false", "off", "no"):
+        return False
+    try:
+        return int(text)
+    except ValueError:
+        try:
+            return float(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(f"not a number or boolean: {text!r}") from e
+
+
+def _key_values(pairs: list[str]) -> dict:
+    out = {}
+    for pair in pairs or []:
+        if "=" not in pair:
+            raise SystemExit(f"aolab: expected KEY=VALUE, got {pair!r}")
+        key, value = pair.split("=", 1)
+        out[key.strip()] = _parse_value(value.strip())
+    return out
+
+
+def _load_input(spec: str, radius: float | None, width: int, height: int):
+    """A G-buffer from an EXR path or ``analytic:NAME``; returns (gbuffer, radius)."""
+    if spec.startswith("analytic:"):
+        params = {"radius": radius} if radius is not None else {}
+        g = aolab.analytic_scene(spec.split(":", 1)[1], width, height, **params)
+        return g, radius if radius is not None else 1.0
+    path = Path(spec)
+    if not path.exists():
+        raise SystemExit(f"aolab: no such G-buffer file: {spec}")
+    g = aolab.load_gbuffer(path)
+    if radius is None:
+        radius = g.sidecar.get("ao_distance")
+        if radius is None or not np.isfinite(radius):
+            raise SystemExit("aolab: the sidecar has no ao_distance; pass --radius")
+    return g, float(radius)
+
+
+def _scored_mask(g) -> np.ndarray | None:
+    ref = getattr(g, "reference", None)
+    if ref is None:
+        return None
+    mask = g.valid_mask() & np.isfinite(ref)
+    return mask if mask.any() else None
+
+
+def cmd_methods(args) -> int:
+    for name in aolab.methods():
+        info = aolab.method_info(name)
+        if args.json:
+            continue
+        print(f"{name}: {info['title']} ({info['paper']})")
+        reads = ["depth"] + (["normal"] if info["needs_normal"] else []) + \
+            (["color"] if info["needs_color"] else [])
+        print(f"  reads: {', '.join(reads)}")
+        for s in info["settings"]:
+            unit = f" {s['unit']}" if s["unit"] else ""
+            print(f"  {s['name']:<20} {s['type']:<5} default {s['default']!s:<6} "
+                  f"range [{s['min']:g}, {s['max']:g}]{unit}  {s['description']}")
+    if args.json:
+        print(json.dumps([aolab.method_info(n) for n in aolab.methods()], indent=2))
+    return 0
+
+
+def cmd_analytic(args) -> int:
+    params = _key_values(args.param)
+    if args.radius is not None:
+        params["radius"] = args.radius
+    g = aolab.analytic_scene(args.name, args.width, args.height, **params)
+    out = Path(args.output)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    aolab.save_gbuffer(out, g, reference=g.reference, sidecar=g.sidecar)
+    print(f"wrote {out} and {out.with_suffix('.json')} ({args.width}x{args.height}, "
+          f"radius {params.get('radius', 1.0)})")
+    return 0
+
+
+def cmd_run(args) -> int:
+    g, radius = _load_input(args.input, args.radius, args.width, args.height)
+    settings = _key_values(args.set)
+    kwargs = dict(radius=radius, threads=args.threads, **settings)
+    if args.blur:
+        kwargs.update(blur=True, blur_sigma=args.blur_sigma, blur_taps=args.blur_taps)
+    t0 = time.perf_counter()
+    ao = aolab.compute(args.method, g, **kwargs)
+    elapsed = time.perf_counter() - t0
+    out = Path(args.out) if args.out else Path(f"{args.method}_ao")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    aolab.write_image(out.with_suffix(".exr"), ao)
+    aolab.write_image(out.with_suffix(".png"), ao)
+    result = {"method": args.method, "input": args.input, "width": g.width, "height": g.height,
+              "radius": radius, "settings": settings, "threads": args.threads,
+              "seconds": elapsed, "output": str(out.with_suffix(".exr"))}
+    print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
+          f"-> {out.with_suffix('.exr')}, {out.with_suffix('.png')}")
+    mask = _scored_mask(g)
+    if mask is not None:
+        m = aolab.metrics(ao, g.reference, mask)
+        result["metrics"] = m
+        print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
+              f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
+              f"bias {m['bias']:+.4f}")
+    else:
+        print("  no reference AO in the input: nothing to score")
+    if args.json:
+        Path(args.json).write_text(json.dumps(result, indent=2, default=float))
+    return 0
+
+
+def cmd_bench(args) -> int:
+    g, radius = _load_input(args.input, args.radius, args.width, args.height)
+    settings = _key_values(args.set)
+    for _ in range(args.warmup):
+        aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
+    times = []
+    for _ in range(args.repeat):
+        t0 = time.perf_counter()
+        aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
+        times.append(time.perf_counter() - t0)
+    med = statistics.median(times)
+    spread = (max(times) - min(times)) if len(times) > 1 else 0.0
+    print(f"{args.method} on {args.input} {g.width}x{g.height}, radius {radius:g}, "
+          f"threads {args.threads or os.cpu_count()}, {platform.processor() or platform.machine()}: "
+          f"median {med * 1000:.1f} ms over {args.repeat} runs (spread {spread * 1000:.1f} ms)")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="aolab", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = p.add_subparsers(dest="command", required=True)
+
+    m = sub.add_parser("methods", help="list the methods and their settings")
+    m.add_argument("--json", action="store_true", help="print the descriptions as JSON")
+    m.set_defaults(func=cmd_methods)
+
+    def input_options(q):
+        q.add_argument("--radius", type=float, help="view-space radius R (default: the "
+                       "sidecar's ao_distance; 1 for analytic scenes)")
+        q.add_argument("--width", type=int, default=1280, help="analytic scenes: width")
+        q.add_argument("--height", type=int, default=720, help="analytic scenes: height")
+        q.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+        q.add_argument("--set", action="append", metavar="KEY=VALUE",
+                       help="a method setting, e.g. --set directions=16 (repeatable)")
+
+    a = sub.add_parser("analytic", help="write an analytic scene's G-buffer EXR and sidecar")
+    a.add_argument("name", choices=aolab.analytic_scene_names())
+    a.add_argument("output", help="output .exr path (the sidecar goes beside it)")
+    a.add_argument("--width", type=int, default=1280)
+    a.add_argument("--height", type=int, default=720)
+    a.add_argument("--radius", type=float, help="R of the closed-form reference (default 1)")
+    a.add_argument("--param", action="append", metavar="KEY=VALUE",
+                   help="scene parameter, e.g. --param tilt=60 (repeatable)")
+    a.set_defaults(func=cmd_analytic)
+
+    r = sub.add_parser("run", help="compute AO for a G-buffer and score it")
+    r.add_argument("method", choices=aolab.methods())
+    r.add_argument("input", help="G-buffer .exr (with sidecar) or analytic:NAME")
+    input_options(r)
+    r.add_argument("--out", help="output path without extension (default METHOD_ao)")
+    r.add_argument("--blur", action="store_true", help="apply the separable Gaussian blur")
+    r.add_argument("--blur-sigma", type=float, default=1.5)
+    r.add_argument("--blur-taps", type=int, default=5)
+    r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
+    r.set_defaults(func=cmd_run)
+
+    b = sub.add_parser("bench", help="median time of a method over repeated runs")
+    b.add_argument("method", choices=aolab.methods())
+    b.add_argument("input", nargs="?", default="analytic:blocks")
+    input_options(b)
+    b.add_argument("--repeat", type=int, default=7)
+    b.add_argument("--warmup", type=int, default=1)
+    b.set_defaults(func=cmd_bench)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"aolab: {e}", file=sys.stderr)
+        return 2

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian packages AO Lab needs (no PyPI), only those that are missing.
+# Usage: scripts/install-deps.sh        (as root, or with sudo available)
+set -euo pipefail
+
+PACKAGES=(
+  # build
+  cmake g++ make pkg-config
+  # C++ libraries
+  libopenimageio-dev libopenexr-dev libglm-dev nlohmann-json3-dev pybind11-dev
+  libgtest-dev libbenchmark-dev
+  # Python (Debian's /usr/bin/python3, the one Blender embeds)
+  python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
+  python3-skimage python3-tqdm python3-matplotlib
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
