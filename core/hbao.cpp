@@ -16,14 +16,20 @@ HbaoPixelPattern hbao_pixel_pattern(const HbaoSettings& s, int x, int y) {
           s.jitter ? pixel_random(seed, x, y, 1) : 0.0f};
 }
 
-void hbao_directions(int directions, float rotation, float* cos_out, float* sin_out) {
+HbaoDirections::HbaoDirections(int directions) : base_cos_(directions), base_sin_(directions) {
   const double spacing = 2.0 * std::numbers::pi / directions;
-  const float phi = float(spacing * rotation);
-  const float cp = std::cos(phi), sp = std::sin(phi);
   for (int k = 0; k < directions; ++k) {
-    const float cb = float(std::cos(spacing * k)), sb = float(std::sin(spacing * k));
-    cos_out[k] = cb * cp - sb * sp;
-    sin_out[k] = sb * cp + cb * sp;
+    base_cos_[k] = float(std::cos(spacing * k));
+    base_sin_[k] = float(std::sin(spacing * k));
+  }
+}
+
+void HbaoDirections::rotated(float rotation, float* cos_out, float* sin_out) const {
+  const float phi = float(2.0 * std::numbers::pi / size() * rotation);
+  const float cp = std::cos(phi), sp = std::sin(phi);
+  for (int k = 0; k < size(); ++k) {
+    cos_out[k] = base_cos_[k] * cp - base_sin_[k] * sp;
+    sin_out[k] = base_sin_[k] * cp + base_cos_[k] * sp;
   }
 }
 
@@ -80,8 +86,8 @@ struct Frame {
   CameraIntrinsics cam;
 };
 
-float hbao_pixel(const Frame& f, const HbaoSettings& s, int x, int y, float* dir_cos,
-                 float* dir_sin) {
+float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& directions, int x,
+                 int y, float* dir_cos, float* dir_sin) {
   const std::size_t idx = std::size_t(y) * f.width + x;
   const float d = f.depth[idx];
   if (!(d == d)) return 1.0f;  // background
@@ -92,7 +98,7 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, int x, int y, float* dir
   const float radius = s.radius, radius2 = radius * radius, inv_radius = 1.0f / radius;
 
   const HbaoPixelPattern pattern = hbao_pixel_pattern(s, x, y);
-  hbao_directions(s.directions, pattern.rotation, dir_cos, dir_sin);
+  directions.rotated(pattern.rotation, dir_cos, dir_sin);
 
   // |r0| / |n·r0|: how much normal rounding moves tangent-plane depths at this pixel.
   const glm::vec3 r0(ox * inv_fx, -oy * inv_fy, -1.0f);
@@ -127,21 +133,30 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, int x, int y, float* dir
       const float dy = -(qy * ds + oy * dd) * inv_fy;
       const float r2 = dx * dx + dy * dy + dd * dd;
       if (!(r2 <= radius2) || r2 == 0.0f) continue;  // beyond R (ignored, §3), background (NaN)
-      const float r = std::sqrt(r2);
-      const float sin_alpha = -dd / r;
+      float r;  // |D|, computed only for candidates
       float gain;
       if (s.per_sample_tangent) {
-        // t at this sample: the tangent plane on the sample's own view ray. S counts only if
-        // it lies nearer than the plane by more than float32 depth and normal rounding.
-        const RayTangent rt = tangent_on_ray(n, n_r0, qx, qy, d, ox, oy, inv_fx, inv_fy);
+        // t at this sample: the tangent plane on the sample's own view ray rs, met at depth
+        // tau (tangent_on_ray). S counts only if it lies nearer than the plane by more than
+        // float32 depth and normal rounding. The cheap sign test comes first: most samples
+        // of open surfaces fail it.
         const glm::vec3 rs((ox + qx) * inv_fx, -(oy + qy) * inv_fy, -1.0f);
-        const float grazing_s = glm::length(rs) / std::abs(glm::dot(n, rs));
-        const float tolerance = kFloatEpsilon * std::max(ds, std::isfinite(rt.tau) ? rt.tau : ds) *
+        const float n_rs = glm::dot(n, rs);
+        const float tau = d * n_r0 / n_rs;
+        const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
+        if (hits && !(tau > ds)) continue;
+        const float rs_len = glm::length(rs);
+        const float grazing_s = rs_len / std::abs(n_rs);
+        const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
                                 (kHbaoDepthUlps + kHbaoNormalUlps * (grazing_p + grazing_s));
-        if (!(rt.tau - ds > tolerance)) continue;
-        gain = sin_alpha - rt.sin_t;
+        if (!((hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance)) continue;
+        const float sin_t =
+            hits ? elevation_sin_on_ray(qx, qy, tau, d, ox, oy, inv_fx, inv_fy) : rs.z / rs_len;
+        r = std::sqrt(r2);
+        gain = -dd / r - sin_t;
       } else {
-        gain = sin_alpha - sin_t_dir;
+        r = std::sqrt(r2);
+        gain = -dd / r - sin_t_dir;
         const float tolerance =
             kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(d, ds) / r;
         if (!(gain > tolerance)) continue;
@@ -172,6 +187,7 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   const Image normals = prepared_normals(g, threads);
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
 
+  const HbaoDirections directions(s.directions);
   Image out(w, h, 1, 1.0f);
   if (options.progress) options.progress->total += h;
   parallel_for_rows(
@@ -180,7 +196,7 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
         std::vector<float> dir_cos(s.directions), dir_sin(s.directions);
         for (int y = y0; y < y1; ++y)
           for (int x = 0; x < w; ++x)
-            out(x, y) = hbao_pixel(frame, s, x, y, dir_cos.data(), dir_sin.data());
+            out(x, y) = hbao_pixel(frame, s, directions, x, y, dir_cos.data(), dir_sin.data());
       },
       options.progress);
   return out;

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/gbuffer.h"
 #include "core/image.h"
@@ -91,9 +92,18 @@ struct HbaoPixelPattern {
 
 HbaoPixelPattern hbao_pixel_pattern(const HbaoSettings& s, int x, int y);
 
-/// cos/sin of the N_d view-space directions θ_k = 2π (k + rotation) / N_d, computed by
-/// rotating a fixed table (one sincos per pixel instead of N_d).
-void hbao_directions(int directions, float rotation, float* cos_out, float* sin_out);
+/// The N_d view-space directions θ_k = 2π (k + rotation) / N_d: a table of the unrotated
+/// directions built once, rotated per pixel (one sincos per pixel instead of N_d).
+class HbaoDirections {
+ public:
+  explicit HbaoDirections(int directions);
+  int size() const { return int(base_cos_.size()); }
+  /// cos/sin of the directions rotated by `rotation` (a fraction of the spacing, [0, 1)).
+  void rotated(float rotation, float* cos_out, float* sin_out) const;
+
+ private:
+  std::vector<float> base_cos_, base_sin_;
+};
 
 /// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
 /// radius projected and split into N_s steps; image y points down, view y up.

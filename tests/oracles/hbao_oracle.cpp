@@ -33,6 +33,7 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
   const CameraIntrinsics& cam = g.camera;
   const double R = s.radius;
   Image out(w, h, 1, 1.0f);
+  const HbaoDirections directions(s.directions);
   std::vector<float> dir_cos(s.directions), dir_sin(s.directions);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -43,7 +44,7 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
       const dvec3 n(normals(x, y, 0), normals(x, y, 1), normals(x, y, 2));
       const dvec3 r0 = position(cam, px, py, 1.0);
       const HbaoPixelPattern pattern = hbao_pixel_pattern(s, x, y);
-      hbao_directions(s.directions, pattern.rotation, dir_cos.data(), dir_sin.data());
+      directions.rotated(pattern.rotation, dir_cos.data(), dir_sin.data());
       double sum = 0.0;
       for (int k = 0; k < s.directions; ++k) {
         float step_x, step_y;
