@@ -167,6 +167,7 @@ AnalyticScene wall_scene(const Params& p) {
   floor.cycles_ao = [wy](const glm::dvec3& q, double r) { return cycles_ao_beside_wall(wy - q.y, r); };
   wall.cycles_ao = [](const glm::dvec3& q, double r) { return cycles_ao_beside_wall(q.z, r); };
   s.faces = {floor, wall};
+  if (!(p.at("camera_height") > 0)) throw_invalid("camera_height", "must be > 0", p.at("camera_height"));
   s.eye = {0, 0, p.at("camera_height")};
   s.target = {0, wy, 0};
   s.up = {0, 0, 1};
@@ -214,6 +215,7 @@ AnalyticScene blocks_scene(const Params& p) {
   AnalyticScene s;
   s.faces.push_back(face({0, 0, 1}, 0));
   const double size = p.at("size");
+  if (!(size > 0)) throw_invalid("size", "must be > 0", size);
   add_box(s, glm::dvec3(-1.5, 2.0, 0) * size, glm::dvec3(-0.5, 3.0, 1.0) * size);
   add_box(s, glm::dvec3(0.2, 3.5, 0) * size, glm::dvec3(1.4, 4.2, 2.0) * size);
   add_box(s, glm::dvec3(-0.3, 1.0, 0) * size, glm::dvec3(0.3, 1.6, 0.3) * size);

@@ -174,6 +174,9 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& di
 
 Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   g.validate();
+  if (!g.has_normal())
+    throw_invalid("normal", "is required by hbao, which reads view-space normals (estimate them "
+                  "from depth with GBuffer.prepared_normals())", "none");
   validate_settings(s, kHbaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);

@@ -71,12 +71,14 @@ inline const SettingField<HbaoSettings> kHbaoFields[] = {
      "rotate the directions randomly per pixel"},
     {"jitter", &HbaoSettings::jitter, 0, 1, "", "jitter the step offsets randomly per pixel"},
     {"per_sample_tangent", &HbaoSettings::per_sample_tangent, 0, 1, "",
-     "evaluate the tangent angle in each sample's azimuth (exact on planes)"},
+     "intersect each sample's own view ray with the tangent plane (exact on planes); off: "
+     "one tangent per direction, as the paper words it"},
     {"seed", &HbaoSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
 };
 
 /// HBAO of a G-buffer with normals. Returns a 1-channel image in [0, 1]; background = 1.
-/// Throws std::invalid_argument for invalid settings or G-buffer, Cancelled if cancelled.
+/// Throws std::invalid_argument for invalid settings, a G-buffer without normals (estimate
+/// them with prepared_normals if needed) or an invalid G-buffer; Cancelled if cancelled.
 Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& options = {});
 
 /// The registry entry.

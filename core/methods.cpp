@@ -25,8 +25,8 @@ Image compute(const std::string& method, const GBuffer& g, const SettingValues& 
   const Method& m = find_method(method);
   g.validate();
   if (m.needs_normal && !g.has_normal())
-    throw_invalid("normal", "is required by " + m.name + ", which reads view-space normals",
-                  "none");
+    throw_invalid("normal", "is required by " + m.name + ", which reads view-space normals "
+                  "(estimate them from depth with GBuffer.prepared_normals())", "none");
   if (m.needs_color && !g.has_color())
     throw_invalid("color", "is required by " + m.name, "none");
   if (!settings.count("radius")) throw_invalid("radius", "is required", "nothing");

@@ -54,6 +54,9 @@ TEST(AnalyticScene, UnknownNameOrParameterIsAnError) {
   EXPECT_THROW(analytic_scene("plane", 8, 8, {{"bogus", 1}}), std::invalid_argument);
   EXPECT_THROW(analytic_scene("plane", 0, 8), std::invalid_argument);
   EXPECT_THROW(analytic_scene("plane", 8, 8, {{"tilt", 90}}), std::invalid_argument);
+  EXPECT_THROW(analytic_scene("blocks", 8, 8, {{"size", 0}}), std::invalid_argument);
+  EXPECT_THROW(analytic_scene("wall", 8, 8, {{"camera_height", -1}}), std::invalid_argument);
+  EXPECT_THROW(analytic_scene("crease", 8, 8, {{"fov", 180}}), std::invalid_argument);
 }
 
 }  // namespace

@@ -96,10 +96,13 @@ def test_compute_errors_name_parameter(settings, name):
         aolab.compute("hbao", g, **settings)
 
 
-def test_compute_needs_normals_for_hbao():
+def test_compute_needs_normals_for_hbao_and_says_how_to_estimate_them():
     depth, _ = plane()
-    with pytest.raises(ValueError, match="normal"):
-        aolab.compute("hbao", aolab.GBuffer(depth, **K), radius=1.0)
+    g = aolab.GBuffer(depth, **K)
+    with pytest.raises(ValueError, match="normal.*prepared_normals"):
+        aolab.compute("hbao", g, radius=1.0)
+    estimated = aolab.GBuffer(depth, g.prepared_normals(), **K)
+    assert (aolab.compute("hbao", estimated, radius=1.0) == 1).all()
 
 
 def test_import_from_any_folder(tmp_path):
