@@ -117,6 +117,7 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& di
       sin_t_dir = std::isfinite(rt.tau) ? rt.sin_t : tangent_sin_in_azimuth(n, dir_cos[k], dir_sin[k]);
     }
     float best_gain = 0.0f, best_r = 0.0f;
+    float rises = 0.0f;  // eq. 2 mode: Σ (rise of sin h) · W(r of the sample that raised it)
     for (int i = 1; i <= s.steps; ++i) {
       const float t = float(i) - pattern.jitter;
       const float sx_f = px + t * step_x, sy_f = py + t * step_y;
@@ -161,10 +162,14 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& di
             kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(d, ds) / r;
         if (!(gain > tolerance)) continue;
       }
-      if (gain > 0.0f && (best_r == 0.0f || gain > best_gain + kHbaoHorizonTie))
+      if (gain > 0.0f && (best_r == 0.0f || gain > best_gain + kHbaoHorizonTie)) {
+        rises += (gain - best_gain) * std::max(0.0f, 1.0f - r * inv_radius);
         best_gain = gain, best_r = r;
+      }
     }
-    occlusion += best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);
+    occlusion += s.incremental_attenuation
+                     ? rises
+                     : best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);  // eq. 3
   }
   const float ao = 1.0f - occlusion / float(s.directions);
   return std::clamp(ao, 0.0f, 1.0f);

@@ -58,6 +58,12 @@ struct HbaoSettings {
   /// exactly unoccluded. false: one t(θ) per direction, from the ray one pixel along θ;
   /// snapping moves samples off θ, so a tilted plane then occludes itself slightly.
   bool per_sample_tangent = true;
+  /// Where W is evaluated. false (eq. 3, the paper's estimator): W = 1 - r/R with r the
+  /// distance of the horizon sample, so a horizon that keeps rising towards R (a wall, a
+  /// crease) is weighted by a W near 0. true (eq. 2 discretised, W(ω) inside the elevation
+  /// integral): each rise of sin h along the march is weighted by W of the sample that
+  /// caused it — the form of NVIDIA's HBAO implementations, with stronger creases.
+  bool incremental_attenuation = false;
   /// Seed of the per-pixel random rotation and jitter. [0, 2^31 - 1].
   int seed = 0;
 };
@@ -73,6 +79,9 @@ inline const SettingField<HbaoSettings> kHbaoFields[] = {
     {"per_sample_tangent", &HbaoSettings::per_sample_tangent, 0, 1, "",
      "intersect each sample's own view ray with the tangent plane (exact on planes); off: "
      "one tangent per direction, as the paper words it"},
+    {"incremental_attenuation", &HbaoSettings::incremental_attenuation, 0, 1, "",
+     "weight each rise of the horizon by W of the sample that raised it (eq. 2) instead of "
+     "W of the final horizon (eq. 3)"},
     {"seed", &HbaoSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
 };
 

@@ -62,17 +62,39 @@ TEST(Hbao, PerDirectionTangentShowsSnappingBiasOnTiltedPlane) {
 
 TEST(Hbao, MatchesOracle) {
   for (const char* scene : {"blocks", "crease", "wall", "step"})
-    for (bool per_sample : {true, false}) {
+    for (int mode = 0; mode < 3; ++mode) {
+      const bool per_sample = mode != 1;
       SceneFixture f(scene, 128, 72);
       HbaoSettings s;
       s.radius = std::string(scene) == "blocks" ? 0.5f : 1.0f;
       s.per_sample_tangent = per_sample;
+      s.incremental_attenuation = mode == 2;
       const Image fast = hbao(f.g, s), oracle = hbao_oracle(f.g, s);
       float worst = 0;
       for (std::size_t i = 0; i < fast.pixels().size(); ++i)
         worst = std::max(worst, std::abs(fast.pixels()[i] - oracle.pixels()[i]));
-      EXPECT_LT(worst, 1e-4f) << scene << " per_sample_tangent " << per_sample;
+      EXPECT_LT(worst, 1e-4f) << scene << " mode " << mode;
     }
+}
+
+// Eq. 2's per-rise weighting darkens creases: a wall's horizon keeps rising towards R, so
+// eq. 3 weights it by the W of its farthest sample, eq. 2 by the W of each rise. (Not a
+// per-pixel inequality: 3-D distance need not grow along an image-space march.)
+TEST(Hbao, IncrementalAttenuationDarkensCreases) {
+  SceneFixture f("wall", 160, 90);
+  HbaoSettings eq3, eq2;
+  eq2.incremental_attenuation = true;
+  const Image a = hbao(f.g, eq3), b = hbao(f.g, eq2);
+  double mean_a = 0, mean_b = 0, crease_a = 0, crease_b = 0;
+  int crease = 0;
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 160; ++x) {
+      mean_a += a(x, y), mean_b += b(x, y);
+      if (f.scene.reference(x, y) < 0.6f) crease_a += a(x, y), crease_b += b(x, y), ++crease;
+    }
+  ASSERT_GT(crease, 50);
+  EXPECT_LT(mean_b, mean_a);
+  EXPECT_LT(crease_b / crease, crease_a / crease - 0.05);
 }
 
 TEST(Hbao, BitIdenticalAcrossThreadCounts) {

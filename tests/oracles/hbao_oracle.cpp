@@ -61,7 +61,7 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
           else
             t_dir = tangent_elevation_in_azimuth(n, dir_cos[k], dir_sin[k]);
         }
-        double best_gain = 0.0, best_r = 0.0;
+        double best_gain = 0.0, best_r = 0.0, rises = 0.0;
         for (int i = 1; i <= s.steps; ++i) {
           const float t = float(i) - pattern.jitter;
           const float sx_f = float(px) + t * step_x, sy_f = float(py) + t * step_y;
@@ -93,10 +93,13 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
                                      kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
-          if (gain > 0.0 && (best_r == 0.0 || gain > best_gain + kHbaoHorizonTie))
+          if (gain > 0.0 && (best_r == 0.0 || gain > best_gain + kHbaoHorizonTie)) {
+            rises += (gain - best_gain) * std::max(0.0, 1.0 - r / R);  // eq. 2, per rise
             best_gain = gain, best_r = r;
+          }
         }
-        sum += best_gain * std::max(0.0, 1.0 - best_r / R);  // W = max(0, 1 - r/R)
+        sum += s.incremental_attenuation ? rises
+                                         : best_gain * std::max(0.0, 1.0 - best_r / R);  // eq. 3
       }
       out(x, y) = float(std::clamp(1.0 - sum / s.directions, 0.0, 1.0));
     }
