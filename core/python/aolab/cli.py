@@ -4,6 +4,7 @@
     aolab analytic NAME OUT.exr           write an analytic scene's G-buffer (+ sidecar)
     aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
     aolab bench [options]                 time a method (median of repeated runs)
+    aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
 
 INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
 """
@@ -155,6 +156,15 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_reference(args) -> int:
+    from . import reference
+    try:
+        return reference.main(args)
+    except reference.ReferenceError as e:
+        print(f"aolab reference: {e}", file=sys.stderr)
+        return 2
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="aolab", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -201,6 +211,28 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--repeat", type=int, default=7)
     b.add_argument("--warmup", type=int, default=1)
     b.set_defaults(func=cmd_bench)
+
+    f = sub.add_parser("reference", help="render Cycles AO references with Blender (cached)",
+                       description="Renders the G-buffer passes and the Cycles AO reference of "
+                       "each scene (a .blend, a build script .py, or a reference_scenes/<name> "
+                       "folder) in Blender in the background, into a cache; a repeated call is "
+                       "served from the cache and an interrupted batch resumes.")
+    f.add_argument("scenes", nargs="+", metavar="SCENE")
+    f.add_argument("--spp", type=int, help="reference samples (default: manifest, else 1024)")
+    f.add_argument("--radius", type=float, help="AO distance R (default: manifest, else the "
+                   "scene world's AO distance)")
+    f.add_argument("--methods", nargs="*", help="methods the G-buffer is for (default: all); "
+                   "they decide the passes")
+    f.add_argument("--passes", help="explicit G-buffer passes, e.g. depth,normal")
+    f.add_argument("--resolution", help="WxH, overriding the scene's")
+    f.add_argument("--camera", help="camera object to render from (default: the scene camera)")
+    f.add_argument("--gbuffer-samples", type=int, default=1)
+    f.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or ~/.cache/aolab/references)")
+    f.add_argument("--out", help="also copy reference.exr/.json here (one folder per scene "
+                   "when several)")
+    f.add_argument("--force", action="store_true", help="render even if cached")
+    f.add_argument("--quiet", action="store_true", help="no progress bar")
+    f.set_defaults(func=cmd_reference)
     return p
 
 

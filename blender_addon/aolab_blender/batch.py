@@ -1,0 +1,81 @@
+"""Entry point run inside Blender by `aolab reference` (blender -b ... --python batch.py -- ...).
+
+    --scene PATH        a .blend (already opened by Blender, with --disable-autoexec) or a
+                        build script (.py) run into an empty factory file
+    --kind blend|script
+    --out FILE.exr      where the merged G-buffer + reference goes (sidecar beside it)
+    --radius R          AO distance (default: the scene world's AO distance)
+    --spp N             reference samples          --gbuffer-samples N (default 1)
+    --passes a,b        G-buffer passes (depth always)
+    --resolution WxH    override the scene's resolution (percentage 100)
+    --camera NAME       render from this camera instead of the scene camera
+    --extra JSON        extra sidecar entries
+
+Prints `AOLAB_STAGE <stage>` lines, `AOLAB_ERROR <message>` on a problem the user can act
+on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
+"""
+
+import argparse
+import json
+import os
+import runpy
+import sys
+import traceback
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bpy  # noqa: E402
+
+from aolab_blender import export  # noqa: E402
+from aolab_blender.passes import parse_passes  # noqa: E402
+
+
+def parse(argv):
+    p = argparse.ArgumentParser(prog="aolab_blender.batch")
+    p.add_argument("--scene", required=True)
+    p.add_argument("--kind", choices=("blend", "script"), required=True)
+    p.add_argument("--out", required=True)
+    p.add_argument("--radius", type=float)
+    p.add_argument("--spp", type=int, default=1024)
+    p.add_argument("--gbuffer-samples", type=int, default=1)
+    p.add_argument("--passes", default="depth,normal")
+    p.add_argument("--resolution")
+    p.add_argument("--camera")
+    p.add_argument("--extra", default="{}")
+    return p.parse_args(argv)
+
+
+def main(argv):
+    args = parse(argv)
+    if args.kind == "script":
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        runpy.run_path(args.scene, run_name="__main__")
+    scene = bpy.context.scene
+    if args.resolution:
+        w, h = (int(v) for v in args.resolution.lower().split("x"))
+        scene.render.resolution_x, scene.render.resolution_y = w, h
+        scene.render.resolution_percentage = 100
+    radius = args.radius
+    if radius is None:
+        if scene.world is None:
+            raise export.BridgeError("the scene has no world, so no AO distance: pass --radius")
+        radius = scene.world.light_settings.distance
+    sidecar = export.export_reference(
+        scene, args.out, radius=radius, spp=args.spp, passes=parse_passes(args.passes),
+        gbuffer_samples=args.gbuffer_samples, camera_name=args.camera,
+        report=lambda stage: print(f"AOLAB_STAGE {stage}", flush=True),
+        extra=json.loads(args.extra))
+    print("AOLAB_RESULT " + json.dumps(sidecar), flush=True)
+
+
+if __name__ == "__main__":
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    try:
+        main(argv)
+    except (export.BridgeError, ValueError) as e:
+        print(f"AOLAB_ERROR {e}", flush=True)
+        sys.exit(2)
+    except Exception:
+        traceback.print_exc()
+        print("AOLAB_ERROR unexpected failure inside Blender (traceback above)", flush=True)
+        sys.exit(3)

@@ -1,0 +1,274 @@
+"""Exporting a G-buffer and rendering the Cycles AO reference of a scene's camera (bpy).
+
+One call, export_reference(), makes two Cycles CPU renders at filter_width 0.01 (pixel-centre
+values, BLENDER_FACTS.md "Pixel filter"):
+1. the G-buffer: only the passes asked for (Depth always; Normal, DiffCol, Emit as needed),
+   gbuffer_samples samples (depth comes from sample 0; at this filter width normals and
+   colours are the pixel-centre values, so 1 sample is exact);
+2. the reference: the AO pass alone at `spp` samples, adaptive sampling off (it judges noise
+   on Combined and stops the AO pass early), denoising off, max_bounces 0, AO distance R,
+   shadow_terminator_geometry_offset 0 on every object, lights hidden, DOF and motion blur off.
+It merges both into one EXR (normals converted to view space) with a sidecar JSON, and
+restores every setting it touched, whether it succeeds, fails or is cancelled.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+import time
+
+import bpy
+import numpy as np
+
+from . import exr
+from .intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
+from .passes import PASSES
+from .state import SettingsRestorer
+
+BRIDGE_VERSION = 1
+FILTER_WIDTH = 0.01        # the minimum: one ray position per pixel, no mixing across edges
+BACKGROUND_DEPTH = 1e9     # Cycles writes 1e10 where nothing is hit (aolab's default rule)
+CAMERA_TYPE_NAMES = {"ORTHO": "orthographic", "PANO": "panoramic"}
+
+
+class BridgeError(Exception):
+    """A problem the user can act on (no camera, unsupported camera, failed render...)."""
+
+
+class Cancelled(BridgeError):
+    def __init__(self):
+        super().__init__("cancelled")
+
+
+def scene_camera(scene, camera_name: str | None = None):
+    """The camera object to render from, or BridgeError saying what is wrong."""
+    if camera_name:
+        cam = bpy.data.objects.get(camera_name)
+        if cam is None or cam.type != "CAMERA":
+            cams = sorted(o.name for o in bpy.data.objects if o.type == "CAMERA")
+            raise BridgeError(f"camera {camera_name!r} not found; cameras in the file: "
+                              f"{', '.join(cams) or 'none'}")
+    else:
+        cam = scene.camera
+        if cam is None:
+            raise BridgeError(f"scene {scene.name!r} has no camera: set the scene camera "
+                              "(Scene Properties > Camera); AO Lab renders from it")
+    if cam.data.type not in SUPPORTED_CAMERA_TYPES:
+        kind = CAMERA_TYPE_NAMES.get(cam.data.type, cam.data.type)
+        raise BridgeError(f"camera {cam.name!r} is {kind}; AO Lab supports perspective cameras "
+                          "only (its methods reconstruct positions with a pinhole model)")
+    return cam
+
+
+def camera_to_world(cam) -> list[list[float]]:
+    """The camera's world matrix, row-major, scale removed (renders ignore camera scale)."""
+    m = np.array(cam.matrix_world, dtype=np.float64)
+    m[:3, :3] /= np.linalg.norm(m[:3, :3], axis=0, keepdims=True)
+    return m.tolist()
+
+
+def camera_record(scene, cam) -> dict:
+    r = scene.render
+    w, h = image_size(r.resolution_x, r.resolution_y, r.resolution_percentage)
+    d = cam.data
+    k = intrinsics(w, h, lens=d.lens, sensor_width=d.sensor_width,
+                   sensor_height=d.sensor_height, sensor_fit=d.sensor_fit, shift_x=d.shift_x,
+                   shift_y=d.shift_y, pixel_aspect_x=r.pixel_aspect_x,
+                   pixel_aspect_y=r.pixel_aspect_y)
+    return {"width": w, "height": h, **k, "camera_to_world": camera_to_world(cam),
+            "clip_start": d.clip_start, "clip_end": d.clip_end,
+            "camera": {"name": cam.name, "lens": d.lens, "sensor_width": d.sensor_width,
+                       "sensor_height": d.sensor_height, "sensor_fit": d.sensor_fit,
+                       "shift_x": d.shift_x, "shift_y": d.shift_y,
+                       "pixel_aspect_x": r.pixel_aspect_x, "pixel_aspect_y": r.pixel_aspect_y}}
+
+
+def content_hash(scene, cam) -> str:
+    """SHA-256 of what the renders depend on: evaluated geometry and transforms of every
+    object, its render visibility and materials, the camera and the resolution."""
+    h = hashlib.sha256()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    for obj in sorted(depsgraph.objects, key=lambda o: o.name):
+        h.update(f"{obj.name}|{obj.type}|{obj.hide_render}|{obj.visible_shadow}".encode())
+        h.update(np.array(obj.matrix_world, dtype=np.float64).tobytes())
+        if obj.type == "MESH":
+            me = obj.data
+            co = np.empty(len(me.vertices) * 3, np.float32)
+            me.vertices.foreach_get("co", co)
+            loops = np.empty(len(me.loops), np.int32)
+            me.loops.foreach_get("vertex_index", loops)
+            h.update(co.tobytes())
+            h.update(loops.tobytes())
+            h.update("|".join(m.name if m else "" for m in me.materials).encode())
+    h.update(json.dumps(camera_record(scene, cam), sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def _common_settings(rs: SettingsRestorer, scene, view_layer, cam, radius: float) -> None:
+    r, c = scene.render, scene.cycles
+    rs.set(r, "engine", "CYCLES")
+    rs.set(c, "device", "CPU")
+    rs.set(scene, "camera", cam)
+    for attr, value in [("use_border", False), ("use_compositing", False),
+                        ("use_sequencer", False), ("use_motion_blur", False),
+                        ("use_simplify", False), ("use_single_layer", True),
+                        ("use_file_extension", True)]:
+        rs.set(r, attr, value)
+    rs.set(r.image_settings, "file_format", "OPEN_EXR_MULTILAYER")
+    rs.set(r.image_settings, "color_depth", "32")
+    rs.set(r.image_settings, "exr_codec", "ZIP")
+    for attr, value in [("use_adaptive_sampling", False), ("use_denoising", False),
+                        ("max_bounces", 0), ("filter_width", FILTER_WIDTH), ("seed", 0),
+                        ("use_animated_seed", False), ("sample_offset", 0),
+                        ("use_layer_samples", "IGNORE")]:
+        rs.set(c, attr, value)
+    rs.set(cam.data.dof, "use_dof", False)
+    for obj in scene.objects:
+        rs.set(obj.cycles, "shadow_terminator_geometry_offset", 0.0)
+    if scene.world is None:
+        world = bpy.data.worlds.new("AOLab temporary world")
+        rs.set(scene, "world", world)
+        rs.on_restore(lambda: bpy.data.worlds.remove(world))
+    rs.set(scene.world.light_settings, "distance", radius)
+    for attr in view_layer.cycles.bl_rna.properties.keys():
+        if attr.startswith("use_pass_") or attr == "denoising_store_passes":
+            rs.set(view_layer.cycles, attr, False)
+
+
+def _enable_only(rs: SettingsRestorer, view_layer, wanted: set[str]) -> None:
+    """Turns on the view-layer passes in `wanted` (property names) and off every other."""
+    for attr in view_layer.bl_rna.properties.keys():
+        if attr.startswith("use_pass_") and attr != "use_pass_combined":
+            rs.set(view_layer, attr, attr in wanted)
+
+
+RENDER_SLOT_NAME = "AO Lab"
+
+
+def _keep_render_result(rs: SettingsRestorer) -> None:
+    """Renders replace the pixels of the active slot of the "Render Result" image. If the user
+    has one, ours go to a slot of its own ("AO Lab", created once and reused) and the user's
+    active slot is restored; if not, the image our render creates is removed afterwards."""
+    image = next((im for im in bpy.data.images if im.type == "RENDER_RESULT"), None)
+    if image is None:
+        def remove_created():
+            for im in [im for im in bpy.data.images if im.type == "RENDER_RESULT"]:
+                bpy.data.images.remove(im)
+        rs.on_restore(remove_created)
+        return
+    slots = image.render_slots
+    index = next((i for i, slot in enumerate(slots) if slot.name == RENDER_SLOT_NAME), None)
+    if index is None:
+        slots.new(name=RENDER_SLOT_NAME)
+        index = len(slots) - 1
+    rs.set(slots, "active_index", index)
+
+
+def _render(rs: SettingsRestorer, scene, path: str) -> float:
+    rs.set(scene.render, "filepath", path)
+    t0 = time.perf_counter()
+    result = bpy.ops.render.render(write_still=True)
+    seconds = time.perf_counter() - t0
+    if "FINISHED" not in result or not os.path.exists(path):
+        raise BridgeError(f"Cycles did not write {path} (render returned {set(result)})")
+    return seconds
+
+
+def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: list[str],
+                     gbuffer_samples: int = 1, camera_name: str | None = None,
+                     cancel=None, report=print, extra: dict | None = None) -> dict:
+    """Renders the G-buffer `passes` and the AO reference of `scene` into `out_exr` (+ the
+    sidecar `<stem>.json`) and returns the sidecar. `cancel()` is polled between stages
+    (Cancelled is raised); `report(stage)` announces each stage. Settings are restored in
+    every case."""
+    if not radius > 0:
+        raise BridgeError(f"radius must be > 0 (the AO distance in scene units), got {radius}")
+    if spp < 1 or gbuffer_samples < 1:
+        raise BridgeError(f"spp and gbuffer_samples must be >= 1, got {spp}, {gbuffer_samples}")
+    unknown = [p for p in passes if p not in PASSES]
+    if unknown:
+        raise BridgeError(f"passes must be among {', '.join(PASSES)}, got {unknown}")
+    cam = scene_camera(scene, camera_name)
+    view_layer = bpy.context.view_layer
+
+    def checkpoint(stage: str):
+        if cancel is not None and cancel():
+            raise Cancelled()
+        report(stage)
+
+    out_dir = os.path.dirname(os.path.abspath(out_exr))
+    os.makedirs(out_dir, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="aolab-render-", dir=out_dir) as tmp, \
+            SettingsRestorer() as rs:
+        # Registered first, so it runs last: re-evaluate with the restored settings.
+        rs.on_restore(view_layer.update)
+        checkpoint("prepare")
+        _keep_render_result(rs)
+        _common_settings(rs, scene, view_layer, cam, radius)
+        view_layer.update()  # matrix_world of objects moved since the last evaluation
+        record = camera_record(scene, cam)
+        scene_hash = content_hash(scene, cam)
+
+        checkpoint("gbuffer")
+        rs.set(scene.cycles, "samples", gbuffer_samples)
+        _enable_only(rs, view_layer, {PASSES[p][0] for p in passes})
+        gbuffer_path = os.path.join(tmp, "gbuffer.exr")
+        t_gbuffer = _render(rs, scene, gbuffer_path)
+
+        checkpoint("reference")
+        rs.set(scene.cycles, "samples", spp)
+        _enable_only(rs, view_layer, {"use_pass_ambient_occlusion"})
+        for obj in scene.objects:  # AO alone: no light is simulated
+            if obj.type == "LIGHT":
+                rs.set(obj, "hide_render", True)
+        reference_path = os.path.join(tmp, "reference.exr")
+        t_reference = _render(rs, scene, reference_path)
+
+        checkpoint("merge")
+        g = exr.read_channels(gbuffer_path)
+        a = exr.read_channels(reference_path)
+        layers = [("Depth", exr.find_pass(g, "Depth", ("Z",)), "float")]
+        if "normal" in passes:
+            n = exr.find_pass(g, "Normal", ("X", "Y", "Z"))
+            layers.append(("Normal", exr.world_to_view_normals(n, record["camera_to_world"]), "half"))
+        layers.append(("AO", exr.find_pass(a, "AO", ("R", "G", "B")), "half"))
+        if "diffuse_color" in passes:
+            layers.append(("DiffCol", exr.find_pass(g, "DiffCol", ("R", "G", "B")), "half"))
+        if "emission" in passes:
+            layers.append(("Emit", exr.find_pass(g, "Emit", ("R", "G", "B")), "half"))
+        missing = [name for name, data, _ in layers if data is None]
+        if missing:
+            raise BridgeError(f"the render lacks the passes {missing}; channels: {sorted(g) + sorted(a)}")
+
+        sidecar = {
+            **record,
+            "ao_distance": radius,
+            "samples": spp,
+            "background_depth": BACKGROUND_DEPTH,
+            "normal_space": "view",
+            "passes": passes + ["ao"],
+            "render": {"engine": "CYCLES", "device": "CPU", "reference_samples": spp,
+                       "gbuffer_samples": gbuffer_samples, "use_adaptive_sampling": False,
+                       "use_denoising": False, "max_bounces": 0, "filter_width": FILTER_WIDTH,
+                       "shadow_terminator_geometry_offset": 0.0, "seed": 0,
+                       "lights_hidden": True, "dof": False, "motion_blur": False,
+                       "ao_distance": radius},
+            "render_time": {"gbuffer": t_gbuffer, "reference": t_reference},
+            "blender_version": bpy.app.version_string,
+            "scene": scene.name,
+            "view_layer": view_layer.name,
+            "scene_hash": scene_hash,
+            "bridge_version": BRIDGE_VERSION,
+            **(extra or {}),
+        }
+        exr.write_multilayer(out_exr, layers, view_layer=view_layer.name)
+        sidecar_path = os.path.splitext(out_exr)[0] + ".json"
+        tmp_json = sidecar_path + f".tmp-{os.getpid()}"
+        with open(tmp_json, "w") as f:
+            json.dump(sidecar, f, indent=1)
+        os.replace(tmp_json, sidecar_path)
+        report("done")
+        return sidecar

@@ -1,0 +1,47 @@
+"""Pinhole intrinsics of a Blender perspective camera (no bpy).
+
+The formulas of BLENDER_FACTS.md "Camera intrinsics", verified there to 1e-5 against the
+Position pass and re-verified by tests/python/test_bridge_camera.py for every sensor fit,
+with shifts and non-square pixels.
+"""
+
+from __future__ import annotations
+
+SUPPORTED_CAMERA_TYPES = ("PERSP",)
+
+
+def image_size(resolution_x: int, resolution_y: int, percentage: int) -> tuple[int, int]:
+    """Rendered size in pixels: resolution × percentage / 100 (Blender truncates)."""
+    return resolution_x * percentage // 100, resolution_y * percentage // 100
+
+
+def intrinsics(width: int, height: int, *, lens: float, sensor_width: float,
+               sensor_height: float, sensor_fit: str, shift_x: float = 0.0,
+               shift_y: float = 0.0, pixel_aspect_x: float = 1.0,
+               pixel_aspect_y: float = 1.0) -> dict:
+    """fx, fy, cx, cy in pixels (cy from the top row) for a render of width × height.
+
+    sensor_fit AUTO is horizontal when width·ax >= height·ay (and then always uses
+    sensor_width); HORIZONTAL uses sensor_width, VERTICAL sensor_height.
+    """
+    if width < 1 or height < 1:
+        raise ValueError(f"width and height must be >= 1, got {width}x{height}")
+    if not lens > 0:
+        raise ValueError(f"lens must be > 0 mm, got {lens}")
+    ax, ay = float(pixel_aspect_x), float(pixel_aspect_y)
+    ycor = ay / ax
+    if sensor_fit == "AUTO":
+        horizontal = width * ax >= height * ay
+        sensor = sensor_width
+    elif sensor_fit == "HORIZONTAL":
+        horizontal, sensor = True, sensor_width
+    elif sensor_fit == "VERTICAL":
+        horizontal, sensor = False, sensor_height
+    else:
+        raise ValueError(f"sensor_fit must be AUTO, HORIZONTAL or VERTICAL, got {sensor_fit!r}")
+    viewfac = width if horizontal else ycor * height
+    fx = lens / sensor * viewfac
+    fy = fx * ax / ay
+    cx = width / 2 - shift_x * viewfac
+    cy = height / 2 + shift_y * viewfac / ycor
+    return {"fx": fx, "fy": fy, "cx": cx, "cy": cy}

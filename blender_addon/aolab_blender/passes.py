@@ -1,0 +1,45 @@
+"""Which render passes a reference needs (no bpy): only what the chosen methods and the
+scene's effects require (DESIGN.md "Effects a scene calls for")."""
+
+from __future__ import annotations
+
+# Our pass name -> (view-layer property that enables it, Blender pass name in the EXR,
+# channels).
+PASSES = {
+    "depth": ("use_pass_z", "Depth", ("Z",)),
+    "normal": ("use_pass_normal", "Normal", ("X", "Y", "Z")),
+    "diffuse_color": ("use_pass_diffuse_color", "DiffCol", ("R", "G", "B")),
+    "emission": ("use_pass_emit", "Emit", ("R", "G", "B")),
+}
+EFFECTS = ("color_bleeding", "luminance_sensitivity")
+
+
+def required_passes(methods: list[dict], effects: list[str]) -> list[str]:
+    """The G-buffer passes for `methods` (dicts with needs_normal / needs_color, as
+    aolab.method_info returns) on a scene whose manifest asks for `effects`.
+
+    Depth always; Normal if a method reads normals; the diffuse colour for colour bleeding
+    and emission plus diffuse colour for luminance sensitivity, but only if a method reads
+    colour at all.
+    """
+    unknown = [e for e in effects if e not in EFFECTS]
+    if unknown:
+        raise ValueError(f"effects must be among {', '.join(EFFECTS)}, got {unknown}")
+    passes = ["depth"]
+    if any(m.get("needs_normal") for m in methods):
+        passes.append("normal")
+    if any(m.get("needs_color") for m in methods):
+        if "color_bleeding" in effects or "luminance_sensitivity" in effects:
+            passes.append("diffuse_color")
+        if "luminance_sensitivity" in effects:
+            passes.append("emission")
+    return passes
+
+
+def parse_passes(text: str) -> list[str]:
+    """'depth,normal' -> ['depth', 'normal'], checked; depth is always included."""
+    names = [p.strip() for p in text.split(",") if p.strip()]
+    bad = [p for p in names if p not in PASSES]
+    if bad:
+        raise ValueError(f"passes must be among {', '.join(PASSES)}, got {bad}")
+    return ["depth"] + [p for p in PASSES if p in names and p != "depth"]

@@ -1,0 +1,274 @@
+"""`aolab reference`: Cycles AO references rendered by Blender in the background, cached.
+
+A scene is a `.blend` file, a build script (`.py`, run into an empty factory file), or a
+folder of reference_scenes/ (its manifest.json names the build script, R, resolution and
+effects). Blender always starts with --factory-startup and --disable-autoexec, so a .blend
+from elsewhere never runs its own scripts.
+
+Results go to a cache folder keyed by the scene's content (file bytes), camera, R, samples,
+passes and resolution; they are written to a temporary folder and renamed into place, so an
+interrupted render leaves nothing half-written, a repeated call is served from the cache, and
+a batch resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+BRIDGE_VERSION = 1  # bump when the bridge's output changes: invalidates cached results
+RESULT_EXR = "reference.exr"
+RESULT_JSON = "reference.json"
+_SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
+
+
+class ReferenceError(Exception):
+    """A problem the user can act on; its message says what to do."""
+
+
+def find_blender() -> str:
+    path = os.environ.get("AOLAB_BLENDER") or shutil.which("blender")
+    if not path or not os.path.exists(path):
+        raise ReferenceError(
+            "Blender not found" + (f" at AOLAB_BLENDER={path}" if path else " on PATH") +
+            ": install it with `apt-get install blender` (Debian 12 ships Blender 3.4) or set "
+            "AOLAB_BLENDER to its executable")
+    return path
+
+
+def bridge_script() -> Path:
+    spec = importlib.util.find_spec("aolab_blender")
+    if spec is None or not spec.submodule_search_locations:
+        raise ReferenceError("the Blender bridge (aolab_blender) is not installed beside aolab: "
+                             "run scripts/build.sh")
+    return Path(list(spec.submodule_search_locations)[0]) / "batch.py"
+
+
+def default_cache() -> Path:
+    if os.environ.get("AOLAB_CACHE"):
+        return Path(os.environ["AOLAB_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "aolab" / "references"
+
+
+@dataclass
+class Scene:
+    name: str
+    kind: str            # "blend" or "script"
+    path: Path           # the .blend or the build script
+    manifest: dict = field(default_factory=dict)
+    content_sha256: str = ""
+
+
+def resolve_scene(spec: str) -> Scene:
+    p = Path(spec)
+    if not p.exists():
+        raise ReferenceError(f"no such scene: {spec} (give a .blend, a build script .py or a "
+                             "reference_scenes/<name> folder)")
+    manifest = {}
+    if p.is_dir():
+        mpath = p / "manifest.json"
+        if not mpath.exists():
+            raise ReferenceError(f"{spec} is a folder without manifest.json")
+        manifest = json.loads(mpath.read_text())
+        script = p / manifest.get("build", "build.py")
+        if not script.exists():
+            raise ReferenceError(f"{mpath} names the build script {script.name}, which is missing")
+        h = hashlib.sha256(script.read_bytes() + mpath.read_bytes())
+        return Scene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
+    if p.suffix == ".blend":
+        return Scene(p.stem, "blend", p, {}, hashlib.sha256(p.read_bytes()).hexdigest())
+    if p.suffix == ".py":
+        return Scene(p.stem, "script", p, {}, hashlib.sha256(p.read_bytes()).hexdigest())
+    raise ReferenceError(f"{spec}: a scene is a .blend, a .py build script or a folder with "
+                         "manifest.json")
+
+
+@dataclass
+class Plan:
+    scene: Scene
+    spp: int
+    radius: float | None      # None: the scene world's AO distance (a .blend's own)
+    passes: list[str]
+    resolution: tuple[int, int] | None
+    camera: str | None
+    gbuffer_samples: int = 1
+
+    def key(self) -> str:
+        material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
+                    "spp": self.spp, "radius": self.radius, "passes": self.passes,
+                    "resolution": self.resolution, "camera": self.camera,
+                    "gbuffer_samples": self.gbuffer_samples}
+        digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
+        return f"{self.scene.name}-{digest[:16]}"
+
+
+def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = None,
+              methods: list[str] | None = None, passes: list[str] | None = None,
+              resolution: tuple[int, int] | None = None, camera: str | None = None,
+              gbuffer_samples: int = 1) -> Plan:
+    """What to render: explicit arguments first, then the scene's manifest, then defaults.
+    Passes follow from the methods (all registered ones by default) and the manifest's
+    effects unless given explicitly."""
+    from aolab_blender.passes import parse_passes, required_passes
+
+    import aolab
+    m = scene.manifest
+    if passes is None:
+        names = aolab.methods() if methods is None else methods
+        infos = [aolab.method_info(n) for n in names]  # ValueError for an unknown name
+        passes = required_passes(infos, m.get("effects", []))
+    else:
+        passes = parse_passes(",".join(passes))
+    spp = spp if spp is not None else int(m.get("spp", 1024))
+    radius = radius if radius is not None else m.get("radius")
+    if radius is not None and not radius > 0:
+        raise ReferenceError(f"radius must be > 0, got {radius}")
+    if spp < 1:
+        raise ReferenceError(f"spp must be >= 1, got {spp}")
+    if resolution is None and m.get("resolution"):
+        resolution = tuple(m["resolution"])
+    return Plan(scene, spp, radius, passes, resolution, camera or m.get("camera"), gbuffer_samples)
+
+
+def cached_result(cache: Path, plan: Plan) -> Path | None:
+    folder = cache / plan.key()
+    try:
+        side = json.loads((folder / RESULT_JSON).read_text())
+        if (folder / RESULT_EXR).stat().st_size > 0 and "scene_hash" in side:
+            return folder
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+def _progress_bar(enabled: bool, desc: str):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=0, desc=desc, unit="spp", dynamic_ncols=True, leave=False)
+
+
+def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
+           progress: bool = True, blender: str | None = None) -> tuple[Path, bool]:
+    """Renders (or finds in the cache) the reference of `plan`. Returns (folder, cached)."""
+    cache = Path(cache) if cache else default_cache()
+    if not force:
+        hit = cached_result(cache, plan)
+        if hit is not None:
+            return hit, True
+    blender = blender or find_blender()
+    cache.mkdir(parents=True, exist_ok=True)
+    final = cache / plan.key()
+    tmp = cache / f".{plan.key()}.tmp-{os.getpid()}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    s = plan.scene
+    cmd = [blender, "-b", "--factory-startup", "-noaudio", "--disable-autoexec"]
+    if s.kind == "blend":
+        cmd.append(str(s.path))
+    extra = {"source": str(s.path), "scene_name": s.name, "source_sha256": s.content_sha256,
+             "manifest": s.manifest}
+    cmd += ["--python", str(bridge_script()), "--", "--scene", str(s.path), "--kind", s.kind,
+            "--out", str(tmp / RESULT_EXR), "--spp", str(plan.spp),
+            "--gbuffer-samples", str(plan.gbuffer_samples), "--passes", ",".join(plan.passes),
+            "--extra", json.dumps(extra)]
+    if plan.radius is not None:
+        cmd += ["--radius", repr(float(plan.radius))]
+    if plan.resolution:
+        cmd += ["--resolution", f"{plan.resolution[0]}x{plan.resolution[1]}"]
+    if plan.camera:
+        cmd += ["--camera", plan.camera]
+
+    bar = _progress_bar(progress, s.name)
+    tail, error = [], None
+    try:
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                stdin=subprocess.DEVNULL)
+        stage = ""
+        for line in proc.stdout:
+            line = line.rstrip("\n")
+            tail = (tail + [line])[-40:]
+            if line.startswith("AOLAB_STAGE "):
+                stage = line.split(" ", 1)[1]
+                if bar is not None:
+                    bar.set_description(f"{s.name}: {stage}")
+            elif line.startswith("AOLAB_ERROR "):
+                error = line.split(" ", 1)[1]
+            elif bar is not None and (m := _SAMPLE_LINE.search(line)):
+                done, total = int(m.group(1)), int(m.group(2))
+                if bar.total != total:
+                    bar.reset(total=total)
+                bar.n = done
+                bar.refresh()
+        rc = proc.wait()
+        if rc != 0 or error:
+            raise ReferenceError(f"{s.name}: " + (error or "Blender failed:\n" + "\n".join(tail)))
+        if final.exists():  # a concurrent run finished first; keep one
+            shutil.rmtree(final)
+        os.replace(tmp, final)
+        return final, False
+    finally:
+        if bar is not None:
+            bar.close()
+        if 'proc' in locals() and proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def copy_result(folder: Path, out: Path) -> None:
+    """Copies reference.exr/.json to `out` (a folder), each atomically."""
+    out.mkdir(parents=True, exist_ok=True)
+    for name in (RESULT_EXR, RESULT_JSON):
+        tmp = out / f".{name}.tmp-{os.getpid()}"
+        shutil.copyfile(folder / name, tmp)
+        os.replace(tmp, out / name)
+
+
+def main(args) -> int:
+    """The `aolab reference` command (arguments from cli.py)."""
+    resolution = None
+    if args.resolution:
+        try:
+            w, h = (int(v) for v in args.resolution.lower().split("x"))
+        except ValueError:
+            raise ReferenceError(f"--resolution must be WxH, got {args.resolution!r}") from None
+        resolution = (w, h)
+    scenes = [resolve_scene(s) for s in args.scenes]  # every error before any render
+    plans = [make_plan(s, spp=args.spp, radius=args.radius, methods=args.methods,
+                       passes=args.passes.split(",") if args.passes else None,
+                       resolution=resolution, camera=args.camera,
+                       gbuffer_samples=args.gbuffer_samples) for s in scenes]
+    done = 0
+    try:
+        for plan in plans:
+            t0 = time.perf_counter()
+            folder, was_cached = render(plan, args.cache, force=args.force,
+                                        progress=not args.quiet and sys.stderr.isatty())
+            if args.out:
+                out = Path(args.out)
+                if len(plans) > 1:
+                    out = out / plan.scene.name
+                copy_result(folder, out)
+            how = "cached" if was_cached else f"rendered in {time.perf_counter() - t0:.1f} s"
+            print(f"{plan.scene.name}: {how} -> {folder / RESULT_EXR}"
+                  + (f" (copied to {args.out})" if args.out else ""))
+            done += 1
+    except KeyboardInterrupt:
+        print(f"interrupted after {done} of {len(plans)} scenes; run the same command again to "
+              "resume (finished scenes come from the cache)", file=sys.stderr)
+        return 130
+    return 0

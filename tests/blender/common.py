@@ -1,0 +1,78 @@
+"""Shared by the Blender-side check scripts: puts the bridge on sys.path, builds scenes,
+snapshots every RNA property the bridge might touch."""
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+
+import bpy  # noqa: E402
+
+
+def run_build_script(path):
+    import runpy
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    runpy.run_path(path, run_name="__main__")
+
+
+def rna_values(owner, depth=1, seen=None):
+    """Every readable property value of `owner` (pointers followed `depth` levels), as a dict
+    of plain Python values, for before/after comparisons."""
+    seen = set() if seen is None else seen
+    out = {}
+    if owner is None or owner.as_pointer() in seen:
+        return out
+    seen.add(owner.as_pointer())
+    for prop in owner.bl_rna.properties:
+        name = prop.identifier
+        if name in ("rna_type",) or prop.type == "COLLECTION":
+            continue
+        try:
+            value = getattr(owner, name)
+        except Exception:
+            continue
+        if prop.type == "POINTER":
+            if value is None or not hasattr(value, "bl_rna"):
+                out[name] = None
+            elif isinstance(value, bpy.types.ID):
+                out[name] = f"ID:{value.name}"  # identity only; IDs are checked by name
+            elif depth > 0:
+                out[name] = rna_values(value, depth - 1, seen)
+            continue
+        try:
+            out[name] = list(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
+        except TypeError:
+            out[name] = str(value)
+    return out
+
+
+def scene_state(scene):
+    """What the bridge touches, and more: render, cycles, image settings, world, view layers,
+    every object with its cycles settings and data, and the set of datablocks."""
+    state = {
+        "scene": rna_values(scene, depth=0),
+        "render": rna_values(scene.render, depth=2),
+        "cycles": rna_values(scene.cycles, depth=1),
+        "world": rna_values(scene.world, depth=2) if scene.world else None,
+        "view_layers": {vl.name: rna_values(vl, depth=2) for vl in scene.view_layers},
+        "objects": {o.name: {"object": rna_values(o, depth=0), "cycles": rna_values(o.cycles),
+                             "data": rna_values(o.data, depth=2) if o.data else None}
+                    for o in scene.objects},
+        "ids": {kind: sorted(x.name for x in getattr(bpy.data, kind))
+                for kind in ("worlds", "objects", "cameras", "meshes", "images", "materials",
+                             "scenes", "lights")},
+    }
+    return state
+
+
+def diff(a, b, path=""):
+    """Paths where two nested states differ."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        out = []
+        for k in sorted(set(a) | set(b)):
+            out += diff(a.get(k, "<missing>"), b.get(k, "<missing>"), f"{path}.{k}")
+        return out
+    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
+        return []
+    return [] if a == b else [f"{path}: {a!r} -> {b!r}"]

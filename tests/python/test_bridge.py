@@ -1,0 +1,219 @@
+"""The Blender bridge: intrinsics, pass selection, export and reference renders, scene
+restoration, `aolab reference` (cache, errors, --disable-autoexec). Blender runs for real,
+headless; these tests skip with a reason where it is absent."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aolab
+from aolab_blender.intrinsics import intrinsics
+from aolab_blender.passes import parse_passes, required_passes
+
+ROOT = Path(__file__).resolve().parents[2]
+TINY = ROOT / "tests" / "data" / "tiny_scene.py"
+BLENDER = shutil.which("blender")
+needs_blender = pytest.mark.skipif(BLENDER is None, reason="Blender is not installed "
+                                   "(scripts/install-deps.sh installs it)")
+
+
+# ---- bpy-free parts ----
+
+def test_intrinsics_square_pixels_centred():
+    k = intrinsics(1280, 720, lens=50, sensor_width=36, sensor_height=24, sensor_fit="AUTO")
+    assert k["fx"] == pytest.approx(50 / 36 * 1280) and k["fy"] == k["fx"]
+    assert (k["cx"], k["cy"]) == (640, 360)
+
+
+def test_intrinsics_vertical_fit_shift_and_aspect():
+    k = intrinsics(100, 50, lens=40, sensor_width=36, sensor_height=20, sensor_fit="VERTICAL",
+                   shift_x=0.1, shift_y=-0.2, pixel_aspect_x=1, pixel_aspect_y=2)
+    ycor = 2.0
+    viewfac = ycor * 50
+    assert k["fx"] == pytest.approx(40 / 20 * viewfac)
+    assert k["fy"] == pytest.approx(k["fx"] / 2)
+    assert k["cx"] == pytest.approx(50 - 0.1 * viewfac)
+    assert k["cy"] == pytest.approx(25 - 0.2 * viewfac / ycor)
+    with pytest.raises(ValueError, match="sensor_fit"):
+        intrinsics(10, 10, lens=1, sensor_width=1, sensor_height=1, sensor_fit="DIAGONAL")
+
+
+DEPTH_ONLY = {"needs_normal": False, "needs_color": False}
+NORMALS = {"needs_normal": True, "needs_color": False}
+COLOUR = {"needs_normal": True, "needs_color": True}
+
+
+@pytest.mark.parametrize("methods, effects, expected", [
+    ([DEPTH_ONLY], [], ["depth"]),
+    ([DEPTH_ONLY, NORMALS], [], ["depth", "normal"]),
+    ([NORMALS], ["color_bleeding"], ["depth", "normal"]),  # nobody reads colour
+    ([COLOUR], [], ["depth", "normal"]),                    # the scene asks for no effect
+    ([COLOUR], ["color_bleeding"], ["depth", "normal", "diffuse_color"]),
+    ([DEPTH_ONLY, COLOUR], ["luminance_sensitivity"], ["depth", "normal", "diffuse_color", "emission"]),
+    ([], [], ["depth"]),
+])
+def test_only_needed_passes_are_selected(methods, effects, expected):
+    assert required_passes(methods, effects) == expected
+
+
+def test_pass_names_are_checked():
+    assert parse_passes("normal") == ["depth", "normal"]
+    with pytest.raises(ValueError, match="passes"):
+        parse_passes("depth,mist")
+    with pytest.raises(ValueError, match="effects"):
+        required_passes([], ["bloom"])
+
+
+# ---- inside Blender ----
+
+def blender_check(script: str, *args: str) -> dict:
+    res = subprocess.run([BLENDER, "-b", "--factory-startup", "-noaudio", "--python-exit-code",
+                          "1", "--python", str(ROOT / "tests" / "blender" / script), "--", *args],
+                         capture_output=True, text=True, timeout=600)
+    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+    assert res.returncode == 0 and lines, res.stdout[-3000:] + res.stderr[-3000:]
+    return json.loads(lines[-1][len("RESULT "):])
+
+
+@needs_blender
+def test_stored_intrinsics_reconstruct_cycles_position_pass():
+    results = blender_check("camera_check.py", str(TINY))
+    assert len(results) == 6
+    for name, r in results.items():
+        assert r["valid"] > 1000, name
+        assert r["max_rel"] < 1e-4, (name, r)
+
+
+@needs_blender
+def test_scene_is_restored_after_export_failure_and_cancel():
+    r = blender_check("restore_check.py", str(TINY))
+    assert r["export"]["outcome"] == "ok"
+    assert r["failed"]["outcome"].startswith("failed")
+    assert r["failed_late"]["outcome"].startswith("failed")
+    for stage in ("prepare", "gbuffer", "reference", "merge"):
+        assert r[f"cancel_{stage}"]["outcome"] == "cancelled", stage
+    for case, v in r.items():
+        if isinstance(v, dict):
+            assert v["diff"] == [], (case, v["diff"][:10])
+    slots_before, slots_after = r["user_render_result"]["slots_before"], r["user_render_result"]["slots_after"]
+    assert slots_after[1] == slots_before[1]                 # the user's active slot
+    assert slots_after[0][:len(slots_before[0])] == slots_before[0]
+    # The G-buffer render had the asked passes only; the reference render AO alone.
+    gbuffer, reference = r["passes_of_export"]
+    assert gbuffer == ["use_pass_combined", "use_pass_normal", "use_pass_z"]
+    assert reference == ["use_pass_ambient_occlusion", "use_pass_combined"]
+
+
+def aolab_reference(*args, env=None, check=True):
+    res = subprocess.run([sys.executable, "-m", "aolab", "reference", "--quiet", *args],
+                         capture_output=True, text=True, env=env, timeout=900)
+    if check:
+        assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
+    return res
+
+
+@needs_blender
+def test_reference_end_to_end_cached_and_scored(tmp_path):
+    cache = tmp_path / "cache"
+    res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao")
+    assert "rendered" in res.stdout
+    t0 = time.perf_counter()
+    res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao")
+    assert "cached" in res.stdout and time.perf_counter() - t0 < 1.0
+    folder = next(cache.iterdir())
+    assert not [p for p in cache.iterdir() if p.name.startswith(".")]  # no temporary leftovers
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    side = g.sidecar
+    assert (g.width, g.height) == (96, 54) and side["passes"] == ["depth", "normal", "ao"]
+    assert side["render"] == {"engine": "CYCLES", "device": "CPU", "reference_samples": 16,
+                              "gbuffer_samples": 1, "use_adaptive_sampling": False,
+                              "use_denoising": False, "max_bounces": 0, "filter_width": 0.01,
+                              "shadow_terminator_geometry_offset": 0.0, "seed": 0,
+                              "lights_hidden": True, "dof": False, "motion_blur": False,
+                              "ao_distance": 0.75}
+    for key in ("clip_start", "clip_end", "camera_to_world", "blender_version", "scene_hash",
+                "render_time", "samples", "ao_distance"):
+        assert key in side, key
+    assert side["blender_version"].startswith("3.4")
+    mask = g.valid_mask()
+    assert mask.mean() > 0.95
+    ao = aolab.compute("hbao", g, radius=side["ao_distance"])
+    m = aolab.metrics(ao, g.reference, mask)
+    assert np.isfinite(list(m.values())).all() and m["mae"] < 0.2
+    # View-space normals agree with normals estimated from depth on flat faces.
+    est = aolab.GBuffer(g.depth, fx=g.fx, fy=g.fy, cx=g.cx, cy=g.cy).prepared_normals()
+    stored = g.normal / np.linalg.norm(g.normal, axis=-1, keepdims=True).clip(1e-12)  # half
+    dots = (est * stored).sum(-1)[mask]
+    # Pixels beside an edge (one neighbour on another face) are the only disagreements.
+    assert np.mean(dots > 0.9999) > 0.85, np.mean(dots > 0.9999)
+    assert np.median(dots) > 0.99999
+
+
+@needs_blender
+def test_passes_follow_the_request(tmp_path):
+    cache = tmp_path / "cache"
+    def channels(*args):
+        aolab_reference(str(TINY), "--spp", "2", "--cache", str(cache), *args)
+        folder = max(cache.iterdir(), key=lambda p: p.stat().st_mtime)
+        side = json.loads((folder / "reference.json").read_text())
+        passes = {c.split(".")[-2] for c in aolab._core.exr_channels(str(folder / "reference.exr"))}
+        return side["passes"], passes
+    assert channels("--methods") == (["depth", "ao"], {"Depth", "AO"})  # no method: depth only
+    assert channels("--methods", "hbao") == (["depth", "normal", "ao"], {"Depth", "Normal", "AO"})
+    assert channels("--passes", "depth,diffuse_color") == (["depth", "diffuse_color", "ao"],
+                                                           {"Depth", "DiffCol", "AO"})
+
+
+@needs_blender
+@pytest.mark.parametrize("camera_setup, message", [
+    ("bpy.data.objects.remove(scene.camera)", "no camera"),
+    ("scene.camera.data.type = 'ORTHO'", "orthographic"),
+    ("scene.camera.data.type = 'PANO'", "panoramic"),
+])
+def test_unsupported_cameras_are_clear_errors(tmp_path, camera_setup, message):
+    script = tmp_path / "scene.py"
+    script.write_text(TINY.read_text() + f"\n{camera_setup}\n")
+    res = aolab_reference(str(script), "--spp", "1", "--cache", str(tmp_path / "c"), check=False)
+    assert res.returncode == 2, res.stdout + res.stderr
+    assert message in res.stderr
+    if message != "no camera":
+        assert "perspective cameras only" in res.stderr
+
+
+def test_missing_blender_and_missing_file_are_clear_errors(tmp_path):
+    env = dict(os.environ, AOLAB_BLENDER=str(tmp_path / "no-blender"))
+    res = aolab_reference(str(TINY), "--cache", str(tmp_path / "c"), env=env, check=False)
+    assert res.returncode == 2 and "Blender not found" in res.stderr
+    assert "apt-get install blender" in res.stderr
+    res = aolab_reference(str(tmp_path / "nope.blend"), check=False)
+    assert res.returncode == 2 and "no such scene" in res.stderr
+
+
+@needs_blender
+def test_blend_files_never_run_their_scripts(tmp_path):
+    """A .blend whose registered text block writes a marker when run: --disable-autoexec
+    keeps it from running. The same file opened with auto-run enabled does write it, so the
+    test can fail."""
+    marker = tmp_path / "marker.txt"
+    blend = tmp_path / "trap.blend"
+    maker = tmp_path / "make_trap.py"
+    maker.write_text(TINY.read_text() + f"""
+text = bpy.data.texts.new("trap.py")
+text.write("open({str(marker)!r}, 'w').write('ran')\\n")
+text.use_module = True
+bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})
+""")
+    subprocess.run([BLENDER, "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
+                    "--python", str(maker)], check=True, capture_output=True, timeout=120)
+    assert blend.exists() and not marker.exists()
+    aolab_reference(str(blend), "--spp", "1", "--cache", str(tmp_path / "c"))
+    assert not marker.exists(), "the .blend ran its own script"
+    subprocess.run([BLENDER, "-b", "--factory-startup", "--enable-autoexec", str(blend)],
+                   capture_output=True, timeout=120)
+    assert marker.exists(), "control: with auto-run enabled the trap does fire"
