@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Re-renders the committed references: every reference_scenes/<name> (or the names given)
+# at its manifest's resolution, R and 1024 spp, into reference_scenes/<name>/reference.{exr,json}.
+# Cached renders are reused; pass --force to render again. ~6 min per small scene on 2 cores.
+#   scripts/update_references.sh                 # all scenes
+#   scripts/update_references.sh analytic room   # some
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
+force=()
+names=()
+for a in "$@"; do
+  if [ "$a" = "--force" ]; then force=(--force); else names+=("$a"); fi
+done
+if [ ${#names[@]} -eq 0 ]; then
+  for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
+fi
+for name in "${names[@]}"; do
+  /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --spp 1024 \
+    --out "$root/reference_scenes/$name" "${force[@]}"
+done
