@@ -217,3 +217,31 @@ bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})
     subprocess.run([BLENDER, "-b", "--factory-startup", "--enable-autoexec", str(blend)],
                    capture_output=True, timeout=120)
     assert marker.exists(), "control: with auto-run enabled the trap does fire"
+
+
+@needs_blender
+def test_interrupted_batch_resumes_from_the_cache(tmp_path):
+    """Ctrl-C during the second scene of a batch: the first stays cached, nothing half-written
+    is left, and the same command finishes the batch, serving the first from the cache."""
+    import signal
+    slow = tmp_path / "slow_scene.py"
+    slow.write_text(TINY.read_text().replace("96, 54, 100", "320, 180, 100"))
+    cache = tmp_path / "cache"
+    cmd = [sys.executable, "-m", "aolab", "reference", "--quiet", str(TINY), str(slow),
+           "--spp", "256", "--cache", str(cache)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 300
+    while time.time() < deadline:  # wait for the first scene's result, then interrupt
+        if cache.exists() and any(p.name.startswith("tiny_scene-") for p in cache.iterdir()):
+            break
+        time.sleep(0.1)
+    time.sleep(1.0)  # the second render is under way
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, out + err
+    assert "run the same command again to resume" in err
+    assert [p.name.split("-")[0] for p in cache.iterdir()] == ["tiny_scene"]  # no temp dirs
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.splitlines()
+    assert "tiny_scene: cached" in lines[0] and "slow_scene: rendered" in lines[1]
