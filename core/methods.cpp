@@ -2,12 +2,18 @@
 
 #include "core/check.h"
 #include "core/hbao.h"
+// [pyramid_hbao include]
+// [lsao include]
 
 namespace aolab {
 
 const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
-  static const std::vector<Method> all = {hbao_method()};
+  static const std::vector<Method> all = {
+      hbao_method(),
+      // [pyramid_hbao entry]
+      // [lsao entry]
+  };
   return all;
 }
 
