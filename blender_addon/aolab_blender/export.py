@@ -234,7 +234,13 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
         if "normal" in passes:
             n = exr.find_pass(g, "Normal", ("X", "Y", "Z"))
             layers.append(("Normal", exr.world_to_view_normals(n, record["camera_to_world"]), "half"))
-        layers.append(("AO", exr.find_pass(a, "AO", ("R", "G", "B")), "half"))
+        ao = exr.find_pass(a, "AO", ("R", "G", "B"))
+        depth = layers[0][1]
+        if ao is not None and depth is not None:
+            # Cycles writes AO 0 where nothing is hit; AO Lab's convention is 1 there
+            # (docs/conventions.md), so images and unmasked metrics agree with the methods.
+            ao[~(depth[..., 0] < BACKGROUND_DEPTH)] = 1.0
+        layers.append(("AO", ao, "half"))
         if "diffuse_color" in passes:
             layers.append(("DiffCol", exr.find_pass(g, "DiffCol", ("R", "G", "B")), "half"))
         if "emission" in passes:

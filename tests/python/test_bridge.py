@@ -245,3 +245,14 @@ def test_interrupted_batch_resumes_from_the_cache(tmp_path):
     assert res.returncode == 0, res.stderr
     lines = res.stdout.splitlines()
     assert "tiny_scene: cached" in lines[0] and "slow_scene: rendered" in lines[1]
+
+
+@needs_blender
+def test_background_reference_is_one(tmp_path):
+    script = tmp_path / "sky.py"  # the tiny scene seen from where part of the frame is sky
+    script.write_text(TINY.read_text() + "\ncam.rotation_euler = (1.5, 0, 0.65)\n")
+    aolab_reference(str(script), "--spp", "4", "--cache", str(tmp_path / "c"))
+    g = aolab.load_gbuffer(next((tmp_path / "c").iterdir()) / "reference.exr")
+    background = ~g.valid_mask()
+    assert background.sum() > 100
+    assert (g.reference[background] == 1).all()
