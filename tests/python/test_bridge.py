@@ -221,8 +221,9 @@ bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})
 
 @needs_blender
 def test_interrupted_batch_resumes_from_the_cache(tmp_path):
-    """Ctrl-C during the second scene of a batch: the first stays cached, nothing half-written
-    is left, and the same command finishes the batch, serving the first from the cache."""
+    """Killed during the second scene of a batch: the first stays cached, nothing half-written
+    is left, and the same command finishes the batch, serving the first from the cache. A
+    temporary folder left by a process that no longer exists is removed."""
     import signal
     slow = tmp_path / "slow_scene.py"
     slow.write_text(TINY.read_text().replace("96, 54, 100", "320, 180, 100"))
@@ -236,13 +237,16 @@ def test_interrupted_batch_resumes_from_the_cache(tmp_path):
             break
         time.sleep(0.1)
     time.sleep(1.0)  # the second render is under way
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(signal.SIGTERM)  # like `kill`; Ctrl-C (SIGINT) takes the same path
     out, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, out + err
     assert "run the same command again to resume" in err
     assert [p.name.split("-")[0] for p in cache.iterdir()] == ["tiny_scene"]  # no temp dirs
+    stale = cache / ".slow_scene-0123456789abcdef.tmp-999999999"  # no such pid
+    stale.mkdir()
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert res.returncode == 0, res.stderr
+    assert not stale.exists()
     lines = res.stdout.splitlines()
     assert "tiny_scene: cached" in lines[0] and "slow_scene: rendered" in lines[1]
 

@@ -19,6 +19,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -171,6 +172,7 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
             return hit, True
     blender = blender or find_blender()
     cache.mkdir(parents=True, exist_ok=True)
+    _remove_stale_temporaries(cache)
     final = cache / plan.key()
     tmp = cache / f".{plan.key()}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
@@ -229,6 +231,19 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def _remove_stale_temporaries(cache: Path) -> None:
+    """Temporary folders (`.<key>.tmp-<pid>`) of renders whose process no longer exists (a
+    killed machine, SIGKILL) are removed; those of running renders are left alone."""
+    for tmp in cache.glob(".*.tmp-*"):
+        try:
+            pid = int(tmp.name.rsplit("-", 1)[1])
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            shutil.rmtree(tmp, ignore_errors=True)
+        except (ValueError, PermissionError):
+            pass
+
+
 def copy_result(folder: Path, out: Path) -> None:
     """Copies reference.exr/.json to `out` (a folder), each atomically."""
     out.mkdir(parents=True, exist_ok=True)
@@ -253,6 +268,11 @@ def main(args) -> int:
                        resolution=resolution, camera=args.camera,
                        gbuffer_samples=args.gbuffer_samples) for s in scenes]
     done = 0
+
+    def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, terminated)
     try:
         for plan in plans:
             t0 = time.perf_counter()
