@@ -2,8 +2,8 @@
 
 #include "core/check.h"
 #include "core/hbao.h"
-// [pyramid_hbao include]
-// [lsao include]
+#include "core/pyramid_hbao.h"
+#include "core/lsao.h"
 
 namespace aolab {
 
@@ -11,8 +11,8 @@ const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
   static const std::vector<Method> all = {
       hbao_method(),
-      // [pyramid_hbao entry]
-      // [lsao entry]
+      pyramid_hbao_method(),
+      lsao_method(),
   };
   return all;
 }

@@ -7,6 +7,8 @@
 //    (N_s grows with R), 2 threads.
 #include <benchmark/benchmark.h>
 
+#include "tests/bench/bench_scene.h"
+
 #include "core/analytic_scenes.h"
 #include "core/hbao.h"
 #include "tests/oracles/hbao_oracle.h"
@@ -14,25 +16,9 @@
 namespace {
 
 using namespace aolab;
+using bench::kRadius;
+const auto gbuffer = bench::blocks_gbuffer;
 
-constexpr int kWidth = 1280, kHeight = 720;
-// R = 0.25 in the `blocks` scene (size 1) projects to ~40 px at mid-frame: the usual SSAO
-// setting; scales ×2..×8 reach ~320 px.
-constexpr float kRadius = 0.25f;
-
-const AnalyticGBuffer& scene() {
-  static const AnalyticGBuffer s = analytic_scene("blocks", kWidth, kHeight);
-  return s;
-}
-
-GBuffer gbuffer() {
-  const auto& s = scene();
-  GBuffer g;
-  g.depth = s.depth.view();
-  g.normal = s.normal.view();
-  g.camera = s.camera;
-  return g;
-}
 
 HbaoSettings settings(float radius_scale = 1.0f, int steps = kHbaoDefaultSteps) {
   HbaoSettings st;

@@ -14,26 +14,15 @@ namespace aolab {
 namespace {
 
 using testing::SceneFixture;
+using testing::min_valid;
 
-float min_valid(const Image& ao, const GBuffer& g) {
-  float m = 1.0f;
-  for (int y = 0; y < ao.height(); ++y)
-    for (int x = 0; x < ao.width(); ++x)
-      if (g.valid(x, y)) m = std::min(m, ao(x, y));
-  return m;
-}
-
-struct PlaneCase {
-  double tilt, azimuth, fov;
-};
-
+using testing::PlaneCase;
 class HbaoOpenPlane : public ::testing::TestWithParam<PlaneCase> {};
 
 // An unoccluded plane has h(θ) = t(θ) in every direction: A = 1 exactly, whatever the tilt,
 // the random rotation and jitter, the radius or the step count.
 TEST_P(HbaoOpenPlane, IsExactlyOne) {
-  const PlaneCase c = GetParam();
-  SceneFixture f("plane", 160, 90, {{"tilt", c.tilt}, {"azimuth", c.azimuth}, {"fov", c.fov}});
+  const SceneFixture f = testing::open_plane(GetParam());
   for (float radius : {0.3f, 1.0f, 5.0f})
     for (int steps : {4, 16}) {
       HbaoSettings s;
@@ -44,10 +33,7 @@ TEST_P(HbaoOpenPlane, IsExactlyOne) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Tilts, HbaoOpenPlane,
-                         ::testing::Values(PlaneCase{0, 0, 60}, PlaneCase{30, 45, 60},
-                                           PlaneCase{60, 0, 90}, PlaneCase{85, 30, 60},
-                                           PlaneCase{-85, 200, 120}, PlaneCase{89, 90, 30}));
+INSTANTIATE_TEST_SUITE_P(Tilts, HbaoOpenPlane, ::testing::ValuesIn(testing::kOpenPlaneCases));
 
 // The paper's per-direction tangent with texel snapping occludes a tilted plane slightly
 // (the reason per_sample_tangent exists); a plane facing the camera stays exactly 1.
@@ -145,12 +131,8 @@ TEST(Hbao, OcclusionGrowsWithRadiusAndStaysInRange) {
 TEST(Hbao, BackgroundIsOneAndNeverOccludes) {
   // A step scene whose raised half is replaced by background: the floor beside it must be
   // as unoccluded as an open floor.
-  SceneFixture f("step", 120, 80);
-  Image depth = f.scene.depth;
-  for (int y = 0; y < depth.height(); ++y)
-    for (int x = depth.width() / 2; x < depth.width(); ++x) depth(x, y) = 1e10f;
-  GBuffer g = f.g;
-  g.depth = depth.view();
+  const testing::StepBesideBackground scene;
+  const GBuffer& g = scene.g;
   const Image ao = hbao(g, HbaoSettings{});
   for (float v : ao.pixels()) EXPECT_EQ(v, 1.0f);
 }

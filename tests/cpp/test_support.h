@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <stdexcept>
@@ -26,6 +27,39 @@ struct SceneFixture {
     g.camera = scene.camera;
   }
 };
+
+/// An open plane seen at a tilt (degrees) towards an azimuth, with a field of view: the
+/// cases every method's "open plane is exactly 1" test runs through.
+struct PlaneCase {
+  double tilt, azimuth, fov;
+};
+inline const PlaneCase kOpenPlaneCases[] = {{0, 0, 60},  {30, 45, 60},    {60, 0, 90},
+                                            {85, 30, 60}, {-85, 200, 120}, {89, 90, 30}};
+inline SceneFixture open_plane(const PlaneCase& c) {
+  return SceneFixture("plane", 160, 90, {{"tilt", c.tilt}, {"azimuth", c.azimuth}, {"fov", c.fov}});
+}
+
+/// The `step` scene with its raised half replaced by background (1e10): a floor beside
+/// nothing, so every method must give exactly 1 there (background never occludes).
+struct StepBesideBackground {
+  SceneFixture f{"step", 120, 80};
+  Image depth = f.scene.depth;
+  GBuffer g = f.g;
+  StepBesideBackground() {
+    for (int y = 0; y < depth.height(); ++y)
+      for (int x = depth.width() / 2; x < depth.width(); ++x) depth(x, y) = 1e10f;
+    g.depth = depth.view();
+  }
+};
+
+/// The smallest AO over the G-buffer's valid pixels (1 if none).
+inline float min_valid(const Image& ao, const GBuffer& g) {
+  float m = 1.0f;
+  for (int y = 0; y < ao.height(); ++y)
+    for (int x = 0; x < ao.width(); ++x)
+      if (g.valid(x, y)) m = std::min(m, ao(x, y));
+  return m;
+}
 
 /// A fixture owning a fresh temporary folder, removed after the test.
 class TempDirTest : public ::testing::Test {

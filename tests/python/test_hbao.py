@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import aolab
+from analytic_answers import step_answer
 
 EXACT_SETTINGS = dict(directions=64, steps=64, random_rotation=False, jitter=False)
 
@@ -17,20 +18,6 @@ def test_unoccluded_plane_is_exactly_one(tilt, azimuth, radius):
     g = aolab.analytic_scene("plane", 192, 108, tilt=tilt, azimuth=azimuth)
     ao = aolab.compute("hbao", g, radius=radius)
     assert ao[g.valid_mask()].min() == 1.0
-
-
-def step_answer(a, h, radius, n=200_000):
-    """Eq. 3 of the paper for a floor point at distance a from the foot of a step of height
-    h seen from straight above (t = 0): in azimuth θ towards the step the horizon is the
-    step's top edge at horizontal distance a/cos θ, so sin h = h/r and W = 1 - r/R with
-    r = sqrt((a/cos θ)² + h²), counted only if r <= R."""
-    theta = (np.arange(n) + 0.5) / n * 2 * np.pi - np.pi
-    c = np.cos(theta)
-    r = np.where(c > 0, np.hypot(a / np.where(c > 0, c, 1), h), np.inf)
-    within = r <= radius
-    contrib = np.zeros_like(r)
-    contrib[within] = h / r[within] * (1 - r[within] / radius)
-    return 1 - contrib.mean()
 
 
 def test_depth_step_matches_quadrature_of_eq3():

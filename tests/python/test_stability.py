@@ -13,6 +13,12 @@ import aolab
 
 METHODS = aolab.methods()
 
+# The lowest AO each method may give on an open plane seen at a grazing angle. LSAO's
+# default fixed tangent sin t = -0.85 (the paper's strategy 3, §4.1) over-occludes slices
+# that rise more steeply than asin 0.85; a pair of opposite directions then loses at most
+# (1 - sin t)/2 = 0.925 (docs/methods/lsao.md). Every other method is (nearly) exact.
+OPEN_PLANE_FLOOR = {"lsao": 0.925}
+
 
 def info(method):
     return aolab.method_info(method)
@@ -134,7 +140,7 @@ def test_huge_depth_range_in_one_frame(method):
 def test_grazing_plane(method):
     g = aolab.analytic_scene("plane", 128, 72, tilt=89.5)
     ao = run(method, g, radius=1.0)
-    assert ao[g.valid_mask()].min() > 0.99
+    assert ao[g.valid_mask()].min() >= OPEN_PLANE_FLOOR.get(method, 0.99)
 
 
 finite_depth = st.floats(np.float32(1e-3).item(), 1e5, allow_nan=False, width=32)

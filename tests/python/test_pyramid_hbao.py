@@ -1,0 +1,217 @@
+"""Pyramid HBAO (Astapov, Frolov, Galaktionov 2021) against known answers: open planes,
+eq. 8 on a depth step against quadrature, occlusion where HBAO finds it and none beyond
+the reach of the samples, the paper's Gaussian, threads, settings errors, progress."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aolab
+from analytic_answers import step_answer
+
+METHOD = "pyramid_hbao"
+NO_NOISE = dict(rotation=False, random_directions=False, random_start=False,
+                gaussian_filter=False)
+# The depth buffer only (L = 1) with 1-pixel steps reaching past R: the method without its
+# pyramid, as dense as HBAO's exact settings.
+DENSE = dict(NO_NOISE, directions=64, levels=1, samples=64)
+
+
+@pytest.mark.parametrize("tilt, azimuth", [(0, 0), (45, 10), (70, 90), (85, 30), (-85, 250),
+                                           (89, 90)])
+@pytest.mark.parametrize("radius", [0.2, 1.0, 10.0])
+@pytest.mark.parametrize("reduction", [2, 3])
+def test_unoccluded_plane_is_exactly_one(tilt, azimuth, radius, reduction):
+    g = aolab.analytic_scene("plane", 192, 108, tilt=tilt, azimuth=azimuth)
+    for filt in (False, True):
+        ao = aolab.compute(METHOD, g, radius=radius, reduction=reduction, gaussian_filter=filt)
+        assert ao[g.valid_mask()].min() == 1.0
+
+
+def test_depth_step_matches_quadrature_of_eq8():
+    # `step`: floor at depth 50, a slab 0.5 nearer for x >= 0, 10° field of view.
+    h, radius = 0.5, 1.0
+    g = aolab.analytic_scene("step", 512, 64, step_height=h)
+    p = g.view_positions()
+    row = g.height // 2
+    dense = aolab.compute(METHOD, g, radius=radius, **DENSE)
+    pyramid = aolab.compute(METHOD, g, radius=radius, directions=64, **NO_NOISE)
+    for a in (0.05, 0.15, 0.3, 0.5, 0.7):
+        col = int(np.argmin(np.abs(p[row, :, 0] + a)))
+        expected = step_answer(-p[row, col, 0], h, radius)
+        # Without the pyramid: within 0.01, as HBAO (the first sample past the edge lies up
+        # to a pixel beyond it; the slab's x-offsets scale by 49.5/50 against the floor's).
+        assert abs(dense[row, col] - expected) < 0.01, (a, dense[row, col], expected)
+        # With it, texels that straddle the edge average floor and slab into a ramp whose
+        # points lie nearer to P than the edge: up to 0.06 more occlusion near the step (the
+        # "dark halos" of §3.4), never less by more than 0.015 (measured: −0.051 … +0.001).
+        assert -0.06 < pyramid[row, col] - expected < 0.015, (a, pyramid[row, col], expected)
+    # The slab top sees nothing above it, whatever the level.
+    assert dense[row, g.width // 2 + 2:].min() == 1.0
+    assert pyramid[row, g.width // 2 + 2:].min() == 1.0
+    # Without the pyramid, floor points whose edge lies beyond R see nothing (eq. 7).
+    far = -p[row, :, 0] > np.sqrt(radius**2 - h**2) + 0.02
+    assert dense[row, far].min() == 1.0
+
+
+def footprint_reach_px(projected_radius, samples=4, reduction=3, start_min=0.5):
+    """How far from P, in pixels, a texel that the march reads can extend: a read at
+    distance t <= R·f/d on level l comes from a texel of side K^l containing the read, so
+    its pixels lie within t + √2·K^l. The coarsest level reached within the projected
+    radius is the one with the smallest start multiplier (m = 0.5): level l begins after
+    m·S·(K^l − 1)/(K − 1) pixels."""
+    def reach(r):
+        level = 0
+        while start_min * samples * (reduction ** (level + 1) - 1) / (reduction - 1) < r:
+            level += 1
+        return r + np.sqrt(2) * reduction ** level
+    return np.vectorize(reach)(projected_radius)
+
+
+def test_step_occlusion_ends_where_no_texel_reaches_the_slab():
+    h, radius = 0.5, 1.0
+    g = aolab.analytic_scene("step", 512, 64, step_height=h)
+    p = g.view_positions()
+    hbao = aolab.compute("hbao", g, radius=radius)
+    ao = aolab.compute(METHOD, g, radius=radius, gaussian_filter=False)
+    floor = np.zeros(ao.shape, bool)
+    floor[:, : g.width // 2] = True
+    # Occluded where HBAO is: every floor column HBAO darkens by 1 % on average.
+    hbao_cols = hbao[:, : g.width // 2].mean(axis=0) < 0.99
+    assert hbao_cols.sum() > 20
+    assert (ao[:, : g.width // 2].mean(axis=0)[hbao_cols] < 0.99).all()
+    # Exactly 1 where no texel read can contain a slab pixel (an image-space bound, derived
+    # in footprint_reach_px: 1.65 R here; measured, the last occluded floor point lies
+    # 0.95 R from the foot of the step).
+    reach = footprint_reach_px(radius * g.fx / 50.0)
+    cols = np.arange(g.width) + 0.5
+    beyond = floor & ((g.width // 2 - cols) > reach)[None, :]
+    assert beyond.sum() > 1000
+    assert ao[beyond].min() == 1.0
+    assert (-p[beyond][:, 0]).min() > radius  # the bound lies beyond R
+
+
+def test_crease_is_occluded_near_its_line_and_open_beyond_reach():
+    g = aolab.analytic_scene("crease", 200, 100)
+    p = g.view_positions()
+    dist = np.hypot(p[..., 1], p[..., 2] + 5)  # within either plane, to the crease line
+    inner = np.zeros_like(dist, bool)
+    inner[:, 40:160] = True  # away from the image sides, where samples leave the screen
+    for radius in (0.25, 1.0):
+        ao = aolab.compute(METHOD, g, radius=radius, gaussian_filter=False)
+        hbao = aolab.compute("hbao", g, radius=radius)
+        edges = np.arange(0, 1.0, 0.2) * radius
+        bins = [ao[(dist >= lo) & (dist < lo + 0.2 * radius) & inner].mean() for lo in edges]
+        hbins = [hbao[(dist >= lo) & (dist < lo + 0.2 * radius) & inner].mean() for lo in edges]
+        # Occlusion fades with distance from the line, as HBAO's, and is stronger: eq. 8
+        # weights the best occluder, not the highest one (HBAO's horizon on the other plane
+        # lies towards R, where W is small).
+        assert bins[0] < 0.9 and bins[0] < hbins[0]
+        assert all(a < b for a, b in zip(bins, bins[1:])), bins
+        # Mirror symmetry in y, row by row on average: single pixels differ by their noise
+        # (up to 0.14 unfiltered), and the pyramid's texel grid starts at the top row.
+        row_means = ao[:, 40:160].mean(axis=1)
+        np.testing.assert_allclose(row_means, row_means[::-1], atol=0.01)
+        dense = aolab.compute(METHOD, g, radius=radius, **DENSE)
+        assert dense[dist > radius * 1.01].min() == 1.0  # without the pyramid: beyond R
+    # With it: beyond the reach of the texels read (footprint_reach_px) from P's row to the
+    # crease row (the image's middle), at R = 0.25 where that reach fits in the image.
+    radius = 0.25
+    ao = aolab.compute(METHOD, g, radius=radius, gaussian_filter=False)
+    rows = np.abs(np.arange(g.height) + 0.5 - g.height / 2)[:, None]
+    reach = footprint_reach_px(radius * g.fx / g.depth)
+    beyond = rows > reach
+    assert beyond.sum() > 2000
+    assert ao[beyond].min() == 1.0
+
+
+def test_floor_under_ceiling_beyond_radius_is_one():
+    g = aolab.analytic_scene("ceiling", 256, 144, ceiling_height=1.0)
+    assert aolab.compute(METHOD, g, radius=0.9).min() == 1.0
+
+
+def test_occlusion_grows_with_radius():
+    g = aolab.analytic_scene("blocks", 160, 90)
+    means = [aolab.compute(METHOD, g, radius=r, **NO_NOISE).mean() for r in (0.1, 0.3, 1, 3)]
+    assert all(a > b for a, b in zip(means, means[1:])), means
+
+
+def test_same_bits_for_any_thread_count():
+    g = aolab.analytic_scene("blocks", 320, 180)
+    a = aolab.compute(METHOD, g, radius=0.5, threads=1)
+    b = aolab.compute(METHOD, g, radius=0.5, threads=2)
+    c = aolab.compute(METHOD, g, radius=0.5, threads=7)
+    assert a.tobytes() == b.tobytes() == c.tobytes()
+
+
+def test_gaussian_filter_is_on_by_default_and_is_gaussian_blur():
+    g = aolab.analytic_scene("blocks", 160, 90)
+    raw = aolab.compute(METHOD, g, radius=0.5, gaussian_filter=False)
+    default = aolab.compute(METHOD, g, radius=0.5)
+    np.testing.assert_array_equal(default, aolab.gaussian_blur(raw, g, sigma=1.5, taps=5))
+    assert np.abs(np.diff(default, axis=1)).mean() < np.abs(np.diff(raw, axis=1)).mean()
+    info = {s["name"]: s for s in aolab.method_info(METHOD)["settings"]}
+    assert info["gaussian_filter"]["default"] is True
+
+
+def test_settings_table():
+    info = aolab.method_info(METHOD)
+    assert info["needs_normal"]
+    names = [s["name"] for s in info["settings"]]
+    assert names == ["radius", "directions", "samples", "levels", "reduction", "rotation",
+                     "random_directions", "random_start", "gaussian_filter", "seed"]
+    defaults = {s["name"]: s["default"] for s in info["settings"]}
+    assert defaults["directions"] == 8 and defaults["reduction"] == 3
+    assert defaults["levels"] == 0 and defaults["samples"] == 4
+
+
+def test_docs_settings_table_is_the_field_table():
+    # docs/methods/pyramid_hbao.md copies kPyramidHbaoFields; this keeps the copy exact.
+    doc = Path(__file__).resolve().parents[2] / "docs" / "methods" / "pyramid_hbao.md"
+    section = doc.read_text().split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in section.splitlines() if line.startswith("| `")]
+    settings = aolab.method_info(METHOD)["settings"]
+    assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
+    for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
+        assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
+        if kind == "bool":
+            assert (default, rng) == ("true" if s["default"] else "false", "false, true"), name
+            continue
+        assert np.float32(float(default)) == np.float32(s["default"]), name
+        lo, hi = (float(v) for v in rng.strip("[]").split(","))
+        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
+
+
+@pytest.mark.parametrize("name, value", [
+    ("directions", 0), ("directions", 65), ("samples", 0), ("samples", 2.5), ("levels", -1),
+    ("levels", 33), ("reduction", 1), ("reduction", 17), ("seed", -1), ("rotation", 2),
+    ("gaussian_filter", "yes")])
+def test_bad_settings_are_valueerror_naming_them(name, value):
+    g = aolab.analytic_scene("plane", 16, 9)
+    with pytest.raises(ValueError, match=name):
+        aolab.compute(METHOD, g, radius=1.0, **{name: value})
+
+
+def test_unknown_setting_lists_the_valid_ones():
+    g = aolab.analytic_scene("plane", 16, 9)
+    with pytest.raises(ValueError, match="unknown setting 'steps'.*samples"):
+        aolab.compute(METHOD, g, radius=1.0, steps=8)
+
+
+def test_needs_normals():
+    g = aolab.analytic_scene("plane", 16, 9)
+    no_normals = aolab.GBuffer(g.depth, fx=g.fx, fy=g.fy, cx=g.cx, cy=g.cy)
+    with pytest.raises(ValueError, match="normal"):
+        aolab.compute(METHOD, no_normals, radius=1.0)
+
+
+def test_progress_and_cancel():
+    g = aolab.analytic_scene("blocks", 320, 180)
+    p = aolab.Progress()
+    aolab.compute(METHOD, g, radius=0.5, progress=p)
+    assert p.total == 180 and p.done == 180
+    c = aolab.Progress()
+    c.cancel()
+    with pytest.raises(aolab.Cancelled):
+        aolab.compute(METHOD, g, radius=0.5, progress=c)
