@@ -65,6 +65,21 @@ void BM_HbaoRadiusDensity(benchmark::State& state) {
 }
 BENCHMARK(BM_HbaoRadiusDensity)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Constant sample density in the disc of radius R: N_s and N_d both grow with R, so the
+// samples per pixel grow as R² (at x8: 64 directions x 64 steps).
+void BM_HbaoRadiusArea(benchmark::State& state) {
+  const GBuffer g = gbuffer();
+  RunOptions opt;
+  opt.threads = 2;
+  const int scale = int(state.range(0));
+  HbaoSettings st = settings(float(scale), kHbaoDefaultSteps * scale);
+  st.directions = kHbaoDefaultDirections * scale;
+  for (auto _ : state) benchmark::DoNotOptimize(hbao(g, st, opt));
+  state.counters["radius"] = kRadius * float(scale);
+  state.counters["samples"] = double(st.directions * st.steps);
+}
+BENCHMARK(BM_HbaoRadiusArea)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 }  // namespace
 
 BENCHMARK_MAIN();
