@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tests/cpp/test_support.h"
+#include "core/image_io.h"
 #include "tests/oracles/lsao_oracle.h"
 
 namespace aolab {
@@ -237,9 +238,9 @@ struct HullStats {
   double max_abs;
 };
 
-HullStats compare_with_oracle(const SceneFixture& f, const LsaoSettings& s) {
-  const LsaoSweep fast = lsao_sweep(f.g, s);
-  const LsaoSweep slow = lsao_oracle_sweep(f.g, s);
+HullStats compare_with_oracle(const GBuffer& g, const LsaoSettings& s) {
+  const LsaoSweep fast = lsao_sweep(g, s);
+  const LsaoSweep slow = lsao_oracle_sweep(g, s);
   EXPECT_EQ(fast.buffer.size(), slow.buffer.size());
   std::size_t samples = 0, mismatches = 0;
   const LsaoPlan& plan = fast.plan;
@@ -251,12 +252,12 @@ HullStats compare_with_oracle(const SceneFixture& f, const LsaoSettings& s) {
       ++samples;
       if (std::abs(a - b) > 1e-4f) ++mismatches;
     }
-  const Image ao_fast = lsao_gather(f.g, s, fast), ao_slow = lsao_gather(f.g, s, slow);
+  const Image ao_fast = lsao_gather(g, s, fast), ao_slow = lsao_gather(g, s, slow);
   double sum = 0, worst = 0;
   int n = 0;
   for (int y = 0; y < ao_fast.height(); ++y)
     for (int x = 0; x < ao_fast.width(); ++x)
-      if (f.g.valid(x, y)) {
+      if (g.valid(x, y)) {
         const double d = std::abs(double(ao_fast(x, y)) - ao_slow(x, y));
         sum += d, worst = std::max(worst, d), ++n;
       }
@@ -283,7 +284,7 @@ TEST_P(LsaoHull, MatchesBruteForceExceptRareDegenerateCases) {
   LsaoSettings s;
   s.radius = c.radius;
   s.tangent_strategy = c.strategy;
-  const HullStats h = compare_with_oracle(f, s);
+  const HullStats h = compare_with_oracle(f.g, s);
   std::cout << "[hull] " << c.scene << " R " << c.radius << " strategy " << c.strategy
             << ": samples differing " << 100 * h.mismatch_rate << " %, mean |dA| "
             << 100 * h.mean_abs << " %, max |dA| " << h.max_abs << "\n";
@@ -305,7 +306,7 @@ TEST(Lsao, HullMatchesBruteForceInOtherLayouts) {
   for (int i : {1, 4, 5, 6}) {
     LsaoSettings s = config(i);
     s.radius = 1.0f;
-    const HullStats h = compare_with_oracle(f, s);
+    const HullStats h = compare_with_oracle(f.g, s);
     EXPECT_LT(h.mean_abs, 0.005) << "config " << i;
   }
 }
@@ -420,6 +421,44 @@ TEST(Lsao, RegistryNeedsDepthOnly) {
   const Image d = compute("lsao", f.g, {{"radius", 0.5}, {"tangent_strategy", 1}});
   EXPECT_LT(std::abs(mean_valid(c, f.g) - mean_valid(d, f.g)), 0.01);
 }
+
+// The same acceptance on the committed Cycles reference scenes (their real G-buffers, at
+// each scene's R). The brute-force oracle walks every earlier sample of a line for each
+// receiver (quadratic in the line length), so each scene is cropped to its central 320x180:
+// the crop is a G-buffer of its own (principal point shifted).
+class LsaoHullOnReferences : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(LsaoHullOnReferences, MatchesBruteForce) {
+  const std::string name = GetParam();
+  const GBufferData data =
+      load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" + name + "/reference.exr");
+  GBuffer g = data.view();
+  const int w = 320, h = 180, x0 = (g.width() - w) / 2, y0 = (g.height() - h) / 2;
+  auto crop = [&](ConstImageView v) {
+    if (v.empty()) return v;
+    return ConstImageView(&v(x0, y0), w, h, v.channels, v.row_stride);
+  };
+  g.depth = crop(g.depth);
+  g.normal = crop(g.normal);
+  g.color = crop(g.color);
+  g.camera.cx -= float(x0);
+  g.camera.cy -= float(y0);
+  LsaoSettings s;
+  s.radius = float(data.sidecar.ao_distance);
+  const HullStats hs = compare_with_oracle(g, s);
+  std::cout << "[hull] reference " << name << " R " << s.radius << ": samples differing "
+            << 100 * hs.mismatch_rate << " %, mean |dA| " << 100 * hs.mean_abs
+            << " %, max |dA| " << hs.max_abs << "\n";
+  // Issue 4's acceptance (< 0.5 %) holds on every scene but `grille`, where thin bars in
+  // front of a wall make the hull drop the largest occluder for many receivers: measured
+  // 4.49 % mean, 18.7 % of samples. This is an open finding (issue 4 stays open until it is
+  // explained or fixed); the bound below only guards against it getting worse.
+  EXPECT_LT(hs.mean_abs, name == "grille" ? 0.05 : 0.005);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, LsaoHullOnReferences,
+                         ::testing::Values("analytic", "room", "engine", "grille", "street",
+                                           "colored_room"));
 
 }  // namespace
 }  // namespace aolab
