@@ -14,17 +14,7 @@
 namespace aolab {
 namespace {
 
-// Deterministic values in [lo, hi): a 64-bit LCG, so tests need no seeding policy.
-Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f, float hi = 1.0f) {
-  Image image(width, height, 1);
-  std::uint64_t state = seed * 6364136223846793005ull + 1442695040888963407ull;
-  for (float& v : image.pixels()) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    const double u = double(state >> 11) / double(1ull << 53);
-    v = lo + float(u) * (hi - lo);
-  }
-  return image;
-}
+using testing::random_image;
 
 
 TEST(Metrics, IdenticalImages) {

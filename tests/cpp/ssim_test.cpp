@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/cpp/test_support.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -17,16 +19,7 @@
 namespace aolab {
 namespace {
 
-Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f, float hi = 1.0f) {
-  Image image(width, height, 1);
-  std::uint64_t state = seed * 6364136223846793005ull + 1442695040888963407ull;
-  for (float& v : image.pixels()) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    const double u = double(state >> 11) / double(1ull << 53);
-    v = lo + float(u) * (hi - lo);
-  }
-  return image;
-}
+using testing::random_image;
 
 // 'reflect' by folding, one mirror at a time: a different route to the same index as the
 // library's modular formula.

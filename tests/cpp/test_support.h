@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <random>
 #include <stdexcept>
@@ -51,6 +52,20 @@ struct StepBesideBackground {
     g.depth = depth.view();
   }
 };
+
+/// A 1-channel image of deterministic values in [lo, hi) from a 64-bit LCG, so tests need
+/// no seeding policy.
+inline Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f,
+                          float hi = 1.0f) {
+  Image image(width, height, 1);
+  std::uint64_t state = seed * 6364136223846793005ull + 1442695040888963407ull;
+  for (float& v : image.pixels()) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const double u = double(state >> 11) / double(1ull << 53);
+    v = lo + float(u) * (hi - lo);
+  }
+  return image;
+}
 
 /// The smallest AO over the G-buffer's valid pixels (1 if none).
 inline float min_valid(const Image& ao, const GBuffer& g) {
