@@ -282,6 +282,14 @@ void sweep_line(const Context& c, const Slice& s, const std::vector<LsaoSample>&
         hull.pop_back();
         top = below;
       }
+      // Extension (hull_search > 0): the loop stops at a top that is higher than the entry
+      // below it, even when that entry, nearer in view space, casts more; look a bounded
+      // number of entries further down, without popping.
+      const int last = int(hull.size()) - 2;
+      for (int j = last; j >= 0 && last - j < c.s.hull_search; --j) {
+        const Evaluation e = evaluate(c, s, p, hull[j], sin_t_hull);
+        if (e.crit > top.crit) top = e;
+      }
       // Line 20: writeResult(occlusion(h1, uk)); line 28: sin t + max(0, sin h − sin t)·ρ,
       // written as ρ·sin h + (1 − ρ)·sin t so that ρ = 1 gives sin h exactly and opposite
       // sweeps over a plane (sin h and −sin h) cancel to the bit.

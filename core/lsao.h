@@ -117,6 +117,12 @@ struct LsaoSettings {
   /// layout, no randomness). > 0: offset each direction pair's lattice by a random fraction
   /// of D_L across and D_S along (counter-based, from the seed). [0, 2^31 − 1].
   int seed = 0;
+  /// Stack entries below the top whose obscurance is also tried for the written result
+  /// (they are not popped). 0 = Algorithm 1 exactly (line 20 writes the top's). The paper's
+  /// degenerate case with the largest occluder still on the stack, under a nearer point that
+  /// is higher but farther in view space (thin geometry before a surface), is caught when it
+  /// is within this many entries; cost grows linearly with it. [0, 256].
+  int hull_search = 0;
 };
 
 inline const SettingField<LsaoSettings> kLsaoFields[] = {
@@ -143,6 +149,8 @@ inline const SettingField<LsaoSettings> kLsaoFields[] = {
      "off-texel samples: 0 = snap to the texel, 1 = interpolate, snap at depth edges"},
     {"seed", &LsaoSettings::seed, 0, 2147483647, "",
      "0 = line lattice through the image centre; > 0 = random lattice offset"},
+    {"hull_search", &LsaoSettings::hull_search, 0, 256, "entries",
+     "stack entries under the top also tried for the result; 0 = Algorithm 1 exactly"},
 };
 
 /// Line-sweep AO of a G-buffer; needs depth only (normals are read if present and a setting

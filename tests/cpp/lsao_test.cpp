@@ -301,6 +301,35 @@ INSTANTIATE_TEST_SUITE_P(
                       HullCase{"step", 1.0f, 3}, HullCase{"blocks", 1.0f, 1},
                       HullCase{"blocks", 1.0f, 2}, HullCase{"wall", 1.0f, 1}));
 
+// hull_search only adds candidates for the written value: per sample it is never below
+// Algorithm 1's and never above brute force's (both pick by the same criterion), and with the
+// whole stack searched only occluders popped earlier (§4.1's example) are still missed.
+TEST(Lsao, HullSearchLiesBetweenAlgorithmOneAndBruteForce) {
+  SceneFixture f("blocks", 128, 72);
+  LsaoSettings s;
+  s.radius = 2.0f;
+  const LsaoSweep paper = lsao_sweep(f.g, s), slow = lsao_oracle_sweep(f.g, s);
+  for (int search : {4, 256}) {
+    s.hull_search = search;
+    const LsaoSweep fast = lsao_sweep(f.g, s);
+    int below = 0, above = 0, far = 0, total = 0;
+    for (int k = 0; k < int(fast.plan.directions.size()); ++k)
+      for (std::size_t i = 0; i < fast.plan.lines[fast.plan.lines_of[k]].samples; ++i) {
+        const float a = fast.value(k, i), p = paper.value(k, i), b = slow.value(k, i);
+        if (!(a == a)) continue;
+        below += a < p - 1e-6f;
+        above += a > b + 1e-4f;
+        far += std::abs(a - b) > 1e-4f;
+        ++total;
+      }
+    std::cout << "[hull_search " << search << "] " << far << " of " << total
+              << " samples differ from brute force\n";
+    EXPECT_EQ(below, 0) << search;
+    EXPECT_EQ(above, 0) << search;
+    if (search == 256) EXPECT_LT(far, total / 200);
+  }
+}
+
 TEST(Lsao, HullMatchesBruteForceInOtherLayouts) {
   SceneFixture f("blocks", 160, 90);
   for (int i : {1, 4, 5, 6}) {
@@ -426,39 +455,60 @@ TEST(Lsao, RegistryNeedsDepthOnly) {
 // each scene's R). The brute-force oracle walks every earlier sample of a line for each
 // receiver (quadratic in the line length), so each scene is cropped to its central 320x180:
 // the crop is a G-buffer of its own (principal point shifted).
-class LsaoHullOnReferences : public ::testing::TestWithParam<const char*> {};
+struct ReferenceCrop {
+  const char* scene;
+  int x0, y0;  // top-left of the 320×180 tile compared
+};
 
+class LsaoHullOnReferences : public ::testing::TestWithParam<ReferenceCrop> {};
+
+// Issue 4's acceptance on the committed reference G-buffers, at each scene's R. Measured
+// (docs/methods/lsao.md): with Algorithm 1 exactly (hull_search = 0) the mean |ΔA| is
+// 0.07–0.21 % everywhere but `grille`, 4.49 %: there the largest occluder of a wall receiver
+// is a wall point still on the stack, under the last bar point, which is higher but farther
+// in view space, and line 12's "and below it" stops the popping at the bar. An independent
+// re-implementation of the pseudocode (docs/methods/lsao.md) gives the same rate, so this is
+// the algorithm, not this code; hull_search = 16 brings every scene under 0.5 %.
 TEST_P(LsaoHullOnReferences, MatchesBruteForce) {
-  const std::string name = GetParam();
+  const ReferenceCrop crop = GetParam();
+  const std::string name = crop.scene;
   const GBufferData data =
       load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" + name + "/reference.exr");
   GBuffer g = data.view();
-  const int w = 320, h = 180, x0 = (g.width() - w) / 2, y0 = (g.height() - h) / 2;
-  auto crop = [&](ConstImageView v) {
+  const int w = 320, h = 180;
+  auto cut = [&](ConstImageView v) {
     if (v.empty()) return v;
-    return ConstImageView(&v(x0, y0), w, h, v.channels, v.row_stride);
+    return ConstImageView(&v(crop.x0, crop.y0), w, h, v.channels, v.row_stride);
   };
-  g.depth = crop(g.depth);
-  g.normal = crop(g.normal);
-  g.color = crop(g.color);
-  g.camera.cx -= float(x0);
-  g.camera.cy -= float(y0);
-  LsaoSettings s;
-  s.radius = float(data.sidecar.ao_distance);
-  const HullStats hs = compare_with_oracle(g, s);
-  std::cout << "[hull] reference " << name << " R " << s.radius << ": samples differing "
-            << 100 * hs.mismatch_rate << " %, mean |dA| " << 100 * hs.mean_abs
-            << " %, max |dA| " << hs.max_abs << "\n";
-  // Issue 4's acceptance (< 0.5 %) holds on every scene but `grille`, where thin bars in
-  // front of a wall make the hull drop the largest occluder for many receivers: measured
-  // 4.49 % mean, 18.7 % of samples. This is an open finding (issue 4 stays open until it is
-  // explained or fixed); the bound below only guards against it getting worse.
-  EXPECT_LT(hs.mean_abs, name == "grille" ? 0.05 : 0.005);
+  g.depth = cut(g.depth);
+  g.normal = cut(g.normal);
+  g.color = cut(g.color);
+  g.camera.cx -= float(crop.x0);
+  g.camera.cy -= float(crop.y0);
+  for (int search : {0, 16}) {
+    LsaoSettings s;
+    s.radius = float(data.sidecar.ao_distance);
+    s.hull_search = search;
+    const HullStats hs = compare_with_oracle(g, s);
+    std::cout << "[hull] reference " << name << " R " << s.radius << " hull_search " << search
+              << ": samples differing " << 100 * hs.mismatch_rate << " %, mean |dA| "
+              << 100 * hs.mean_abs << " %, max |dA| " << hs.max_abs << "\n";
+    // The grille bound with Algorithm 1 only guards against it getting worse (see above).
+    EXPECT_LT(hs.mean_abs, search == 0 && name == "grille" ? 0.05 : 0.005) << search;
+  }
 }
 
+// The tiles are the image centre, except `street`, whose centre is distant facades where
+// R = 0.3 m covers less than a pixel and every A clamps to 1 (the hull values differ there
+// with no effect); its lower right has the kerbs and the near buildings.
 INSTANTIATE_TEST_SUITE_P(Scenes, LsaoHullOnReferences,
-                         ::testing::Values("analytic", "room", "engine", "grille", "street",
-                                           "colored_room"));
+                         ::testing::Values(ReferenceCrop{"analytic", 480, 270},
+                                           ReferenceCrop{"room", 480, 270},
+                                           ReferenceCrop{"engine", 480, 270},
+                                           ReferenceCrop{"grille", 480, 270},
+                                           ReferenceCrop{"street", 960, 360},
+                                           ReferenceCrop{"colored_room", 480, 270}),
+                         [](const auto& info) { return std::string(info.param.scene); });
 
 }  // namespace
 }  // namespace aolab
