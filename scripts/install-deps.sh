@@ -14,6 +14,8 @@ PACKAGES=(
   python3-skimage python3-tqdm python3-matplotlib
   # Blender 3.4 (its Python is the same 3.11; `import aolab` is tested inside it)
   blender
+  # EEVEE (the comparison's GTAO peer) needs an OpenGL context: Xvfb + Mesa's llvmpipe
+  xvfb xauth libgl1-mesa-dri
 )
 
 missing=()

@@ -4,18 +4,31 @@
 # Cached renders are reused; pass --force to render again. ~6 min per small scene on 2 cores.
 #   scripts/update_references.sh                 # all scenes
 #   scripts/update_references.sh analytic room   # some
+#   scripts/update_references.sh --peers [names]  # the comparison peers instead: Cycles at
+#       1/4/16/64/256 spp (seed 1) and EEVEE's GTAO under xvfb-run, into <name>/peers/
+#       (~1/3 of a reference's time per scene)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
 force=()
 names=()
+peers=0
 for a in "$@"; do
-  if [ "$a" = "--force" ]; then force=(--force); else names+=("$a"); fi
+  case "$a" in
+    --force) force=(--force) ;;
+    --peers) peers=1 ;;
+    *) names+=("$a") ;;
+  esac
 done
 if [ ${#names[@]} -eq 0 ]; then
   for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
 fi
 for name in "${names[@]}"; do
+  if [ "$peers" = 1 ]; then
+    /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --peers \
+      --out "$root/reference_scenes/$name/peers" "${force[@]}"
+    continue
+  fi
   /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --spp 1024 \
     --out "$root/reference_scenes/$name" "${force[@]}"
 done

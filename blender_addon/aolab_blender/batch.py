@@ -10,6 +10,9 @@
     --resolution WxH    override the scene's resolution (percentage 100)
     --camera NAME       render from this camera instead of the scene camera
     --extra JSON        extra sidecar entries
+    --peers             render the comparison peers instead (Cycles ladder, EEVEE GTAO;
+                        peers.py): --out is then a folder
+    --ladder 1,4,...    the ladder's samples     --no-eevee   skip EEVEE
 
 Prints `AOLAB_STAGE <stage>` lines, `AOLAB_ERROR <message>` on a problem the user can act
 on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
@@ -26,7 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy  # noqa: E402
 
-from aolab_blender import export  # noqa: E402
+from aolab_blender import export, peers  # noqa: E402
 from aolab_blender.passes import parse_passes  # noqa: E402
 
 
@@ -42,6 +45,9 @@ def parse(argv):
     p.add_argument("--resolution")
     p.add_argument("--camera")
     p.add_argument("--extra", default="{}")
+    p.add_argument("--peers", action="store_true")
+    p.add_argument("--ladder", default=",".join(str(s) for s in peers.LADDER_SPP))
+    p.add_argument("--no-eevee", action="store_true")
     return p.parse_args(argv)
 
 
@@ -60,11 +66,20 @@ def main(argv):
         if scene.world is None:
             raise export.BridgeError("the scene has no world, so no AO distance: pass --radius")
         radius = scene.world.light_settings.distance
+    def stage(name: str) -> None:
+        print(f"AOLAB_STAGE {name}", flush=True)
+
+    if args.peers:
+        result = peers.render_peers(
+            scene, args.out, radius=radius, ladder=[int(v) for v in args.ladder.split(",")],
+            eevee=not args.no_eevee, camera_name=args.camera, report=stage,
+            extra=json.loads(args.extra))
+        print("AOLAB_RESULT " + json.dumps(result), flush=True)
+        return
     sidecar = export.export_reference(
         scene, args.out, radius=radius, spp=args.spp, passes=parse_passes(args.passes),
         gbuffer_samples=args.gbuffer_samples, camera_name=args.camera,
-        report=lambda stage: print(f"AOLAB_STAGE {stage}", flush=True),
-        extra=json.loads(args.extra))
+        report=stage, extra=json.loads(args.extra))
     print("AOLAB_RESULT " + json.dumps(sidecar), flush=True)
 
 

@@ -55,6 +55,17 @@ def write_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
             names.append(f"{view_layer}.{pass_name}.{c}")
             formats.append(oiio.TypeFloat if fmt == "float" else oiio.TypeHalf)
             planes.append(data[..., i])
+    _write(path, names, formats, planes)
+
+
+def write_gray(path: str, image: np.ndarray) -> None:
+    """Writes an (H, W) image as a one-channel ("Y") half-float EXR, atomically: the format
+    of the comparison peers (docs/comparison.md)."""
+    _write(path, ["Y"], [oiio.TypeHalf], [np.asarray(image, dtype=np.float32)])
+
+
+def _write(path: str, names: list[str], formats: list, planes: list[np.ndarray]) -> None:
+    """Zip-compressed EXR with the given channels, via a temporary file and a rename."""
     pixels = np.ascontiguousarray(np.stack(planes, -1), dtype=np.float32)
     h, w, n = pixels.shape
     spec = oiio.ImageSpec(w, h, n, oiio.TypeFloat)

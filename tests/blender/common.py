@@ -54,6 +54,7 @@ def scene_state(scene):
         "scene": rna_values(scene, depth=0),
         "render": rna_values(scene.render, depth=2),
         "cycles": rna_values(scene.cycles, depth=1),
+        "eevee": rna_values(scene.eevee, depth=1),
         "world": rna_values(scene.world, depth=2) if scene.world else None,
         "view_layers": {vl.name: rna_values(vl, depth=2) for vl in scene.view_layers},
         "objects": {o.name: {"object": rna_values(o, depth=0), "cycles": rna_values(o.cycles),
@@ -76,3 +77,40 @@ def diff(a, b, path=""):
     if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
         return []
     return [] if a == b else [f"{path}: {a!r} -> {b!r}"]
+
+
+def dress_as_user_scene(scene):
+    """Gives `scene` deliberately non-default settings everywhere the bridge reaches (render,
+    Cycles, EEVEE, world, passes, objects, camera, a light), like a user's own scene."""
+    scene.render.engine = "BLENDER_EEVEE"
+    scene.render.use_compositing = True
+    scene.render.use_motion_blur = True
+    scene.render.filepath = "//user_output_"
+    scene.render.image_settings.file_format = "JPEG"
+    scene.cycles.samples = 77
+    scene.cycles.use_adaptive_sampling = True
+    scene.cycles.adaptive_threshold = 0.05
+    scene.cycles.use_denoising = True
+    scene.cycles.max_bounces = 9
+    scene.cycles.filter_width = 2.5
+    scene.cycles.seed = 42
+    scene.cycles.use_animated_seed = True
+    scene.world.light_settings.distance = 3.3
+    vl = bpy.context.view_layer
+    vl.use_pass_mist = True
+    vl.use_pass_diffuse_color = True
+    vl.use_pass_z = False
+    vl.cycles.denoising_store_passes = True
+    for obj in scene.objects:
+        obj.cycles.shadow_terminator_geometry_offset = 0.37
+    scene.camera.data.dof.use_dof = True
+    scene.camera.data.dof.focus_distance = 2.0
+    light = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    scene.collection.objects.link(light)
+    bpy.context.view_layer.update()
+    scene.eevee.gtao_distance = 0.123
+    scene.eevee.use_gtao = False
+    scene.eevee.use_gtao_bounce = True
+    scene.eevee.taa_render_samples = 3
+    scene.eevee.use_bloom = True
+    scene.render.filter_size = 1.7

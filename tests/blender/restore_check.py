@@ -8,7 +8,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import diff, run_build_script, scene_state  # noqa: E402
+from common import diff, dress_as_user_scene, run_build_script, scene_state  # noqa: E402
 
 import bpy  # noqa: E402
 from aolab_blender import export  # noqa: E402
@@ -17,33 +17,7 @@ tiny = sys.argv[sys.argv.index("--") + 1]
 run_build_script(tiny)
 scene = bpy.context.scene
 
-# A user's scene with deliberately non-default settings everywhere the bridge reaches.
-scene.render.engine = "BLENDER_EEVEE"
-scene.render.use_compositing = True
-scene.render.use_motion_blur = True
-scene.render.filepath = "//user_output_"
-scene.render.image_settings.file_format = "JPEG"
-scene.cycles.samples = 77
-scene.cycles.use_adaptive_sampling = True
-scene.cycles.adaptive_threshold = 0.05
-scene.cycles.use_denoising = True
-scene.cycles.max_bounces = 9
-scene.cycles.filter_width = 2.5
-scene.cycles.seed = 42
-scene.cycles.use_animated_seed = True
-scene.world.light_settings.distance = 3.3
-vl = bpy.context.view_layer
-vl.use_pass_mist = True
-vl.use_pass_diffuse_color = True
-vl.use_pass_z = False
-vl.cycles.denoising_store_passes = True
-for obj in scene.objects:
-    obj.cycles.shadow_terminator_geometry_offset = 0.37
-scene.camera.data.dof.use_dof = True
-scene.camera.data.dof.focus_distance = 2.0
-light = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
-scene.collection.objects.link(light)
-bpy.context.view_layer.update()
+dress_as_user_scene(scene)
 
 enabled_per_render = []
 

@@ -230,6 +230,11 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or ~/.cache/aolab/references)")
     f.add_argument("--out", help="also copy reference.exr/.json here (one folder per scene "
                    "when several)")
+    f.add_argument("--peers", action="store_true", help="render the comparison peers instead "
+                   "of the reference: Cycles at the --ladder samples (seed 1) and EEVEE's GTAO "
+                   "under xvfb-run, into peers.json + one EXR each")
+    f.add_argument("--ladder", help="with --peers: samples, e.g. 1,4,16,64,256 (the default)")
+    f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.set_defaults(func=cmd_reference)

@@ -29,6 +29,8 @@ from pathlib import Path
 BRIDGE_VERSION = 1  # bump when the bridge's output changes: invalidates cached results
 RESULT_EXR = "reference.exr"
 RESULT_JSON = "reference.json"
+PEERS_JSON = "peers.json"
+LADDER_SPP = (1, 4, 16, 64, 256)  # aolab_blender.peers.LADDER_SPP (no bpy import here)
 _SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
 
 
@@ -103,14 +105,27 @@ class Plan:
     resolution: tuple[int, int] | None
     camera: str | None
     gbuffer_samples: int = 1
+    # The comparison peers (Cycles ladder + EEVEE, aolab_blender/peers.py) instead of the
+    # reference; spp, passes and gbuffer_samples do not apply then.
+    peers: bool = False
+    ladder: tuple[int, ...] = LADDER_SPP
+    eevee: bool = True
 
     def key(self) -> str:
         material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
                     "spp": self.spp, "radius": self.radius, "passes": self.passes,
                     "resolution": self.resolution, "camera": self.camera,
                     "gbuffer_samples": self.gbuffer_samples}
+        if self.peers:  # only then, so that the references' keys stay as they were
+            material.update(peers=True, ladder=list(self.ladder), eevee=self.eevee)
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
-        return f"{self.scene.name}-{digest[:16]}"
+        return f"{self.scene.name}-{'peers-' if self.peers else ''}{digest[:16]}"
+
+    def result_files(self, folder: Path) -> list[Path]:
+        """The files a finished render leaves in its folder (the JSON last)."""
+        if not self.peers:
+            return [folder / RESULT_EXR, folder / RESULT_JSON]
+        return sorted(folder.glob("*.exr")) + [folder / PEERS_JSON]
 
 
 def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = None,
@@ -144,8 +159,9 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
 def cached_result(cache: Path, plan: Plan) -> Path | None:
     folder = cache / plan.key()
     try:
-        side = json.loads((folder / RESULT_JSON).read_text())
-        if (folder / RESULT_EXR).stat().st_size > 0 and "scene_hash" in side:
+        files = plan.result_files(folder)
+        side = json.loads(files[-1].read_text())
+        if all(f.stat().st_size > 0 for f in files[:-1]) and "scene_hash" in side:
             return folder
     except (OSError, ValueError):
         pass
@@ -179,12 +195,14 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     tmp.mkdir()
     s = plan.scene
     cmd = [blender, "-b", "--factory-startup", "-noaudio", "--disable-autoexec"]
+    if plan.peers and plan.eevee:
+        cmd = _xvfb() + cmd  # EEVEE needs an OpenGL context (BLENDER_FACTS.md)
     if s.kind == "blend":
         cmd.append(str(s.path))
     extra = {"source": str(s.path), "scene_name": s.name, "source_sha256": s.content_sha256,
              "manifest": s.manifest}
     cmd += ["--python", str(bridge_script()), "--", "--scene", str(s.path), "--kind", s.kind,
-            "--out", str(tmp / RESULT_EXR), "--spp", str(plan.spp),
+            "--out", str(tmp if plan.peers else tmp / RESULT_EXR), "--spp", str(plan.spp),
             "--gbuffer-samples", str(plan.gbuffer_samples), "--passes", ",".join(plan.passes),
             "--extra", json.dumps(extra)]
     if plan.radius is not None:
@@ -193,6 +211,10 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         cmd += ["--resolution", f"{plan.resolution[0]}x{plan.resolution[1]}"]
     if plan.camera:
         cmd += ["--camera", plan.camera]
+    if plan.peers:
+        cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder)]
+        if not plan.eevee:
+            cmd.append("--no-eevee")
 
     bar = _progress_bar(progress, s.name)
     tail, error = [], None
@@ -231,6 +253,15 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def _xvfb() -> list[str]:
+    path = shutil.which("xvfb-run")
+    if not path:
+        raise ReferenceError("EEVEE needs xvfb-run for an OpenGL context: install the Debian "
+                             "packages xvfb xauth libgl1-mesa-dri (scripts/install-deps.sh), or "
+                             "pass --no-eevee")
+    return [path, "-a", "-s", "-screen 0 1280x1024x24"]
+
+
 def _remove_stale_temporaries(cache: Path) -> None:
     """Temporary folders (`.<key>.tmp-<pid>`) of renders whose process no longer exists (a
     killed machine, SIGKILL) are removed; those of running renders are left alone."""
@@ -244,13 +275,13 @@ def _remove_stale_temporaries(cache: Path) -> None:
             pass
 
 
-def copy_result(folder: Path, out: Path) -> None:
-    """Copies reference.exr/.json to `out` (a folder), each atomically."""
+def copy_result(plan: Plan, folder: Path, out: Path) -> None:
+    """Copies the render's files to `out` (a folder), each atomically, the JSON last."""
     out.mkdir(parents=True, exist_ok=True)
-    for name in (RESULT_EXR, RESULT_JSON):
-        tmp = out / f".{name}.tmp-{os.getpid()}"
-        shutil.copyfile(folder / name, tmp)
-        os.replace(tmp, out / name)
+    for src in plan.result_files(folder):
+        tmp = out / f".{src.name}.tmp-{os.getpid()}"
+        shutil.copyfile(src, tmp)
+        os.replace(tmp, out / src.name)
 
 
 def main(args) -> int:
@@ -267,6 +298,12 @@ def main(args) -> int:
                        passes=args.passes.split(",") if args.passes else None,
                        resolution=resolution, camera=args.camera,
                        gbuffer_samples=args.gbuffer_samples) for s in scenes]
+    if args.peers:
+        ladder = tuple(int(v) for v in args.ladder.split(",")) if args.ladder else LADDER_SPP
+        if not ladder or min(ladder) < 1:
+            raise ReferenceError(f"--ladder must be samples >= 1, got {args.ladder!r}")
+        for plan in plans:
+            plan.peers, plan.ladder, plan.eevee = True, ladder, not args.no_eevee
     done = 0
 
     def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
@@ -282,9 +319,9 @@ def main(args) -> int:
                 out = Path(args.out)
                 if len(plans) > 1:
                     out = out / plan.scene.name
-                copy_result(folder, out)
+                copy_result(plan, folder, out)
             how = "cached" if was_cached else f"rendered in {time.perf_counter() - t0:.1f} s"
-            print(f"{plan.scene.name}: {how} -> {folder / RESULT_EXR}"
+            print(f"{plan.scene.name}: {how} -> {plan.result_files(folder)[-1]}"
                   + (f" (copied to {args.out})" if args.out else ""))
             done += 1
     except KeyboardInterrupt:

@@ -1,0 +1,142 @@
+"""The comparison study's peers of a scene (bpy): what the reference costs, and Blender's own
+screen-space AO (issue 6, items 4–6).
+
+render_peers() renders, from the same camera, at the same AO distance and resolution:
+- the Cycles ladder: the AO pass at 1, 4, 16, 64, 256 spp with the reference's settings
+  (export._common_settings) but seed 1, so that no rung shares samples with the seed-0
+  1024-spp reference — each is an independent estimate, scored against it like a method;
+- the noise floor: the 256-spp rung is also the reference's noise floor (issue 6 allows
+  "256 vs 1024"), recorded as a second entry naming the same file;
+- EEVEE's GTAO: the AO pass of Blender's rasteriser with ambient occlusion on, its distance
+  R, factor 1, bounce approximation off (it brightens AO, which the Cycles pass does not).
+  EEVEE needs an OpenGL context: under `xvfb-run` Mesa's llvmpipe renders it on the CPU, so
+  its time is not comparable with ours or with Cycles'.
+
+Each image is a one-channel half EXR ("Y") with background pixels set to 1 (our convention),
+listed with its render time in peers.json (docs/comparison.md). Every setting is restored.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import tempfile
+
+import bpy
+
+from . import exr
+from .export import (BACKGROUND_DEPTH, BridgeError, Cancelled, _common_settings, _enable_only,
+                     _keep_render_result, _render, camera_record, content_hash, scene_camera)
+from .state import SettingsRestorer
+
+LADDER_SPP = (1, 4, 16, 64, 256)
+LADDER_SEED = 1            # the reference uses seed 0: independent samples
+NOISE_FLOOR_SPP = 256      # "256 vs 1024" (issue 6)
+EEVEE_SAMPLES = 16         # TAA samples; GTAO converges in a few (BLENDER_FACTS: 9.6 s at 16)
+EEVEE_BACKGROUND = 65504.0  # EEVEE's depth where nothing is drawn (half max)
+PEERS_JSON = "peers.json"
+
+
+def _ao_and_background(path: str, background_depth: float):
+    """The AO pass of a render (R of AO.RGB) with 1 where its depth says background."""
+    channels = exr.read_channels(path)
+    ao = exr.find_pass(channels, "AO", ("R", "G", "B"))
+    depth = exr.find_pass(channels, "Depth", ("Z",))
+    if ao is None or depth is None:
+        raise BridgeError(f"the render lacks AO or Depth; channels: {sorted(channels)}")
+    ao = ao[..., 0].copy()
+    ao[~(depth[..., 0] < background_depth)] = 1.0
+    return ao
+
+
+def _eevee_settings(rs: SettingsRestorer, scene, radius: float) -> dict:
+    rs.set(scene.render, "engine", "BLENDER_EEVEE")
+    e = scene.eevee
+    chosen = {"use_gtao": True, "gtao_distance": radius, "gtao_factor": 1.0,
+              "gtao_quality": e.gtao_quality, "use_gtao_bounce": False,
+              "use_gtao_bent_normals": e.use_gtao_bent_normals,
+              "taa_render_samples": EEVEE_SAMPLES, "use_bloom": False, "use_ssr": False,
+              "use_motion_blur": False}
+    for attr, value in chosen.items():
+        rs.set(e, attr, value)
+    rs.set(scene.render, "filter_size", 0.01)  # pixel-centre values, like the Cycles renders
+    chosen["filter_size"] = 0.01
+    return chosen
+
+
+def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee: bool = True,
+                 camera_name: str | None = None, cancel=None, report=print,
+                 extra: dict | None = None) -> dict:
+    """Renders the peers of `scene` into `out_dir` (EXRs + peers.json) and returns the
+    peers.json content. `cancel()` is polled between renders (Cancelled); `report(stage)`
+    announces each. Settings are restored in every case."""
+    if not radius > 0:
+        raise BridgeError(f"radius must be > 0 (the AO distance in scene units), got {radius}")
+    if not ladder or any(int(s) < 1 for s in ladder):
+        raise BridgeError(f"ladder samples must be >= 1, got {list(ladder)}")
+    cam = scene_camera(scene, camera_name)
+    view_layer = bpy.context.view_layer
+    os.makedirs(out_dir, exist_ok=True)
+
+    def checkpoint(stage: str):
+        if cancel is not None and cancel():
+            raise Cancelled()
+        report(stage)
+
+    entries = []
+    load_before = list(os.getloadavg())
+    with tempfile.TemporaryDirectory(prefix="aolab-peers-", dir=out_dir) as tmp, \
+            SettingsRestorer() as rs:
+        rs.on_restore(view_layer.update)
+        checkpoint("prepare")
+        _keep_render_result(rs)
+        _common_settings(rs, scene, view_layer, cam, radius)
+        view_layer.update()
+        record = camera_record(scene, cam)
+        scene_hash = content_hash(scene, cam)
+        rs.set(scene.cycles, "seed", LADDER_SEED)
+        _enable_only(rs, view_layer, {"use_pass_ambient_occlusion", "use_pass_z"})
+        for obj in scene.objects:  # AO alone, as the reference
+            if obj.type == "LIGHT":
+                rs.set(obj, "hide_render", True)
+        for spp in ladder:
+            checkpoint(f"cycles {spp} spp")
+            rs.set(scene.cycles, "samples", int(spp))
+            path = os.path.join(tmp, f"cycles_{spp}spp.exr")
+            seconds = _render(rs, scene, path)
+            name = f"cycles_{spp}spp"
+            exr.write_gray(os.path.join(out_dir, name + ".exr"),
+                           _ao_and_background(path, BACKGROUND_DEPTH))
+            entries.append({"name": name, "kind": "cycles", "samples": int(spp),
+                            "file": name + ".exr", "render_time_s": seconds,
+                            "seed": LADDER_SEED})
+            if spp == NOISE_FLOOR_SPP:
+                entries.append({**entries[-1], "name": f"noise_floor_{spp}spp",
+                                "kind": "noise_floor",
+                                "note": f"{spp} spp (seed {LADDER_SEED}) against the 1024-spp "
+                                        "reference (seed 0): no score is finer than this"})
+        if eevee:
+            checkpoint("eevee")
+            chosen = _eevee_settings(rs, scene, radius)
+            path = os.path.join(tmp, "eevee.exr")
+            seconds = _render(rs, scene, path)
+            exr.write_gray(os.path.join(out_dir, "eevee_gtao.exr"),
+                           _ao_and_background(path, EEVEE_BACKGROUND * 0.99))
+            entries.append({"name": "eevee_gtao", "kind": "eevee", "file": "eevee_gtao.exr",
+                            "render_time_s": seconds, "settings": chosen,
+                            "note": "EEVEE on Mesa llvmpipe (software rasteriser under Xvfb): "
+                                    "time not comparable"})
+        peers = {"entries": entries, "ao_distance": radius, "camera": record,
+                 "scene_hash": scene_hash, "blender_version": bpy.app.version_string,
+                 "machine": {"cpu": platform.processor() or platform.machine(),
+                             "cores": os.cpu_count(),
+                             "load_average_before": load_before,
+                             "load_average_after": list(os.getloadavg())},
+                 **(extra or {})}
+        tmp_json = os.path.join(out_dir, f".{PEERS_JSON}.tmp-{os.getpid()}")
+        with open(tmp_json, "w") as f:
+            json.dump(peers, f, indent=1)
+        os.replace(tmp_json, os.path.join(out_dir, PEERS_JSON))
+        report("done")
+        return peers

@@ -1,0 +1,88 @@
+"""The comparison study's peers (issue 6 items 4–6): the Cycles spp ladder, the noise floor
+and EEVEE's GTAO, rendered by Blender (aolab_blender/peers.py) via `aolab reference --peers`."""
+import json
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+import aolab
+from test_bridge import BLENDER, ROOT, TINY, aolab_reference, needs_blender
+
+needs_xvfb = pytest.mark.skipif(shutil.which("xvfb-run") is None,
+                                reason="xvfb-run is not installed (scripts/install-deps.sh)")
+
+
+def read_gray(path):
+    buf = oiio.ImageBuf(str(path))
+    assert buf.spec().channelnames == ("Y",), buf.spec().channelnames
+    return np.asarray(buf.get_pixels(oiio.FLOAT))[..., 0]
+
+
+@needs_blender
+@needs_xvfb
+def test_peers_leave_the_scene_as_it_was_also_when_cancelled():
+    res = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", BLENDER, "-b",
+                          "--factory-startup", "-noaudio", "--python-exit-code", "1", "--python",
+                          str(ROOT / "tests" / "blender" / "peers_check.py"), "--", str(TINY)],
+                         capture_output=True, text=True, timeout=600)
+    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+    assert res.returncode == 0 and lines, res.stdout[-3000:] + res.stderr[-3000:]
+    r = json.loads(lines[-1][len("RESULT "):])
+    full = r["full"]
+    assert full["diff"] == [], full["diff"][:10]
+    assert full["stages"] == ["prepare", "cycles 1 spp", "cycles 4 spp", "eevee", "done"]
+    assert full["files"] == ["cycles_1spp.exr", "cycles_4spp.exr", "eevee_gtao.exr", "peers.json"]
+    kinds = [(e["name"], e["kind"]) for e in full["peers"]["entries"]]
+    assert kinds == [("cycles_1spp", "cycles"), ("cycles_4spp", "cycles"), ("eevee_gtao", "eevee")]
+    eevee = full["peers"]["entries"][-1]
+    assert eevee["settings"]["gtao_distance"] == 0.75 and not eevee["settings"]["use_gtao_bounce"]
+    for stage in ("prepare", "cycles 1 spp", "cycles 4 spp", "eevee"):
+        c = r[f"cancel_{stage}"]
+        assert c["outcome"] == "cancelled", stage
+        assert c["diff"] == [], (stage, c["diff"][:10])
+        assert not c["peers_json"] and c["leftovers"] == [], (stage, c)
+
+
+@needs_blender
+@needs_xvfb
+def test_ladder_converges_to_the_reference_and_eevee_is_scored_alike(tmp_path):
+    """`aolab reference --peers` end to end on the tiny scene: one-channel EXRs with
+    background 1, AO in [0, 1]; more samples, closer to an independent 256-spp reference;
+    EEVEE's GTAO is an image of the same scene (correlated with the reference)."""
+    cache = tmp_path / "cache"
+    aolab_reference(str(TINY), "--spp", "256", "--cache", str(cache), "--methods", "hbao",
+                    "--out", str(tmp_path / "ref"))
+    res = aolab_reference(str(TINY), "--peers", "--ladder", "1,4,16", "--cache", str(cache),
+                          "--out", str(tmp_path / "peers"))
+    assert "rendered" in res.stdout
+    assert "cached" in aolab_reference(str(TINY), "--peers", "--ladder", "1,4,16", "--cache",
+                                       str(cache)).stdout
+    g = aolab.load_gbuffer(tmp_path / "ref" / "reference.exr")
+    peers = json.loads((tmp_path / "peers" / "peers.json").read_text())
+    assert peers["ao_distance"] == g.sidecar["ao_distance"]
+    assert peers["scene_hash"] == g.sidecar["scene_hash"]
+    mask = g.valid_mask()
+    mae = {}
+    for e in peers["entries"]:
+        ao = read_gray(tmp_path / "peers" / e["file"])
+        assert ao.shape == (g.height, g.width)
+        assert np.isfinite(ao).all() and ao.min() >= 0 and ao.max() <= 1
+        assert (ao[~mask] == 1).all(), e["name"]
+        assert e["render_time_s"] > 0
+        mae[e["name"]] = float(np.abs(ao - g.reference)[mask].mean())
+    # Monte Carlo error ~ 1/sqrt(spp): 4x the samples halves it; allow noise in the ratio.
+    assert mae["cycles_4spp"] < 0.75 * mae["cycles_1spp"], mae
+    assert mae["cycles_16spp"] < 0.75 * mae["cycles_4spp"], mae
+    eevee = read_gray(tmp_path / "peers" / "eevee_gtao.exr")
+    assert np.corrcoef(eevee[mask], g.reference[mask])[0, 1] > 0.3, mae
+
+
+@needs_blender
+def test_peers_options_are_checked(tmp_path):
+    res = aolab_reference(str(TINY), "--peers", "--ladder", "0,4", "--cache", str(tmp_path),
+                          check=False)
+    assert res.returncode != 0 and "--ladder" in res.stdout + res.stderr
