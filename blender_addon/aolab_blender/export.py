@@ -14,6 +14,7 @@ restores every setting it touched, whether it succeeds, fails or is cancelled.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -177,6 +178,23 @@ def _render(rs: SettingsRestorer, scene, path: str) -> float:
     return seconds
 
 
+@contextlib.contextmanager
+def render_session(scene, cam, radius: float, out_dir: str, prefix: str, checkpoint):
+    """Yields (temporary folder in out_dir, SettingsRestorer) with the reference's render
+    settings applied (the "prepare" stage); on exit every setting is restored and the folder
+    removed, whatever happened."""
+    view_layer = bpy.context.view_layer
+    with tempfile.TemporaryDirectory(prefix=prefix, dir=out_dir) as tmp, \
+            SettingsRestorer() as rs:
+        # Registered first, so it runs last: re-evaluate with the restored settings.
+        rs.on_restore(view_layer.update)
+        checkpoint("prepare")
+        _keep_render_result(rs)
+        _common_settings(rs, scene, view_layer, cam, radius)
+        view_layer.update()  # matrix_world of objects moved since the last evaluation
+        yield tmp, rs
+
+
 def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: list[str],
                      gbuffer_samples: int = 1, camera_name: str | None = None,
                      cancel=None, report=print, extra: dict | None = None) -> dict:
@@ -201,14 +219,7 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
 
     out_dir = os.path.dirname(os.path.abspath(out_exr))
     os.makedirs(out_dir, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="aolab-render-", dir=out_dir) as tmp, \
-            SettingsRestorer() as rs:
-        # Registered first, so it runs last: re-evaluate with the restored settings.
-        rs.on_restore(view_layer.update)
-        checkpoint("prepare")
-        _keep_render_result(rs)
-        _common_settings(rs, scene, view_layer, cam, radius)
-        view_layer.update()  # matrix_world of objects moved since the last evaluation
+    with render_session(scene, cam, radius, out_dir, "aolab-render-", checkpoint) as (tmp, rs):
         record = camera_record(scene, cam)
         scene_hash = content_hash(scene, cam)
 

@@ -21,13 +21,12 @@ from __future__ import annotations
 import json
 import os
 import platform
-import tempfile
 
 import bpy
 
 from . import exr
-from .export import (BACKGROUND_DEPTH, BridgeError, Cancelled, _common_settings, _enable_only,
-                     _keep_render_result, _render, camera_record, content_hash, scene_camera)
+from .export import (BACKGROUND_DEPTH, BridgeError, Cancelled, _enable_only, _render,
+                     camera_record, content_hash, render_session, scene_camera)
 from .state import SettingsRestorer
 
 LADDER_SPP = (1, 4, 16, 64, 256)
@@ -86,13 +85,7 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
 
     entries = []
     load_before = list(os.getloadavg())
-    with tempfile.TemporaryDirectory(prefix="aolab-peers-", dir=out_dir) as tmp, \
-            SettingsRestorer() as rs:
-        rs.on_restore(view_layer.update)
-        checkpoint("prepare")
-        _keep_render_result(rs)
-        _common_settings(rs, scene, view_layer, cam, radius)
-        view_layer.update()
+    with render_session(scene, cam, radius, out_dir, "aolab-peers-", checkpoint) as (tmp, rs):
         record = camera_record(scene, cam)
         scene_hash = content_hash(scene, cam)
         rs.set(scene.cycles, "seed", LADDER_SEED)
