@@ -320,9 +320,12 @@ Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& 
   const Image moments = chebyshev_moments(g, s, options);
   const int w = g.width(), h = g.height();
   Image out(w, h, 1, 1.0f);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (moments(x, y, 0) > 0.0f) out(x, y) = chebyshev_visibility(moments(x, y, 1), moments(x, y, 2), s);
+  parallel_for_rows(h, resolve_threads(options.threads), [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x)
+        if (moments(x, y, 0) > 0.0f)
+          out(x, y) = chebyshev_visibility(moments(x, y, 1), moments(x, y, 2), s);
+  });
   return out;
 }
 

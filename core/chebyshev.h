@@ -108,7 +108,7 @@ inline const SettingField<ChebyshevSettings> kChebyshevFields[] = {
     {"ignore_unoccluded", &ChebyshevSettings::ignore_unoccluded, 0, 1, "",
      "eq. 3, max(d - mu, 0): only pixels behind the mean are occluded; off: eq. 2"},
     {"range_check", &ChebyshevSettings::range_check, 0, 1, "",
-     "fade occlusion by smoothstep(0, 1, R/|d - mu|)"},
+     "fade occlusion by smoothstep(0, 1, R/gap), gap = d - mu (abs for eq. 2)"},
     {"shrink_at_background", &ChebyshevSettings::shrink_at_background, 0, 1, "",
      "shrink each window to hold no background; off: skip background pixels in the window"},
 };
