@@ -4,6 +4,7 @@
 #include "core/hbao.h"
 #include "core/pyramid_hbao.h"
 #include "core/lsao.h"
+#include "core/chebyshev.h"
 
 namespace aolab {
 
@@ -13,6 +14,7 @@ const std::vector<Method>& methods() {
       hbao_method(),
       pyramid_hbao_method(),
       lsao_method(),
+      chebyshev_method(),
   };
   return all;
 }

@@ -1,0 +1,26 @@
+"""The check that a method's docs page copies its settings field table exactly: the rows of
+the `## Settings` table of docs/methods/<method>.md, `| `name` | type | default | [min, max] |
+unit | description |`, against aolab.method_info(method)["settings"]."""
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "methods"
+
+
+def assert_docs_settings_table(method):
+    section = (DOCS / f"{method}.md").read_text().split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in section.splitlines() if line.startswith("| `")]
+    settings = aolab.method_info(method)["settings"]
+    assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
+    for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
+        assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
+        if kind == "bool":
+            assert (default, rng) == ("true" if s["default"] else "false", "false, true"), name
+            continue
+        assert np.float32(float(default)) == np.float32(s["default"]), name
+        lo, hi = (float(v) for v in rng.strip("[]").split(","))
+        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
