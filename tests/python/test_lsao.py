@@ -2,16 +2,14 @@
 recomputed here from the documented direction set (docs/methods/lsao.md), depth-only input,
 the falloffs, threading, settings and their table in the docs."""
 import math
-import re
 import threading
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import aolab
+from docs_settings import assert_docs_settings_table
 
-DOC = Path(__file__).resolve().parents[2] / "docs" / "methods" / "lsao.md"
 SIN_T = -0.85  # §4.1: the fixed tangent
 
 
@@ -194,30 +192,5 @@ def test_gil_is_released_during_compute():
     assert ticks > 5
 
 
-def parse_settings_table(text):
-    rows = {}
-    section = text.split("\n## Settings", 1)[1].split("\n## ", 1)[0]
-    for line in section.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        m = re.fullmatch(r"`(\w+)`", cells[0])
-        if m and len(cells) == 6:
-            rows[m.group(1)] = cells[1:]
-    return rows
-
-
 def test_docs_settings_table_is_the_field_table():
-    rows = parse_settings_table(DOC.read_text())
-    settings = aolab.method_info("lsao")["settings"]
-    assert list(rows) == [s["name"] for s in settings]
-    for s in settings:
-        kind, default, rng, unit, description = rows[s["name"]]
-        assert kind == s["type"], s["name"]
-        assert unit == s["unit"], s["name"]
-        assert description == s["description"], s["name"]
-        if kind == "bool":
-            assert default == ("true" if s["default"] else "false")
-            assert rng == "false, true"
-            continue
-        assert np.float32(float(default)) == np.float32(s["default"]), s["name"]
-        lo, hi = (float(v) for v in rng.strip("[]").split(","))
-        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), s["name"]
+    assert_docs_settings_table("lsao")

@@ -1,12 +1,12 @@
 """Pyramid HBAO (Astapov, Frolov, Galaktionov 2021) against known answers: open planes,
 eq. 8 on a depth step against quadrature, occlusion where HBAO finds it and none beyond
 the reach of the samples, the paper's Gaussian, threads, settings errors, progress."""
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import aolab
+from docs_settings import assert_docs_settings_table
 from analytic_answers import step_answer
 
 METHOD = "pyramid_hbao"
@@ -167,20 +167,7 @@ def test_settings_table():
 
 def test_docs_settings_table_is_the_field_table():
     # docs/methods/pyramid_hbao.md copies kPyramidHbaoFields; this keeps the copy exact.
-    doc = Path(__file__).resolve().parents[2] / "docs" / "methods" / "pyramid_hbao.md"
-    section = doc.read_text().split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
-    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
-            for line in section.splitlines() if line.startswith("| `")]
-    settings = aolab.method_info(METHOD)["settings"]
-    assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
-    for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
-        assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
-        if kind == "bool":
-            assert (default, rng) == ("true" if s["default"] else "false", "false, true"), name
-            continue
-        assert np.float32(float(default)) == np.float32(s["default"]), name
-        lo, hi = (float(v) for v in rng.strip("[]").split(","))
-        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
+    assert_docs_settings_table(METHOD)
 
 
 @pytest.mark.parametrize("name, value", [
