@@ -149,7 +149,7 @@ std::uint32_t morton_key(const DiskPoint& p) {
   return spread(quantise(p.x)) | (spread(quantise(p.y)) << 1);
 }
 
-PoissonDiskSet generate_rotation_aware_poisson_disk(int n) {
+PoissonDiskSet generate_rotation_aware_poisson_disk(int n, bool choose_rotations) {
   if (n < 1 || n > kPoissonMaxSamples)
     throw_invalid("samples", "must be in [1, " + std::to_string(kPoissonMaxSamples) + "]", n);
   PoissonDiskSet set;
@@ -158,7 +158,7 @@ PoissonDiskSet generate_rotation_aware_poisson_disk(int n) {
   while (!throw_darts(n, r, seq, set.points)) r *= kShrink;
   set.radius = float(r);
   // Best permutation of rotations, in groups of 8 with the earlier groups fixed (§4.5).
-  for (int begin = 0; begin < n; begin += kPoissonPermutationGroup)
+  for (int begin = 0; choose_rotations && begin < n; begin += kPoissonPermutationGroup)
     GroupSearch(set.points, begin, std::min(n, begin + kPoissonPermutationGroup)).run();
   // z-order (§4.5): samples near in the disc are near in memory.
   std::stable_sort(set.points.begin(), set.points.end(),

@@ -35,8 +35,9 @@ struct PoissonDiskSet {
 };
 
 /// Generates the set of n points, n in [1, kPoissonMaxSamples] (uncached; ~ms for n = 32).
+/// `choose_rotations` = false skips the best permutation (for the tests).
 /// Throws std::invalid_argument naming `samples` for another n.
-PoissonDiskSet generate_rotation_aware_poisson_disk(int n);
+PoissonDiskSet generate_rotation_aware_poisson_disk(int n, bool choose_rotations = true);
 
 /// The cached set of n points: generated on first use, thread-safe, never freed.
 const PoissonDiskSet& rotation_aware_poisson_disk(int n);
