@@ -164,8 +164,8 @@ VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y
     }
     if (!(full > 0.0f)) continue;
     float open;
-    if (ix == x && iy == y) {
-      open = full;  // the surface there is P itself: the sphere touches it
+    if ((ix == x && iy == y) || vao_case(pipe, ds, tolerance) == VaoCase::B) {
+      open = full;  // case B; on P's own texel the surface is P, where the sphere touches it
     } else {
       open = std::min(full, vao_unoccluded_length(pipe, ds, tolerance, o.range_check, o.radius));
     }

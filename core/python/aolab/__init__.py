@@ -53,6 +53,9 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     values["radius"] = radius
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress)
     if blur:
+        if ao.ndim != 2:
+            raise ValueError(f"blur applies to 1-channel AO; {method} returned {ao.shape} with "
+                             "these settings (use the method's own filter)")
         ao = _core.gaussian_blur(ao, gbuffer, sigma=blur_sigma, taps=blur_taps,
                                  threads=threads)
     return ao

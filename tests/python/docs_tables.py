@@ -1,0 +1,42 @@
+"""Shared check that a docs/methods/<name>.md settings table is the method's field table."""
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "methods"
+
+
+def assert_settings_table_is_the_field_table(method: str) -> None:
+    """The rows under '## Settings' of docs/methods/<method>.md (name, type, default, range,
+    unit, description) equal aolab.method_info(method)['settings'], in order."""
+    text = (DOCS / f"{method}.md").read_text()
+    section = text.split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in section.splitlines() if line.startswith("| `")]
+    settings = aolab.method_info(method)["settings"]
+    assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
+    for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
+        assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
+        if kind == "bool":
+            assert (default, rng) == ("true" if s["default"] else "false", "false, true"), name
+            continue
+        assert np.float32(float(default)) == np.float32(s["default"]), name
+        lo, hi = (float(v) for v in rng.strip("[]").split(","))
+        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
+
+
+def settings_table(method: str) -> str:
+    """The Markdown table for the docs, from the field table."""
+    lines = ["| setting | type | default | range | unit | meaning |", "|---|---|---|---|---|---|"]
+    for s in aolab.method_info(method)["settings"]:
+        if s["type"] == "bool":
+            default, rng = ("true" if s["default"] else "false"), "false, true"
+        else:
+            num = (lambda v: str(int(v))) if s["type"] == "int" else \
+                (lambda v: f"{v:.7g}".replace("e+", "e"))
+            default, rng = num(s["default"]), f"[{num(s['min'])}, {num(s['max'])}]"
+        lines.append(f"| `{s['name']}` | {s['type']} | {default} | {rng} | {s['unit']} | "
+                     f"{s['description']} |")
+    return "\n".join(lines)
