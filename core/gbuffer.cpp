@@ -22,6 +22,11 @@ void GBuffer::validate() const {
       throw_invalid("color", "must have 3 or 4 channels (H, W, 3|4)", color.channels);
     require_same_size("depth", depth, "color", color);
   }
+  if (!emission.empty()) {
+    if (emission.channels != 3 && emission.channels != 4)
+      throw_invalid("emission", "must have 3 or 4 channels (H, W, 3|4)", emission.channels);
+    require_same_size("depth", depth, "emission", emission);
+  }
   camera.validate();
   if (!(background_depth > 0.0f)) throw_invalid("background_depth", "must be > 0", background_depth);
 }

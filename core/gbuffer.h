@@ -21,12 +21,15 @@ inline bool is_geometry(float depth, float background_depth) {
   return std::isfinite(depth) && depth > 0.0f && depth < background_depth;
 }
 
-/// Non-owning G-buffer: planar depth (1 channel), optional view-space normals (3 channels)
-/// and optional colour (3 or 4 channels), all of one size, plus the camera.
+/// Non-owning G-buffer: planar depth (1 channel), optional view-space normals (3 channels),
+/// optional colour (3 or 4 channels; Cycles' DiffCol, the diffuse albedo) and optional
+/// emission (3 or 4 channels; Cycles' Emit, the emitted radiance), all of one size, plus the
+/// camera.
 struct GBuffer {
   ConstImageView depth;
   ConstImageView normal;  ///< empty if absent
   ConstImageView color;   ///< empty if absent
+  ConstImageView emission;  ///< empty if absent
   CameraIntrinsics camera;
   float background_depth = kDefaultBackgroundDepth;  ///< > 0; see kDefaultBackgroundDepth
 
@@ -34,6 +37,7 @@ struct GBuffer {
   int height() const { return depth.height; }
   bool has_normal() const { return !normal.empty(); }
   bool has_color() const { return !color.empty(); }
+  bool has_emission() const { return !emission.empty(); }
   bool valid(int x, int y) const { return is_geometry(depth(x, y), background_depth); }
 
   /// Throws std::invalid_argument naming the parameter: empty depth, wrong channel counts,

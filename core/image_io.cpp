@@ -185,6 +185,7 @@ GBuffer GBufferData::view() const {
   g.depth = depth.view();
   g.normal = normal.view();  // an empty Image gives an empty view: "absent"
   g.color = color.view();
+  g.emission = emission.view();
   g.camera = sidecar.intrinsics();
   g.background_depth = sidecar.background_depth;
   return g;
@@ -207,8 +208,9 @@ GBufferData load_gbuffer(const std::string& exr_path, const std::string& view_la
   Pass depth{"Depth", {"Z"}, {}};
   Pass normal{"Normal", {"X", "Y", "Z"}, {}};
   Pass color{"DiffCol", {"R", "G", "B"}, {}};
+  Pass emission{"Emit", {"R", "G", "B"}, {}};
   Pass ao{"AO", {"R"}, {}};  // R = G = B in Cycles' AO pass; one is enough
-  for (Pass* p : {&depth, &normal, &color, &ao}) locate(spec, prefix, *p, exr_path);
+  for (Pass* p : {&depth, &normal, &color, &emission, &ao}) locate(spec, prefix, *p, exr_path);
 
   // Checked before the pixels are decoded: a mismatched or missing sidecar is the cheap error.
   data.sidecar = read_sidecar(sidecar_path_for(exr_path));
@@ -228,7 +230,7 @@ GBufferData load_gbuffer(const std::string& exr_path, const std::string& view_la
   // One read of the channel range spanning every wanted channel: an EXR chunk is
   // decompressed once per read, so one read beats one read per pass.
   int chbegin = spec.nchannels, chend = 0;
-  for (const Pass* p : {&depth, &normal, &color, &ao})
+  for (const Pass* p : {&depth, &normal, &color, &emission, &ao})
     for (int i : p->indices) {
       chbegin = std::min(chbegin, i);
       chend = std::max(chend, i + 1);
@@ -252,6 +254,7 @@ GBufferData load_gbuffer(const std::string& exr_path, const std::string& view_la
   data.depth = extract(depth);
   data.normal = extract(normal);
   data.color = extract(color);
+  data.emission = extract(emission);
   data.ao = extract(ao);
   if (world_normals) world_to_view(data.normal, side.camera_to_world);
   return data;
@@ -291,6 +294,9 @@ void save_gbuffer(const std::string& exr_path, const GBuffer& g, ConstImageView 
   if (g.has_color())
     for (int c = 0; c < 3; ++c)
       channels.push_back({prefix + "DiffCol." + "RGB"[c], TypeDesc::HALF, g.color, c});
+  if (g.has_emission())
+    for (int c = 0; c < 3; ++c)
+      channels.push_back({prefix + "Emit." + "RGB"[c], TypeDesc::HALF, g.emission, c});
 
   const int w = g.width(), h = g.height(), n = int(channels.size());
   ImageSpec spec(w, h, n, TypeDesc::FLOAT);

@@ -51,6 +51,7 @@ struct GBufferData {
   Image depth;   ///< planar depth d = -z (scene units), 1 channel
   Image normal;  ///< view-space normals, 3 channels, as stored (not renormalised); or empty
   Image color;   ///< diffuse colour (DiffCol pass), 3 channels; or empty
+  Image emission;  ///< emitted radiance (Emit pass), 3 channels; or empty
   Image ao;      ///< reference AO (AO.R), 1 channel in [0, 1]; or empty
   CameraSidecar sidecar;
   std::vector<std::string> channels;  ///< every channel name in the EXR, in file order
@@ -63,7 +64,7 @@ struct GBufferData {
 /// Loads a G-buffer from a Blender multilayer EXR and its camera sidecar
 /// (sidecar_path_for(exr_path)).
 /// `view_layer` picks the layer by name; "" takes the first layer that has a Depth.Z channel
-/// (an un-prefixed "Depth.Z" counts as a layer named ""). Normal, DiffCol and AO are read when
+/// (an un-prefixed "Depth.Z" counts as a layer named ""). Normal, DiffCol, Emit and AO are read when
 /// all their channels are present. World-space normals (sidecar normal_space "world") are
 /// rotated into view space with camera_to_world: n_view = R^T n_world, R the column-normalised
 /// upper-left 3x3.
@@ -76,7 +77,8 @@ GBufferData load_gbuffer(const std::string& exr_path, const std::string& view_la
 /// Writes `g` as a Blender-style multilayer EXR at `exr_path` plus its sidecar:
 /// `<view_layer>.Depth.Z` float32; `.Normal.X/Y/Z` half (if g has normals); `.AO.R/G/B` half,
 /// R = G = B = reference_ao (if not empty; 1 channel, the size of g); `.DiffCol.R/G/B` half
-/// (the first 3 colour channels, if g has colour). An empty view_layer writes un-prefixed
+/// (the first 3 colour channels, if g has colour); `.Emit.R/G/B` half (the first 3 emission
+/// channels, if g has emission). An empty view_layer writes un-prefixed
 /// names ("Depth.Z", ...), which load_gbuffer also reads.
 /// The sidecar is `sidecar_json` (a JSON object, "" meaning {}; other keys are kept) with
 /// width, height, fx, fy, cx, cy and background_depth set from g and normal_space "view"

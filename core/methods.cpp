@@ -5,6 +5,8 @@
 #include "core/pyramid_hbao.h"
 #include "core/lsao.h"
 #include "core/chebyshev.h"
+#include "core/vao.h"
+#include "core/vao_pp.h"
 
 namespace aolab {
 
@@ -15,6 +17,8 @@ const std::vector<Method>& methods() {
       pyramid_hbao_method(),
       lsao_method(),
       chebyshev_method(),
+      vao_method(),
+      vao_pp_method(),
   };
   return all;
 }
@@ -35,8 +39,11 @@ Image compute(const std::string& method, const GBuffer& g, const SettingValues& 
   if (m.needs_normal && !g.has_normal())
     throw_invalid("normal", "is required by " + m.name + ", which reads view-space normals "
                   "(estimate them from depth with GBuffer.prepared_normals())", "none");
-  if (m.needs_color && !g.has_color())
-    throw_invalid("color", "is required by " + m.name, "none");
+  if (m.needs_color && !g.has_color()) {
+    if (!m.color_needed_by) throw_invalid("color", "is required by " + m.name, "none");
+    if (const std::string reason = m.color_needed_by(settings); !reason.empty())
+      throw_invalid("color", "is required by " + m.name + " with " + reason + " on", "none");
+  }
   if (!settings.count("radius")) throw_invalid("radius", "is required", "nothing");
   return m.run(g, settings, options);
 }

@@ -24,9 +24,13 @@ struct Method {
   std::string title;        ///< e.g. "Horizon-based AO"
   std::string paper;        ///< citation
   bool needs_normal = false;
-  bool needs_color = false;
+  bool needs_color = false;  ///< may read colour (the bridge renders the colour passes)
+  /// Optional, for methods whose colour need depends on settings: the reason these settings
+  /// need colour (e.g. "color_bleeding"), or "" when they do not. Unset: needs_color decides.
+  std::function<std::string(const SettingValues&)> color_needed_by;
   std::vector<SettingDescription> settings;  ///< including "radius"
-  /// Computes AO (1 channel, in [0, 1], background = 1) from validated settings values.
+  /// Computes AO (1 channel, in [0, 1], background = 1; a method may document an RGB
+  /// result for some settings, like vao_pp's colour bleeding) from validated settings values.
   std::function<Image(const GBuffer&, const SettingValues&, const RunOptions&)> run;
 };
 

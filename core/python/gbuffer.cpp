@@ -10,8 +10,20 @@ namespace aolab::python {
 
 namespace {
 
+// An optional (H, W, 3|4) array argument: None, or a view into the (converted) array, which
+// `keep` holds.
+ConstImageView optional_rgb(const py::object& value, const char* name, py::object& keep) {
+  if (value.is_none()) return {};
+  FloatArray a = FloatArray::ensure(value);
+  if (!a)
+    throw_invalid(name, "must be a float array (H, W, 3|4) or None", py::str(value).cast<std::string>());
+  const ConstImageView view = view_of(a, name, 3, 4);
+  keep = a;
+  return view;
+}
+
 PyGBuffer make_gbuffer(FloatArray depth, py::object normal, py::object color, float fx, float fy,
-                       float cx, float cy, float background_depth) {
+                       float cx, float cy, float background_depth, py::object emission) {
   PyGBuffer g;
   g.depth = std::move(depth);
   g.view.depth = view_of(g.depth, "depth", 0);
@@ -21,12 +33,8 @@ PyGBuffer make_gbuffer(FloatArray depth, py::object normal, py::object color, fl
     g.view.normal = view_of(n, "normal", 3);
     g.normal = n;
   }
-  if (!color.is_none()) {
-    FloatArray c = FloatArray::ensure(color);
-    if (!c) throw_invalid("color", "must be a float array (H, W, 3|4) or None", py::str(color).cast<std::string>());
-    g.view.color = view_of(c, "color", 3, 4);
-    g.color = c;
-  }
+  g.view.color = optional_rgb(color, "color", g.color);
+  g.view.emission = optional_rgb(emission, "emission", g.emission);
   g.view.camera = {fx, fy, cx, cy};
   g.view.background_depth = background_depth;
   g.view.validate();
@@ -39,15 +47,18 @@ void bind_gbuffer(py::module_& m) {
   m.attr("DEFAULT_BACKGROUND_DEPTH") = kDefaultBackgroundDepth;
   py::class_<PyGBuffer>(m, "GBuffer", py::dynamic_attr(), R"doc(
 A G-buffer: planar depth (H, W), optional view-space normals (H, W, 3), optional colour
-(H, W, 3|4), and pinhole intrinsics fx, fy, cx, cy in pixels (pixel (i, j) has its centre at
+(H, W, 3|4; diffuse albedo, Cycles' DiffCol), optional emission (H, W, 3|4; emitted radiance,
+Cycles' Emit; keyword only), and pinhole intrinsics fx, fy, cx, cy in pixels (pixel (i, j) has its centre at
 (i + 0.5, j + 0.5), row 0 at the top). float32 C-contiguous arrays are used in place; other
 arrays are converted once. Depth that is not finite, <= 0 or >= background_depth is background.)doc")
       .def(py::init(&make_gbuffer), py::arg("depth"), py::arg("normal") = py::none(),
            py::arg("color") = py::none(), py::kw_only(), py::arg("fx"), py::arg("fy"),
-           py::arg("cx"), py::arg("cy"), py::arg("background_depth") = kDefaultBackgroundDepth)
+           py::arg("cx"), py::arg("cy"), py::arg("background_depth") = kDefaultBackgroundDepth,
+           py::arg("emission") = py::none())
       .def_readonly("depth", &PyGBuffer::depth)
       .def_readonly("normal", &PyGBuffer::normal)
       .def_readonly("color", &PyGBuffer::color)
+      .def_readonly("emission", &PyGBuffer::emission)
       .def_property_readonly("width", [](const PyGBuffer& g) { return g.view.width(); })
       .def_property_readonly("height", [](const PyGBuffer& g) { return g.view.height(); })
       .def_property_readonly("fx", [](const PyGBuffer& g) { return g.view.camera.fx; })
@@ -88,7 +99,8 @@ arrays are converted once. Depth that is not finite, <= 0 or >= background_depth
       .def("__repr__", [](const PyGBuffer& g) {
         return "<aolab.GBuffer " + std::to_string(g.view.width()) + "x" +
                std::to_string(g.view.height()) + (g.view.has_normal() ? " +normal" : "") +
-               (g.view.has_color() ? " +color" : "") + ">";
+               (g.view.has_color() ? " +color" : "") +
+               (g.view.has_emission() ? " +emission" : "") + ">";
       });
 }
 

@@ -77,14 +77,15 @@ void bind_image_io(py::module_& m) {
         out["depth"] = to_numpy(std::move(data.depth));
         out["normal"] = array_or_none(std::move(data.normal));
         out["color"] = array_or_none(std::move(data.color));
+        out["emission"] = array_or_none(std::move(data.emission));
         out["ao"] = array_or_none(std::move(data.ao));
         return out;
       },
       py::arg("path"), py::arg("view_layer") = "",
       "Reads a Blender multilayer EXR G-buffer and its sidecar (<stem>.json).\n"
       "Returns a dict: depth (H, W) float32; normal (H, W, 3) view-space or None; color\n"
-      "(H, W, 3) or None; ao (H, W) or None; sidecar (the JSON document as a dict); channels\n"
-      "(every channel name in the file). Raises FileNotFoundError for a missing EXR or\n"
+      "(H, W, 3) or None; emission (H, W, 3) or None (the Emit pass); ao (H, W) or None;\n"
+      "sidecar (the JSON document as a dict); channels (every channel name in the file). Raises FileNotFoundError for a missing EXR or\n"
       "sidecar, ValueError for a missing Depth.Z (listing the channels), a bad sidecar or a\n"
       "size mismatch.");
 

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "core/python/numpy_support.h"
+#include "core/vao_pp.h"
 
 namespace aolab::python {
 
@@ -85,6 +86,33 @@ void bind_methods(py::module_& m) {
       },
       py::arg("method"), py::arg("gbuffer"), py::arg("settings"), py::kw_only(),
       py::arg("threads") = 0, py::arg("progress") = nullptr);
+
+  // VAO++ with what the run did (core/vao_pp.h VaoPpStats): the culled share of §4.2 and the
+  // mean sample count of §4.1.
+  m.def(
+      "vao_pp_with_stats",
+      [](const PyGBuffer& g, const py::dict& settings, int threads, Progress* progress) {
+        const SettingValues values = to_setting_values(settings);
+        if (!values.count("radius")) throw_invalid("radius", "is required", "nothing");
+        const VaoPpSettings s = settings_from_values(values, kVaoPpFields, "vao_pp");
+        RunOptions options{threads, progress};
+        VaoPpStats stats;
+        Image ao;
+        {
+          py::gil_scoped_release release;
+          ao = vao_pp(g.view, s, options, &stats);
+        }
+        py::dict d;
+        d["pixels"] = stats.pixels;
+        d["culled"] = stats.culled;
+        d["culled_share"] = stats.culled_share();
+        d["samples"] = stats.samples;
+        d["mean_samples"] = stats.mean_samples();
+        d["prepass_pixels"] = stats.prepass_pixels;
+        return py::make_tuple(to_numpy(std::move(ao)), d);
+      },
+      py::arg("gbuffer"), py::arg("settings"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("progress") = nullptr);
 }
 
 }  // namespace aolab::python

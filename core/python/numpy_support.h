@@ -30,6 +30,7 @@ struct PyGBuffer {
   FloatArray depth;
   py::object normal = py::none();  // FloatArray or None
   py::object color = py::none();   // FloatArray or None
+  py::object emission = py::none();  // FloatArray or None
   GBuffer view;                    // points into the arrays above
 };
 

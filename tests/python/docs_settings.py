@@ -24,3 +24,18 @@ def assert_docs_settings_table(method):
         assert np.float32(float(default)) == np.float32(s["default"]), name
         lo, hi = (float(v) for v in rng.strip("[]").split(","))
         assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
+
+
+def settings_table(method: str) -> str:
+    """The Markdown table for the docs, from the field table."""
+    lines = ["| setting | type | default | range | unit | meaning |", "|---|---|---|---|---|---|"]
+    for s in aolab.method_info(method)["settings"]:
+        if s["type"] == "bool":
+            default, rng = ("true" if s["default"] else "false"), "false, true"
+        else:
+            num = (lambda v: str(int(v))) if s["type"] == "int" else \
+                (lambda v: f"{v:.7g}".replace("e+", "e"))
+            default, rng = num(s["default"]), f"[{num(s['min'])}, {num(s['max'])}]"
+        lines.append(f"| `{s['name']}` | {s['type']} | {default} | {rng} | {s['unit']} | "
+                     f"{s['description']} |")
+    return "\n".join(lines)

@@ -18,7 +18,7 @@ from . import _core
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
-    "analytic_scene", "analytic_scene_names",
+    "analytic_scene", "analytic_scene_names", "vao_pp_with_stats",
 ]
 
 GBuffer = _core.GBuffer
@@ -40,17 +40,22 @@ def method_info(method: str) -> dict:
 def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
             blur: bool = False, blur_sigma: float = 1.5, blur_taps: int = 5,
             progress: Progress | None = None, **settings) -> np.ndarray:
-    """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1].
+    """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1] — or (H, W, 3)
+    where the method documents an RGB result (``vao_pp`` with ``color_bleeding=True``).
 
     ``radius`` is the view-space radius of influence (the reference's AO distance).
     ``settings`` are the method's own (see ``method_info``). ``blur`` applies the separable
     Gaussian of :func:`gaussian_blur` afterwards; it is kept apart from the method so that it
-    can be timed apart. ``threads = 0`` uses all cores; results do not depend on it.
+    can be timed apart (1-channel results only). ``threads = 0`` uses all cores; results do
+    not depend on it.
     """
     values = dict(settings)
     values["radius"] = radius
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress)
     if blur:
+        if ao.ndim != 2:
+            raise ValueError(f"blur applies to 1-channel AO; {method} returned {ao.shape} with "
+                             "these settings (use the method's own filter)")
         ao = _core.gaussian_blur(ao, gbuffer, sigma=blur_sigma, taps=blur_taps,
                                  threads=threads)
     return ao
@@ -67,18 +72,42 @@ def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = Non
             threads: int = 0) -> dict:
     """Accuracy of ``ao`` against ``reference`` over ``mask`` (non-zero = scored pixel; all
     pixels when None): dict with ``mae``, ``rmse``, ``psnr``, ``bias`` (mean of ao - reference:
-    positive = under-occlusion), ``ssim`` and ``count`` (docs/metrics.md)."""
+    positive = under-occlusion), ``ssim`` and ``count`` (docs/metrics.md).
+
+    An RGB result (``vao_pp`` with colour bleeding, (H, W, 3)) is refused with a ValueError:
+    it is not an AO value and there is no indirect-diffuse reference to score it against
+    (docs/methods/vao_pp.md); report it as an image instead."""
+    if np.ndim(ao) == 3 and np.shape(ao)[2] == 3 and np.ndim(reference) == 2:
+        raise ValueError(
+            f"ao must be a 2-D array (H, W) to be scored, got an RGB image {tuple(np.shape(ao))} "
+            "(colour bleeding), which cannot be scored against a 1-channel AO reference "
+            f"{tuple(np.shape(reference))}; report it as an image, or score the AO of the same "
+            "settings with color_bleeding=False")
     return _core.metrics(ao, reference, mask, threads=threads)
 
 
+def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
+                      progress: Progress | None = None, **settings) -> tuple[np.ndarray, dict]:
+    """``compute("vao_pp", ...)`` that also says what the run did: returns ``(ao, stats)``
+    with ``stats`` a dict of ``pixels`` (geometry pixels), ``culled`` (culling candidates of
+    the §4.2 pre-pass), ``culled_share`` (= culled / pixels), ``samples`` (evaluated in the
+    full-resolution pass), ``mean_samples`` (per geometry pixel, §4.1) and ``prepass_pixels``
+    (1/8-resolution pixels evaluated)."""
+    values = dict(settings)
+    values["radius"] = radius
+    return _core.vao_pp_with_stats(gbuffer, values, threads=threads, progress=progress)
+
+
 def load_gbuffer(path) -> GBuffer:
-    """A G-buffer from a Blender multilayer EXR and its camera sidecar JSON (``<stem>.json``).
+    """A G-buffer from a Blender multilayer EXR and its camera sidecar JSON (``<stem>.json``):
+    depth, normals, colour (DiffCol) and emission (Emit) where the file has them.
     The returned GBuffer also carries ``reference`` (the AO pass, or None) and ``sidecar``."""
     data = _core.load_gbuffer_arrays(str(path))
     side = data["sidecar"]
     g = GBuffer(data["depth"], data["normal"], data["color"], fx=side["fx"], fy=side["fy"],
                 cx=side["cx"], cy=side["cy"],
-                background_depth=side.get("background_depth", _core.DEFAULT_BACKGROUND_DEPTH))
+                background_depth=side.get("background_depth", _core.DEFAULT_BACKGROUND_DEPTH),
+                emission=data["emission"])
     g.reference = data["ao"]
     g.sidecar = side
     g.path = str(path)

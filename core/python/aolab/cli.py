@@ -125,7 +125,9 @@ def cmd_run(args) -> int:
     print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
           f"-> {out.with_suffix('.exr')}, {out.with_suffix('.png')}")
     mask = _scored_mask(g)
-    if mask is not None:
+    if ao.ndim == 3:
+        print("  RGB result (colour bleeding): written as an image, not scored")
+    elif mask is not None:
         m = aolab.metrics(ao, g.reference, mask)
         result["metrics"] = m
         print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
