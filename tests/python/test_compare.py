@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, presets, regions
+from aolab import cli, compare, presets, regions, results_doc
 from compare_support import CROP, LADDER, ROOT, make_scenes, parse_report, read_csv
 
 
@@ -142,6 +142,21 @@ def test_aggregate_rows_are_means_over_scenes(study):
         assert len(per) == 2
         for col in ("all_mae", "occluded_ssim", "total_ms"):
             assert float(r[col]) == pytest.approx(np.mean([float(x[col]) for x in per]))
+
+
+def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
+    path = results_doc.write(study["out"] / "results.json", tmp_path)
+    text = path.read_text()
+    assert results_doc.GENERATED_BEGIN in text and "## What the results show" in text
+    for column, _, _ in __import__("aolab.report").report.PLOTS:
+        svg = tmp_path / "images" / f"results_{column}.svg"
+        assert f"images/results_{column}.svg" in text and "<style>" in svg.read_text()
+    for method in aolab.methods():
+        assert f"| {method} | medium |" in text
+    path.write_text(text.replace("_To be written", "Our paragraph. _To be written"))
+    results_doc.write(study["out"] / "results.json", tmp_path)
+    again = path.read_text()
+    assert "Our paragraph." in again and again.count(results_doc.GENERATED_BEGIN) == 1
 
 
 # ---------------------------------------------------------------------------------------

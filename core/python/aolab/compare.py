@@ -36,14 +36,11 @@ import aolab
 
 from . import presets as presets_mod
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
-from .report import atomic_write_text
+from .report import WEAK_FRACTION, atomic_write_text
 from .regions import REGIONS, region_masks
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
-#: A configuration is flagged when its MAE on the occluded region exceeds this fraction of
-#: the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
-WEAK_FRACTION = 0.75
 #: The SSIM window's radius (docs/metrics.md): the mean is taken this far from the edge.
 SSIM_CROP = 5
 AGGREGATE_SCENE = "ALL"

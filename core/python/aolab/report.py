@@ -22,6 +22,10 @@ import numpy as np
 
 from .regions import REGIONS
 
+#: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
+#: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
+WEAK_FRACTION = 0.75
+
 #: The signed error maps saturate at +-ERROR_SCALE.
 ERROR_SCALE = 0.25
 #: Light blue: lighter than the reference (under-occlusion); red: darker (over-occlusion).
@@ -164,9 +168,10 @@ def _marker(shape: str, x: float, y: float, r: float, attrs: str) -> str:
 
 
 def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_better: bool,
-             hlines: list[dict]) -> str:
+             hlines: list[dict], standalone: bool = False) -> str:
     """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
-    comparable kinds highlighted and horizontal reference lines (baseline, noise floor)."""
+    comparable kinds highlighted and horizontal reference lines (baseline, noise floor).
+    ``standalone`` embeds the style, for an .svg file of its own."""
     width, height = 620, 360
     ml, mr, mt, mb = 62, 190, 16, 44
     pw, ph = width - ml - mr, height - mt - mb
@@ -203,6 +208,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
            f'width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
            f'data-metric="{column}" role="img" aria-label="{html.escape(label)} against time">',
            f'<rect x="{ml}" y="{mt}" width="{pw}" height="{ph}" class="frame"/>']
+    if standalone:
+        out.insert(1, f"<style>{SVG_CSS}</style>")
     for e in range(x0, x1 + 1):
         for m in (1, 2, 5):
             v = m * 10 ** e
@@ -285,6 +292,11 @@ def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
         if r["kind"] == "baseline":
             out.append({"key": r["key"], "value": metric(r, column), "cls": "baseline",
                         "label": "AO ≡ 1 (no occlusion)", "title": "baseline AO ≡ 1"})
+            base = metric(r, column)
+            if column == "occluded_mae" and base is not None:
+                out.append({"key": r["key"], "value": WEAK_FRACTION * base, "cls": "weak",
+                            "label": f"{WEAK_FRACTION:g} × AO ≡ 1: above = weak",
+                            "title": "flag threshold"})
     if floor:
         value = floor.get(column)
         if value is not None:
@@ -402,14 +414,8 @@ def image_grid(scene: str, imgs: dict | None, budget_ms: float) -> str:
 # ----------------------------------------------------------------------------------------
 # The page
 
-CSS = """
-body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:24px auto;max-width:1500px;
- padding:0 16px;color:#222;line-height:1.4}
-h1{margin-bottom:4px} h2{border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:40px}
-.banner{background:#fde2e1;border:2px solid #c0392b;padding:10px 14px;font-weight:bold;margin:12px 0}
-.meta td{padding:1px 12px 1px 0;vertical-align:top} .meta td:first-child{color:#666}
-.plots{display:flex;flex-wrap:wrap;gap:12px}
-svg.plot{background:#fff;border:1px solid #ddd}
+SVG_CSS = """
+svg.plot{background:#fff;border:1px solid #ddd;font-family:system-ui,sans-serif}
 svg .frame{fill:none;stroke:#888} svg .grid{stroke:#e4e4e4} svg .grid.minor{stroke:#f2f2f2}
 svg .tick{font-size:11px;fill:#555} svg .axis{font-size:12px;fill:#333}
 svg .legend{font-size:11px;fill:#333}
@@ -417,7 +423,17 @@ svg .point{stroke:#fff;stroke-width:0.8;opacity:0.9} svg .point.front{stroke:#00
 svg .front-line{fill:none;stroke:#000;stroke-width:1.4;opacity:0.55}
 svg .hline{stroke-width:1.3} svg .hline.baseline{stroke:#c0392b;stroke-dasharray:7 4}
 svg .hline.floor{stroke:#27ae60;stroke-dasharray:2 3}
+svg .hline.weak{stroke:#e67e22;stroke-dasharray:3 5} svg .hlabel.weak{fill:#e67e22}
 svg .hlabel{font-size:10px} svg .hlabel.baseline{fill:#c0392b} svg .hlabel.floor{fill:#27ae60}
+"""
+
+CSS = SVG_CSS + """
+body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:24px auto;max-width:1500px;
+ padding:0 16px;color:#222;line-height:1.4}
+h1{margin-bottom:4px} h2{border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:40px}
+.banner{background:#fde2e1;border:2px solid #c0392b;padding:10px 14px;font-weight:bold;margin:12px 0}
+.meta td{padding:1px 12px 1px 0;vertical-align:top} .meta td:first-child{color:#666}
+.plots{display:flex;flex-wrap:wrap;gap:12px}
 table.results{border-collapse:collapse;font-size:12px;margin:8px 0}
 table.results th,table.results td{border:1px solid #ddd;padding:2px 6px;text-align:right}
 table.results td:first-child,table.results td:nth-child(2){text-align:left}
