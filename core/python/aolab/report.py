@@ -442,7 +442,7 @@ tr.baseline{background:#fbeaea} tr.cycles,tr.noise_floor{background:#f3f3f3} tr.
 tr.floor{background:#eaf7ee;font-style:italic}
 .weak{color:#c0392b;font-weight:bold}
 .grid{display:flex;flex-wrap:wrap;gap:10px} .card{margin:0;border:1px solid #ddd;padding:6px;background:#fafafa}
-.card img{display:block;margin-top:4px;image-rendering:auto} figcaption{font-size:12px;max-width:480px}
+.card img{display:inline-block;margin:4px 4px 0 0;vertical-align:top} figcaption{font-size:12px}
 .legendbar{font-size:12px;margin:6px 0;display:flex;align-items:center;gap:8px}
 .missing{color:#a05a00} .note{color:#555;font-size:13px} .scroll{overflow-x:auto}
 """
