@@ -567,7 +567,9 @@ def render_html(results: dict, images: dict) -> str:
     agg = [r for r in rows if r["scene"] == "ALL"]
     if agg:
         body.append(f'<h2 id="all">All scenes</h2><p class="note">Each point is the mean over the '
-                    'scenes where the configuration ran (times and scores averaged).</p>')
+                    'complete scenes where the configuration ran (times and scores averaged; '
+                    'peers only over the scenes that have them: see each row\'s note). The '
+                    'noise floor is per scene: see the scenes below.</p>')
         body.append(scene_section("ALL", "All scenes", agg, None, None, meta.get("budget_ms", 0),
                                   "plot-ALL"))
     for name in scenes:
