@@ -172,8 +172,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
     """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
     comparable kinds highlighted and horizontal reference lines (baseline, noise floor).
     ``standalone`` embeds the style, for an .svg file of its own."""
-    width, height = 620, 360
-    ml, mr, mt, mb = 62, 190, 16, 44
+    width, height = 640, 360
+    ml, mr, mt, mb = 62, 200, 16, 44
     pw, ph = width - ml - mr, height - mt - mb
     series = series_for(rows)
     pts = []
@@ -237,8 +237,9 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
                    f'class="hline {h["cls"]}" data-key="{html.escape(h["key"])}" '
                    f'data-metric="{column}" data-y="{_fmt(h["value"])}">'
                    f'<title>{html.escape(h["title"])}: {h["value"]:.4g}</title></line>')
-        out.append(f'<text x="{ml + pw - 4}" y="{Y - 4:.2f}" class="hlabel {h["cls"]}" '
-                   f'text-anchor="end">{html.escape(h["label"])}</text>')
+        if h.get("inline", True):
+            out.append(f'<text x="{ml + pw - 4}" y="{Y - 4:.2f}" class="hlabel {h["cls"]}" '
+                       f'text-anchor="end">{html.escape(h["label"])}</text>')
     # Pareto front of the comparable kinds.
     comparable = [(x, y, r["key"]) for s, r, x, y in pts if r["kind"] in FRONT_KINDS]
     front = pareto_front(comparable, lower_is_better)
@@ -295,8 +296,8 @@ def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
             base = metric(r, column)
             if column == "occluded_mae" and base is not None:
                 out.append({"key": r["key"], "value": WEAK_FRACTION * base, "cls": "weak",
-                            "label": f"{WEAK_FRACTION:g} × AO ≡ 1: above = weak",
-                            "title": "flag threshold"})
+                            "label": f"weak above ({WEAK_FRACTION:g} × AO ≡ 1)",
+                            "title": "flag threshold", "inline": False})
     if floor:
         value = floor.get(column)
         if value is not None:
