@@ -172,8 +172,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
     """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
     comparable kinds highlighted and horizontal reference lines (baseline, noise floor).
     ``standalone`` embeds the style, for an .svg file of its own."""
-    width, height = 640, 360
-    ml, mr, mt, mb = 62, 200, 16, 44
+    width, height = 672, 360
+    ml, mr, mt, mb = 62, 232, 16, 44
     pw, ph = width - ml - mr, height - mt - mb
     series = series_for(rows)
     pts = []
@@ -321,6 +321,14 @@ def _cell(v, fmt: str = ".4f") -> str:
 _KIND_ORDER = {"baseline": 0, "method": 1, "cycles": 2, "noise_floor": 3, "eevee": 4}
 
 
+def _row_order(r: dict):
+    """Baseline, then methods by name and time, then peers by time (the Cycles ladder by spp)."""
+    t = _num(r.get("total_ms")) or 0.0
+    if r["kind"] == "method":
+        return (_KIND_ORDER["method"], r["method"], t, r["label"])
+    return (_KIND_ORDER.get(r["kind"], 9), "", t, r["method"])
+
+
 def table(rows: list[dict], floor: dict | None) -> str:
     front = set(pareto_front([(r["total_ms"], metric(r, "all_mae"), r["key"]) for r in rows
                               if r["kind"] in FRONT_KINDS and _num(r.get("total_ms"))
@@ -331,8 +339,7 @@ def table(rows: list[dict], floor: dict | None) -> str:
             + "".join(f"<th>MAE {r.replace('_', ' ')}</th>" for r in REGIONS[1:])
             + "<th>occl. MAE / AO≡1</th><th>flag</th></tr>")
     body = []
-    ordered = sorted(rows, key=lambda r: (_KIND_ORDER.get(r["kind"], 9), r["method"],
-                                          _num(r.get("total_ms")) or 0.0, r["label"]))
+    ordered = sorted(rows, key=_row_order)
     for r in ordered:
         t = _num(r.get("method_ms"))
         if r["kind"] in ("method",) and t is not None:
@@ -516,8 +523,10 @@ error of drawing nothing there.</li>
 <li>The green dotted <b>noise floor</b> is the reference's own noise: the MAE between it and an
 independent 1024-spp render (or, marked "est.", the 256-spp render's MAE × √(2/5)). Differences
 below it are not resolved by the reference.</li>
-<li><b>MAE calibrated</b>: the MAE after the least-squares fit a·AO + b to the reference over all
-scored pixels, shown beside (never instead of) the MAE: it separates a different falloff
+<li><b>bias</b> = mean(method − reference): positive = lighter than the reference
+(under-occlusion), negative = darker (over-occlusion).</li>
+<li><b>MAE calibrated</b>: the MAE after the best affine fit a·AO + b to the reference (least
+absolute deviations, fitted on all scored pixels), shown beside (never instead of) the MAE: it separates a different falloff
 (a bias the fit removes) from structural error (what it cannot).</li>
 <li><b>Cycles (fewer spp)</b>: Cycles AO at 1 … 256 samples scored against 1024; its time is
 Blender's render time on this CPU. <b>EEVEE GTAO</b> renders on a software rasteriser (Mesa

@@ -40,9 +40,7 @@ def _table(rows: list[dict]) -> list[str]:
            "MAE occluded | occl. / AO≡1 | MAE depth edges | MAE grazing | MAE creases | "
            "MAE border | flag |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    order = {"baseline": 0, "method": 1, "cycles": 2, "noise_floor": 3, "eevee": 4}
-    rows = sorted(rows, key=lambda r: (order.get(r["kind"], 9), r["method"],
-                                       report._num(r.get("total_ms")) or 0.0))
+    rows = sorted(rows, key=report._row_order)
     for r in rows:
         m = r.get("metrics")
         if not m:
