@@ -240,6 +240,17 @@ def test_full_sweep_points_are_accepted_by_the_methods():
             aolab.compute(method, g, radius=0.5, **c.compute_settings())
 
 
+def test_full_sweep_runs_each_computation_once():
+    for method in aolab.methods():
+        configs = presets.settings_for(method, "full")
+        ids = {presets._identity(method, c.settings, c.blur) for c in configs}
+        assert len(ids) == len(configs), method
+    full = {c.label for c in presets.settings_for("hbao", "full")}
+    assert {"low", "medium", "high", "ultra"} <= full
+    assert "directions=8,steps=8,incremental_attenuation=0,blur=1" not in full   # = medium
+    assert len(full) == 4 * 4 * 2 * 2
+
+
 def test_a_method_without_presets_runs_its_defaults_and_registering_is_checked():
     (only,) = presets.settings_for("some_future_method", "full")
     assert only.label == "default" and only.settings == {} and not only.blur

@@ -99,6 +99,22 @@ def _split(method: str, values: dict) -> tuple[dict, bool]:
     return values, blur
 
 
+def _identity(method: str, values: dict, blur: bool) -> tuple:
+    """What a configuration computes: its settings over the method's defaults (floats at the
+    float32 precision the methods store them in), and the blur. Two configurations with the
+    same identity are one, whether or not they name a default explicitly."""
+    import numpy as np
+
+    import aolab
+    full = {}
+    if method in aolab.methods():
+        full = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]
+                if s["name"] != "radius"}
+    full.update(values)
+    norm = {k: (float(np.float32(v)) if isinstance(v, float) else v) for k, v in full.items()}
+    return tuple(sorted(norm.items())), blur
+
+
 def _label(values: dict) -> str:
     return ",".join(f"{k}={int(v) if isinstance(v, bool) else v}" for k, v in values.items())
 
@@ -116,8 +132,7 @@ def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
     out, seen = [], set()
     for name in names:
         values, blur = _split(method, e.presets[name])
-        key = (tuple(sorted(values.items())), blur)
-        seen.add(key)
+        seen.add(_identity(method, values, blur))
         out.append(Setting(method, name, values, blur, name))
     if sweep == "full" and e.sweep:
         keys = list(e.sweep)
@@ -130,7 +145,7 @@ def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
             if point is None:
                 continue
             values, blur = _split(method, point)
-            key = (tuple(sorted(values.items())), blur)
+            key = _identity(method, values, blur)
             if key in seen:
                 continue
             seen.add(key)
