@@ -12,6 +12,8 @@ PACKAGES=(
   # Python (Debian's /usr/bin/python3, the one Blender embeds)
   python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
   python3-skimage python3-tqdm python3-matplotlib
+  # headless browser: tests/python/test_report.py opens the comparison report in it
+  chromium
   # Blender 3.4 (its Python is the same 3.11; `import aolab` is tested inside it)
   blender
   # EEVEE (the comparison's GTAO peer) needs an OpenGL context: Xvfb + Mesa's llvmpipe

@@ -1,15 +1,13 @@
 #!/usr/bin/env bash
-# The main job, for now: HBAO on analytic G-buffers written as Blender-style EXRs, scored
-# against their closed-form Cycles AO (BLENDER_FACTS.md). Outputs go to out/ (or $1).
+# The main job: the comparison study (docs/comparison.md). Every method at its quick presets
+# (low, medium, high) on every committed reference scene, timed and scored against the Cycles
+# 1024-spp reference; a few minutes on 2 cores. Report in out/compare/ (or $1):
+# report.html, results.csv, results.json. Further arguments go to `aolab compare`
+# (e.g. scripts/run.sh out/compare --sweep full).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-out="${1:-$root/out}"
+out="${1:-$root/out/compare}"
+shift || true
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
-py=/usr/bin/python3
-mkdir -p "$out"
-for scene in wall crease ceiling; do
-  $py -m aolab analytic "$scene" "$out/$scene.exr" --radius 2 --width 640 --height 360
-  $py -m aolab run hbao "$out/$scene.exr" --out "$out/${scene}_hbao" --json "$out/${scene}_hbao.json"
-done
-$py -m aolab run hbao analytic:blocks --radius 0.5 --out "$out/blocks_hbao"
-echo "run: results in $out"
+/usr/bin/python3 -m aolab compare --scenes-dir "$root/reference_scenes" --out "$out" "$@"
+echo "run: open $out/report.html"

@@ -5,6 +5,7 @@
     aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
     aolab bench [options]                 time a method (median of repeated runs)
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
+    aolab compare [SCENE...] [options]    score every method against the references: report
 
 INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
 """
@@ -167,6 +168,43 @@ def cmd_reference(args) -> int:
         return 2
 
 
+def cmd_compare(args) -> int:
+    from . import compare
+    return compare.main(args)
+
+
+def add_compare_parser(sub) -> None:
+    c = sub.add_parser(
+        "compare", help="score every method against the Cycles references, timed: report",
+        description="Runs every method (or --methods) at its quality presets (--sweep quick: "
+        "low, medium, high; presets: also ultra; full: every preset and the full parameter "
+        "grid) on each reference scene at the scene's R, times it (warm-up, median of "
+        "--repeat runs; the blur apart) and scores it against the 1024-spp Cycles reference on "
+        "the whole frame and on regions, beside the AO = 1 baseline and the scene's peers "
+        "(Cycles at fewer samples, EEVEE). Writes DIR/report.html, results.csv and "
+        "results.json (docs/comparison.md). Ctrl-C keeps the partial results.")
+    c.add_argument("scenes", nargs="*", metavar="SCENE",
+                   help="reference_scenes/<name> folders or names (default: every scene with a "
+                   "reference.exr)")
+    c.add_argument("--methods", nargs="+", metavar="METHOD",
+                   help="methods to run (default: all of aolab.methods())")
+    c.add_argument("--sweep", choices=("quick", "presets", "full"), default="quick")
+    c.add_argument("--out", default="out/compare", help="output folder (default out/compare)")
+    c.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+    c.add_argument("--repeat", type=int, default=3, help="timed runs per configuration")
+    c.add_argument("--warmup", type=int, default=1, help="untimed runs before them")
+    c.add_argument("--budget-ms", type=float, default=1000.0,
+                   help="time budget for the images: each method's best setting within it")
+    c.add_argument("--crop", metavar="WxH", help="score a centred crop of every scene (quick "
+                   "looks, tests)")
+    c.add_argument("--scenes-dir", help="folder of the scenes (default: ./reference_scenes or "
+                   "the checkout's, or $AOLAB_SCENES)")
+    c.add_argument("--image-width", type=int, default=480, help="width of the report's images")
+    c.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar (default: when stderr is a terminal)")
+    c.set_defaults(func=cmd_compare)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="aolab", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -240,6 +278,8 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.set_defaults(func=cmd_reference)
+
+    add_compare_parser(sub)
     return p
 
 

@@ -1,0 +1,823 @@
+"""``aolab compare``: every method against the Cycles reference on every reference scene,
+timed and scored, with a report (docs/comparison.md).
+
+    aolab compare [SCENES...] [--methods M ...] [--sweep quick|presets|full] [--out DIR]
+
+For each scene (a reference_scenes/<name> folder with reference.exr) and each configuration
+of each method (aolab.presets), the method is run ``warmup`` + ``repeat`` times at the
+scene's R; the median of the timed runs is its time, and the shared blur (if the
+configuration has one) is timed apart in the same way. The output is scored against the
+1024-spp reference on the scored pixels and on each region of aolab.regions, beside the
+"AO = 1" baseline and the peers of reference_scenes/<name>/peers/ (Cycles at fewer samples,
+an independent 1024-spp render, EEVEE's GTAO). Results go to DIR/results.csv,
+DIR/results.json and DIR/report.html, rewritten atomically after every scene; Ctrl-C keeps
+what is done.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import platform
+import signal
+import statistics
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+from . import presets as presets_mod
+from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
+from .report import WEAK_FRACTION, atomic_write_text
+from .regions import REGIONS, region_masks
+
+#: Metrics per region, in column order.
+METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
+#: The SSIM window's radius (docs/metrics.md): the mean is taken this far from the edge.
+SSIM_CROP = 5
+AGGREGATE_SCENE = "ALL"
+BASELINE = "baseline_one"
+PEERS_DIR = "peers"
+PEERS_FILE = "peers.json"
+
+#: results.csv columns before the per-region metrics.
+BASE_COLUMNS = ("key", "scene", "kind", "method", "label", "preset", "settings", "threads",
+                "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
+                "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "runs",
+                "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline", "flag", "note")
+
+
+def columns() -> list[str]:
+    """Every column of results.csv, in order."""
+    return list(BASE_COLUMNS) + [f"{r}_{m}" for r in REGIONS for m in METRICS]
+
+
+def row_key(scene: str, method: str, label: str) -> str:
+    return f"{scene}/{method}/{label}"
+
+
+# ----------------------------------------------------------------------------------------
+# Machine, scenes, peers
+
+
+def machine_info(threads: int) -> dict:
+    """What the timings were measured on."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.lower().startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    mem = None
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal:"):
+                mem = round(int(line.split()[1]) / 1024 ** 2, 1)
+    except (OSError, ValueError):
+        pass
+    try:
+        usable = len(os.sched_getaffinity(0))
+    except AttributeError:
+        usable = os.cpu_count()
+    return {
+        "cpu": cpu, "logical_cores": os.cpu_count(), "usable_cores": usable,
+        "memory_gib": mem, "threads": threads or usable,
+        "threads_requested": threads, "platform": platform.platform(),
+        "python": platform.python_version(), "numpy": np.__version__,
+        "load_average_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+    }
+
+
+def _git_commit(where: Path) -> str | None:
+    try:
+        out = subprocess.run(["git", "-C", str(where), "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True, timeout=5)
+        return out.stdout.strip() or None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def find_scenes_dir() -> Path | None:
+    """reference_scenes/: $AOLAB_SCENES, ./reference_scenes, or beside the package's
+    checkout (build/python/aolab -> the repository)."""
+    if os.environ.get("AOLAB_SCENES"):
+        return Path(os.environ["AOLAB_SCENES"])
+    candidates = [Path.cwd()] + list(Path(__file__).resolve().parents)
+    for base in candidates:
+        if (base / "reference_scenes").is_dir():
+            return base / "reference_scenes"
+    return None
+
+
+def resolve_scenes(specs: list[str], scenes_dir: Path | None) -> list[Path]:
+    """Folders holding reference.exr: names in ``scenes_dir``, folders, or .exr paths (their
+    folder). No spec: every folder of ``scenes_dir`` with a reference.exr, sorted."""
+    if not specs:
+        if scenes_dir is None:
+            raise ValueError("no reference_scenes folder found: run from the repository, pass "
+                             "--scenes-dir, or set AOLAB_SCENES")
+        found = sorted(p for p in Path(scenes_dir).iterdir() if (p / "reference.exr").exists())
+        if not found:
+            raise ValueError(f"no scene with a reference.exr in {scenes_dir}")
+        return found
+    out = []
+    for spec in specs:
+        p = Path(spec)
+        if p.suffix == ".exr" and p.exists():
+            p = p.parent
+        elif not p.exists() and scenes_dir is not None:
+            p = Path(scenes_dir) / spec
+        if not (p / "reference.exr").exists():
+            raise ValueError(f"scene {spec!r}: no reference.exr found (looked in {p})")
+        out.append(p)
+    return out
+
+
+def read_y_exr(path: Path) -> np.ndarray:
+    """A one-channel AO EXR (channel "Y", or the only channel) as float32 (H, W)."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise ValueError(f"cannot open {path}: {oiio.geterror()}")
+    try:
+        spec = inp.spec()
+        names = list(spec.channelnames)
+        channel = names.index("Y") if "Y" in names else 0
+        if "Y" not in names and len(names) != 1:
+            raise ValueError(f"{path}: expected a channel named Y, got {names}")
+        pixels = inp.read_image(channel, channel + 1, oiio.FLOAT)
+    finally:
+        inp.close()
+    if pixels is None:
+        raise ValueError(f"cannot read {path}")
+    return np.ascontiguousarray(np.asarray(pixels, np.float32).reshape(spec.height, spec.width))
+
+
+@dataclass
+class Peer:
+    """One render of reference_scenes/<scene>/peers/peers.json."""
+    name: str
+    kind: str               # cycles, noise_floor, eevee
+    ao: np.ndarray
+    render_time_s: float | None
+    entry: dict
+
+
+def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], list[str]]:
+    """The peers of a scene folder and notes about entries that could not be used."""
+    path = folder / PEERS_DIR / PEERS_FILE
+    if not path.exists():
+        return [], []
+    notes = []
+    try:
+        entries = json.loads(path.read_text()).get("entries", [])
+    except (OSError, ValueError) as e:
+        return [], [f"{path}: unreadable ({e})"]
+    peers = []
+    for e in entries:
+        try:
+            ao = read_y_exr(folder / PEERS_DIR / e["file"])
+            if crop is not None:
+                ao = crop.apply(ao)
+            if ao.shape != shape:
+                raise ValueError(f"size {ao.shape[1]}x{ao.shape[0]}, reference "
+                                 f"{shape[1]}x{shape[0]}")
+            t = e.get("render_time_s")
+            peers.append(Peer(e["name"], e.get("kind", "cycles"), ao,
+                              float(t) if t is not None else None, e))
+        except (OSError, ValueError, KeyError) as err:
+            notes.append(f"peer {e.get('name', '?')}: not used ({err})")
+    return peers, notes
+
+
+@dataclass
+class Crop:
+    """A centred window of at most width x height pixels (tests and quick looks)."""
+    width: int
+    height: int
+    x0: int = 0
+    y0: int = 0
+
+    def fit(self, w: int, h: int) -> "Crop":
+        cw, ch = min(self.width, w), min(self.height, h)
+        return Crop(cw, ch, (w - cw) // 2, (h - ch) // 2)
+
+    def apply(self, a):
+        if a is None:
+            return None
+        return np.ascontiguousarray(a[self.y0:self.y0 + self.height, self.x0:self.x0 + self.width])
+
+
+def parse_crop(text: str | None) -> Crop | None:
+    if not text:
+        return None
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+        if w < 1 or h < 1:
+            raise ValueError
+    except ValueError:
+        raise ValueError(f"--crop must be WxH with positive integers, got {text!r}") from None
+    return Crop(w, h)
+
+
+@dataclass
+class Scene:
+    name: str
+    folder: Path
+    g: object
+    reference: np.ndarray
+    radius: float
+    regions: dict
+    peers: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
+
+
+def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    radius = float(g.sidecar["ao_distance"])
+    reference = np.asarray(g.reference, np.float32)
+    if crop is not None:
+        crop = crop.fit(g.width, g.height)
+        side = g.sidecar
+        cropped = aolab.GBuffer(crop.apply(g.depth), crop.apply(g.normal), crop.apply(g.color),
+                                fx=g.fx, fy=g.fy, cx=g.cx - crop.x0, cy=g.cy - crop.y0,
+                                background_depth=g.background_depth)
+        cropped.sidecar, cropped.path = side, g.path
+        reference = crop.apply(reference)
+        cropped.reference = reference
+        g = cropped
+    masks = region_masks(g, reference, radius)
+    peers, notes = load_peers(folder, reference.shape, crop)
+    return Scene(folder.name, folder, g, reference, radius, masks, peers, notes)
+
+
+# ----------------------------------------------------------------------------------------
+# Scoring
+
+
+def _stats(d: np.ndarray) -> dict:
+    n = d.size
+    if n == 0:
+        return {"mae": math.nan, "rmse": math.nan, "psnr": math.nan, "bias": math.nan}
+    mse = float(np.mean(d * d))
+    return {"mae": float(np.mean(np.abs(d))), "rmse": math.sqrt(mse),
+            "psnr": 10 * math.log10(1 / mse) if mse > 0 else math.inf,
+            "bias": float(np.mean(d))}
+
+
+#: Iterations and residual floor of the least-absolute-deviations fit, and the most pixels
+#: it is fitted on (every k-th scored pixel in row-major order beyond that).
+CALIBRATION_ITERATIONS = 30
+CALIBRATION_EPS = 1e-6
+CALIBRATION_MAX_PIXELS = 200_000
+
+
+def _lad_fit(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+    a, b = 1.0, 0.0
+    best = (float(np.mean(np.abs(y - x))), a, b)
+    for _ in range(CALIBRATION_ITERATIONS):
+        w = 1.0 / np.maximum(np.abs(y - a * x - b), CALIBRATION_EPS)
+        sw, sx, sy = w.sum(), (w * x).sum(), (w * y).sum()
+        sxx, sxy = (w * x * x).sum(), (w * x * y).sum()
+        det = sw * sxx - sx * sx
+        if det <= 0:
+            break
+        a, b = (sw * sxy - sx * sy) / det, (sxx * sy - sx * sxy) / det
+        mae = float(np.mean(np.abs(y - a * x - b)))
+        if mae < best[0] - 1e-7:
+            best = (mae, a, b)
+        else:
+            best = min(best, (mae, a, b))
+            break
+    return best[1], best[2]
+
+
+def calibration(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray) -> tuple[float, float]:
+    """The affine map a·ao + b with the least mean absolute deviation from ``reference`` over
+    ``mask``: the best affine fit for the MAE (a least-squares fit can raise the MAE when most
+    pixels are white and a few errors are large).
+
+    Iteratively reweighted least squares (weights 1/max(|residual|, CALIBRATION_EPS)), a
+    majorise-minimise scheme, started from the identity (a = 1, b = 0) and fitted on at most
+    CALIBRATION_MAX_PIXELS evenly strided scored pixels; the fit is kept only if it lowers
+    the MAE over all of ``mask``, so the calibrated MAE is at most the raw MAE. A constant
+    ``ao`` gives a = 0 and b = the median of the reference."""
+    x = ao[mask].astype(np.float64)
+    y = reference[mask].astype(np.float64)
+    if x.size == 0:
+        return math.nan, math.nan
+    if float(np.ptp(x)) <= 1e-12:
+        return 0.0, float(np.median(y))
+    k = max(1, math.ceil(x.size / CALIBRATION_MAX_PIXELS))
+    a, b = _lad_fit(x[::k], y[::k])
+    if np.mean(np.abs(y - a * x - b)) >= np.mean(np.abs(y - x)):
+        return 1.0, 0.0
+    return float(a), float(b)
+
+
+def score(ao: np.ndarray, scene: Scene) -> dict:
+    """Metrics of ``ao`` against the scene's reference on every region, and the calibration.
+
+    Returns {"regions": {region: {mae, rmse, psnr, bias, ssim, mae_cal, count}},
+    "calib_a": a, "calib_b": b}. SSIM of a region is the mean of the whole-frame SSIM map
+    (unscored pixels set to 1 in both images, as aolab.metrics does) over the region's pixels
+    at least SSIM_CROP px from the edge, so that a region's score does not depend on what
+    lies outside it; on "all" it equals aolab.metrics' SSIM. The calibration a, b is fitted
+    once on all scored pixels and applied on every region.
+    """
+    valid = scene.regions["all"]
+    ref = scene.reference
+    a_img = np.where(valid, ao, 1.0).astype(np.float32)
+    r_img = np.where(valid, ref, 1.0).astype(np.float32)
+    smap = aolab._core.ssim_map(a_img, r_img)
+    interior = np.zeros(valid.shape, bool)
+    h, w = valid.shape
+    if h > 2 * SSIM_CROP and w > 2 * SSIM_CROP:
+        interior[SSIM_CROP:h - SSIM_CROP, SSIM_CROP:w - SSIM_CROP] = True
+    ca, cb = calibration(ao, ref, valid)
+    d_all = ao.astype(np.float64) - ref
+    d_cal = (ca * ao.astype(np.float64) + cb) - ref
+    out = {}
+    for region in REGIONS:
+        m = scene.regions[region]
+        stats = _stats(d_all[m])
+        stats["mae_cal"] = float(np.mean(np.abs(d_cal[m]))) if m.any() else math.nan
+        inner = m & interior
+        pick = inner if inner.any() else m
+        stats["ssim"] = float(np.mean(smap[pick], dtype=np.float64)) if pick.any() else math.nan
+        stats["count"] = int(m.sum())
+        out[region] = stats
+    return {"regions": out, "calib_a": ca, "calib_b": cb}
+
+
+# ----------------------------------------------------------------------------------------
+# Timing
+
+
+def timed(fn, warmup: int, repeat: int):
+    """Runs ``fn`` warmup + repeat times; returns (first output, times of the timed runs in ms).
+    The output of the first run is kept (the methods are deterministic)."""
+    result, times = None, []
+    for i in range(warmup + repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        dt = (time.perf_counter() - t0) * 1000.0
+        if result is None:
+            result = out
+        if i >= warmup:
+            times.append(dt)
+    return result, times
+
+
+def _time_fields(prefix: str, times: list[float]) -> dict:
+    if not times:
+        return {}
+    out = {f"{prefix}_ms": statistics.median(times), f"{prefix}_ms_min": min(times),
+           f"{prefix}_ms_max": max(times)}
+    if prefix == "method":
+        out["method_ms_stdev"] = statistics.stdev(times) if len(times) > 1 else 0.0
+    return out
+
+
+# ----------------------------------------------------------------------------------------
+# Rows
+
+
+def _row(scene: Scene | str, kind: str, method: str, label: str, **extra) -> dict:
+    name = scene if isinstance(scene, str) else scene.name
+    row = {"key": row_key(name, method, label), "scene": name, "kind": kind,
+           "method": method, "label": label, "note": ""}
+    if not isinstance(scene, str):
+        row.update(width=scene.g.width, height=scene.g.height, radius=scene.radius)
+    row.update(extra)
+    return row
+
+
+def _add_scores(row: dict, scored: dict) -> None:
+    row["calib_a"], row["calib_b"] = scored["calib_a"], scored["calib_b"]
+    row["metrics"] = scored["regions"]
+
+
+def flag_rows(rows: list[dict]) -> None:
+    """Sets occluded_mae_vs_baseline and the flag of each row against its scene's baseline."""
+    base = {r["scene"]: r for r in rows if r["kind"] == "baseline" and "metrics" in r}
+    for r in rows:
+        b = base.get(r["scene"])
+        if b is None or "metrics" not in r or r["kind"] == "baseline":
+            continue
+        mine, theirs = r["metrics"]["occluded"]["mae"], b["metrics"]["occluded"]["mae"]
+        if not (math.isfinite(mine) and math.isfinite(theirs)) or theirs <= 0:
+            continue
+        ratio = mine / theirs
+        r["occluded_mae_vs_baseline"] = ratio
+        r["flag"] = "weak" if ratio > WEAK_FRACTION else ""
+
+
+def aggregate(rows: list[dict], scene_names: list[str]) -> list[dict]:
+    """Rows of scene "ALL": per (kind, method, label), the mean over the scenes that have it of
+    every metric and time (counts summed). Only complete scenes take part."""
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        if r["scene"] in scene_names and "metrics" in r:
+            groups.setdefault((r["kind"], r["method"], r["label"]), []).append(r)
+    out = []
+    for (kind, method, label), rs in groups.items():
+        agg = _row(AGGREGATE_SCENE, kind, method, label, n_scenes=len(rs),
+                   preset=rs[0].get("preset", ""), settings=rs[0].get("settings", {}),
+                   threads=rs[0].get("threads"),
+                   note=f"mean over {len(rs)} scene(s): {', '.join(r['scene'] for r in rs)}")
+        for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
+                    "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b"):
+            vals = [r[col] for r in rs if r.get(col) is not None]
+            if len(vals) == len(rs):
+                agg[col] = float(np.mean(vals))
+        metrics = {}
+        for region in REGIONS:
+            metrics[region] = {}
+            for m in METRICS:
+                vals = [r["metrics"][region][m] for r in rs]
+                if m == "count":
+                    metrics[region][m] = int(sum(vals))
+                else:
+                    finite = [v for v in vals if v is not None and math.isfinite(v)]
+                    metrics[region][m] = float(np.mean(finite)) if finite else math.nan
+        agg["metrics"] = metrics
+        out.append(agg)
+    flag_rows(out)
+    return out
+
+
+def flat(row: dict) -> dict:
+    """A row as the flat dict of results.csv (settings as JSON, metrics as columns)."""
+    out = {c: row.get(c) for c in BASE_COLUMNS}
+    out["settings"] = json.dumps(row.get("settings", {}), sort_keys=True)
+    for region in REGIONS:
+        for m in METRICS:
+            out[f"{region}_{m}"] = row.get("metrics", {}).get(region, {}).get(m)
+    return out
+
+
+def _csv_value(v):
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return repr(v)
+    return v
+
+
+def _json_safe(v):
+    if isinstance(v, float) and not math.isfinite(v):
+        return None if math.isnan(v) else ("inf" if v > 0 else "-inf")
+    if isinstance(v, dict):
+        return {k: _json_safe(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_json_safe(x) for x in v]
+    if isinstance(v, np.generic):
+        return _json_safe(v.item())
+    return v
+
+
+def write_results(out: Path, results: dict) -> None:
+    """results.csv and results.json, each written to a temporary file and renamed."""
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=columns(), lineterminator="\n")
+    writer.writeheader()
+    for row in results["rows"]:
+        writer.writerow({k: _csv_value(v) for k, v in flat(row).items()})
+    atomic_write_text(out / "results.csv", buf.getvalue())
+    atomic_write_text(out / "results.json", json.dumps(_json_safe(results), indent=1))
+
+
+# ----------------------------------------------------------------------------------------
+# The study
+
+
+@dataclass
+class Options:
+    scenes: list[str] = field(default_factory=list)
+    methods: list[str] | None = None
+    sweep: str = "quick"
+    out: Path = Path("out/compare")
+    threads: int = 0
+    warmup: int = 1
+    repeat: int = 3
+    budget_ms: float = 1000.0
+    crop: Crop | None = None
+    scenes_dir: Path | None = None
+    progress: bool = True
+    image_width: int = 480
+
+
+def _downscale(a: np.ndarray, width: int) -> np.ndarray:
+    k = max(1, math.ceil(a.shape[1] / width))
+    if k == 1:
+        return a.astype(np.float32)
+    h, w = (a.shape[0] // k) * k, (a.shape[1] // k) * k
+    a = a[:h, :w].astype(np.float32)
+    return a.reshape(h // k, k, w // k, k, *a.shape[2:]).mean(axis=(1, 3))
+
+
+class _Images:
+    """Per scene and method: the best configuration within the time budget (lowest MAE on
+    all scored pixels) and the fastest one, as the fallback when none fits."""
+
+    def __init__(self, budget_ms: float):
+        self.budget = budget_ms
+        self.best: dict[str, tuple] = {}
+        self.fastest: dict[str, tuple] = {}
+
+    def offer(self, row: dict, ao: np.ndarray) -> None:
+        if "metrics" not in row or row.get("total_ms") is None:
+            return
+        m, t = row["metrics"]["all"]["mae"], row["total_ms"]
+        name = row["method"]
+        if t <= self.budget and (name not in self.best or m < self.best[name][0]["metrics"]["all"]["mae"]):
+            self.best[name] = (row, ao)
+        if name not in self.fastest or t < self.fastest[name][0]["total_ms"]:
+            self.fastest[name] = (row, ao)
+
+    def chosen(self):
+        for name in self.fastest:
+            if name in self.best:
+                yield self.best[name][0], self.best[name][1], True
+            else:
+                yield self.fastest[name][0], self.fastest[name][1], False
+
+
+def _peer_images(scene: Scene, rows: list[dict], budget_ms: float):
+    """EEVEE, and the Cycles rung with most samples within the budget (else the cheapest)."""
+    by_name = {r["method"]: r for r in rows if r["scene"] == scene.name}
+    cycles = [p for p in scene.peers if p.kind == "cycles" and p.render_time_s is not None]
+    fits = [p for p in cycles if p.render_time_s * 1000 <= budget_ms]
+    pick = max(fits, key=lambda p: p.entry.get("samples", 0)) if fits else (
+        min(cycles, key=lambda p: p.render_time_s) if cycles else None)
+    chosen = [p for p in scene.peers if p.kind == "eevee"] + ([pick] if pick else [])
+    for p in chosen:
+        if p.name in by_name:
+            yield by_name[p.name], p.ao, p is not pick or bool(fits)
+
+
+def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) -> dict:
+    """Downscaled float images of a scene for the report: the reference, and per shown
+    configuration its AO and signed error (ao - reference, 0 off the scored pixels)."""
+    valid = scene.regions["all"]
+    entries = []
+    shown = list(images.chosen()) + list(_peer_images(scene, rows, images.budget))
+    for row, ao, within in shown:
+        err = np.where(valid, ao.astype(np.float64) - scene.reference, 0.0)
+        entries.append({"key": row["key"], "method": row["method"], "label": row["label"],
+                        "kind": row["kind"], "total_ms": row.get("total_ms"),
+                        "mae": row["metrics"]["all"]["mae"], "within_budget": within,
+                        "ao": _downscale(ao, width), "error": _downscale(err, width)})
+    return {"reference": _downscale(np.where(valid, scene.reference, 1.0), width),
+            "entries": entries}
+
+
+def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
+    """The configurations of ``method`` grouped by what the method computes: configurations
+    that differ only in the blur share one timed run of the method."""
+    groups: dict[str, tuple[dict, list]] = {}
+    for s in presets_mod.settings_for(method, sweep):
+        key = json.dumps(s.compute_settings(), sort_keys=True)
+        groups.setdefault(key, (s.compute_settings(), []))[1].append(s)
+    return list(groups.values())
+
+
+class Study:
+    """One run of the comparison; ``rows`` grows as configurations finish."""
+
+    def __init__(self, opts: Options):
+        self.opts = opts
+        self.rows: list[dict] = []
+        self.complete_scenes: list[str] = []
+        self.scene_info: dict[str, dict] = {}
+        self.images: dict[str, dict] = {}
+        self.notes: list[str] = []
+        self.meta: dict = {}
+
+    def results(self, partial: bool) -> dict:
+        rows = list(self.rows)
+        flag_rows(rows)
+        agg = aggregate(rows, self.complete_scenes) if self.complete_scenes else []
+        meta = dict(self.meta)
+        meta["partial"] = partial
+        meta["finished"] = time.strftime("%Y-%m-%d %H:%M:%S")
+        meta["elapsed_s"] = time.perf_counter() - self._t0
+        meta["load_average_end"] = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
+        meta["complete_scenes"] = list(self.complete_scenes)
+        return {"meta": meta, "scenes": self.scene_info, "notes": self.notes,
+                "regions": REGION_DESCRIPTIONS, "rows": rows + agg}
+
+    def write(self, partial: bool) -> dict:
+        from . import report
+        out = Path(self.opts.out)
+        out.mkdir(parents=True, exist_ok=True)
+        results = self.results(partial)
+        write_results(out, results)
+        report.write_report(out / "report.html", results, self.images)
+        return results
+
+    def run(self) -> dict:
+        opts = self.opts
+        self._t0 = time.perf_counter()
+        scenes_dir = opts.scenes_dir or find_scenes_dir()
+        folders = resolve_scenes(opts.scenes, scenes_dir)
+        methods = opts.methods if opts.methods else aolab.methods()
+        known = aolab.methods()
+        for m in methods:
+            if m not in known:
+                raise ValueError(f"method {m!r} is not one of {known}")
+        plan = {m: _method_runs(m, opts.sweep) for m in methods}
+        n_units = len(folders) * (1 + sum(len(v) for v in plan.values()))
+        self.meta = {
+            "command": "aolab compare", "argv": sys.argv[1:],
+            "started": time.strftime("%Y-%m-%d %H:%M:%S"), "sweep": opts.sweep,
+            "methods": methods, "scenes": [f.name for f in folders],
+            "warmup": opts.warmup, "repeat": opts.repeat, "budget_ms": opts.budget_ms,
+            "crop": None if opts.crop is None else f"{opts.crop.width}x{opts.crop.height}",
+            "machine": machine_info(opts.threads), "aolab_commit": _git_commit(folders[0]),
+            "weak_fraction": WEAK_FRACTION, "blur_sigma": presets_mod.BLUR_SIGMA,
+            "blur_taps": presets_mod.BLUR_TAPS,
+            "presets_source": {m: (presets_mod.entry(m).source if presets_mod.entry(m) else
+                                   "no presets registered: the method's defaults")
+                               for m in methods},
+        }
+        threads = opts.threads
+        bar = _progress(opts.progress, n_units)
+        try:
+            for folder in folders:
+                self._run_scene(folder, plan, threads, bar)
+        finally:
+            if bar is not None:
+                bar.close()
+        return self.write(partial=False)
+
+    def _run_scene(self, folder: Path, plan: dict, threads: int, bar) -> None:
+        opts = self.opts
+        if bar is not None:
+            bar.set_description(f"{folder.name}: loading")
+        scene = load_scene(folder, opts.crop)
+        self.notes.extend(f"{scene.name}: {n}" for n in scene.notes)
+        self.scene_info[scene.name] = {
+            "folder": str(folder), "width": scene.g.width, "height": scene.g.height,
+            "radius": scene.radius,
+            "region_pixels": {r: int(m.sum()) for r, m in scene.regions.items()},
+            "peers": [p.name for p in scene.peers],
+            "title": _manifest(folder).get("title", scene.name),
+        }
+        images = _Images(opts.budget_ms)
+        # The baseline, AO = 1 everywhere: no occlusion at all, no time.
+        base = _row(scene, "baseline", BASELINE, "AO=1", preset="", settings={},
+                    note="no occlusion at all (AO = 1 everywhere)")
+        _add_scores(base, score(np.ones_like(scene.reference), scene))
+        self.rows.append(base)
+        self._peers(scene)
+        if bar is not None:
+            bar.update(1)
+        for method, runs in plan.items():
+            for compute_settings, settings in runs:
+                if bar is not None:
+                    bar.set_description(f"{scene.name}: {method} {settings[0].label}")
+                self._run_config(scene, method, compute_settings, settings, threads, images)
+                if bar is not None:
+                    bar.update(1)
+        self._noise_floor(scene)
+        self.images[scene.name] = scene_images(scene, images, self.rows, opts.image_width)
+        self.complete_scenes.append(scene.name)
+        self.write(partial=True)
+
+    def _run_config(self, scene, method, compute_settings, settings, threads, images):
+        opts = self.opts
+        g = scene.g
+        try:
+            raw, times = timed(lambda: aolab.compute(method, g, radius=scene.radius,
+                                                     threads=threads, **compute_settings),
+                               opts.warmup, opts.repeat)
+        except (ValueError, RuntimeError) as e:
+            for s in settings:
+                self.rows.append(_row(scene, "method", method, s.label, preset=s.preset or "",
+                                      settings=s.recorded_settings(), threads=threads,
+                                      note=f"error: {e}"))
+            return
+        raw = np.asarray(raw)
+        for s in settings:
+            row = _row(scene, "method", method, s.label, preset=s.preset or "",
+                       settings=s.recorded_settings(), threads=threads, runs=len(times),
+                       **_time_fields("method", times))
+            ao, blur_times = raw, []
+            if s.blur and raw.ndim == 2:
+                ao, blur_times = timed(lambda: aolab.gaussian_blur(
+                    raw, g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
+                    threads=threads), opts.warmup, opts.repeat)
+                row.update(_time_fields("blur", blur_times))
+            row["total_ms"] = row["method_ms"] + (row.get("blur_ms") or 0.0)
+            if ao.ndim != 2:
+                row["note"] = (f"output has shape {ao.shape} (RGB, e.g. colour bleeding): timed, "
+                               "not scored against the grey AO reference")
+            else:
+                _add_scores(row, score(ao, scene))
+                images.offer(row, ao)
+            self.rows.append(row)
+
+    def _peers(self, scene: Scene) -> None:
+        for p in scene.peers:
+            ms = p.render_time_s * 1000 if p.render_time_s is not None else None
+            settings = {k: v for k, v in p.entry.items() if k not in ("name", "kind", "file",
+                                                                       "render_time_s", "note")}
+            row = _row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
+                       settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
+                       note=p.entry.get("note", ""))
+            _add_scores(row, score(p.ao, scene))
+            self.rows.append(row)
+
+    def _noise_floor(self, scene: Scene) -> None:
+        """The reference's own noise floor: measured (an independent 1024-spp render), or
+        estimated from the 256-spp render (MAE x sqrt(2/5): Monte Carlo noise halves with 4x
+        the samples, and a difference of two renders adds their variances), or unknown."""
+        mine = {r["method"]: r for r in self.rows if r["scene"] == scene.name and "metrics" in r}
+        measured = [p for p in scene.peers if p.kind == "noise_floor"]
+        info = self.scene_info[scene.name]
+        if measured:
+            r = mine[measured[0].name]
+            info["noise_floor"] = {"source": f"measured: {measured[0].name} vs the reference",
+                                   "key": r["key"], "estimated": False,
+                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] for reg in REGIONS},
+                                   "all_ssim": r["metrics"]["all"]["ssim"]}
+            return
+        rung = [p for p in scene.peers if p.kind == "cycles" and p.entry.get("samples") == 256]
+        if rung:
+            r = mine[rung[0].name]
+            f = math.sqrt(2 / 5)
+            info["noise_floor"] = {"source": f"estimated: {rung[0].name} MAE x sqrt(2/5)",
+                                   "key": r["key"], "estimated": True,
+                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] * f for reg in REGIONS}}
+        else:
+            info["noise_floor"] = None
+
+
+def _manifest(folder: Path) -> dict:
+    try:
+        return json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+def _progress(enabled: bool, total: int):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, unit="run", dynamic_ncols=True, file=sys.stderr)
+
+
+def main(args) -> int:
+    """The ``aolab compare`` command (arguments from cli.py)."""
+    opts = Options(scenes=args.scenes, methods=args.methods or None, sweep=args.sweep,
+                   out=Path(args.out), threads=args.threads, warmup=args.warmup,
+                   repeat=args.repeat, budget_ms=args.budget_ms, crop=parse_crop(args.crop),
+                   scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
+                   progress=args.progress if args.progress is not None else sys.stderr.isatty(),
+                   image_width=args.image_width)
+    if opts.repeat < 1 or opts.warmup < 0:
+        raise ValueError(f"--repeat must be >= 1 and --warmup >= 0, got {opts.repeat}, "
+                         f"{opts.warmup}")
+    study = Study(opts)
+
+    def terminated(signum, frame):  # `kill` keeps the partial results like Ctrl-C
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, terminated)
+    try:
+        results = study.run()
+    except KeyboardInterrupt:
+        if not study.meta:
+            print("aolab compare: interrupted before the first scene; nothing written",
+                  file=sys.stderr)
+            return 130
+        study.write(partial=True)
+        done = len(study.complete_scenes)
+        print(f"\naolab compare: interrupted. Partial results ({len(study.rows)} rows, "
+              f"{done} of {len(study.meta['scenes'])} scenes complete) are in {opts.out}/ "
+              "(results.csv, results.json, report.html marked PARTIAL); run the command again "
+              "for the full study.", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    meta = results["meta"]
+    n = sum(1 for r in results["rows"] if r["kind"] == "method" and r["scene"] != AGGREGATE_SCENE)
+    print(f"aolab compare: {n} configurations on {len(meta['scenes'])} scenes in "
+          f"{meta['elapsed_s']:.0f} s ({meta['machine']['threads']} threads, "
+          f"{meta['machine']['cpu']}) -> {opts.out}/report.html, results.csv, results.json")
+    return 0

@@ -1,0 +1,225 @@
+"""Quality presets and parameter sweeps of each method, for ``aolab compare``.
+
+A method's entry names its presets (``low`` < ``medium`` < ``high`` < ``ultra``: more
+samples, more time) and the grid of its quality parameters that the full sweep covers.
+The radius is never set here: every method runs with the scene's R (the reference's AO
+distance). Settings not named keep the method's defaults (``aolab.method_info``).
+
+``blur`` is not a method setting: it asks for the shared separable Gaussian
+(``aolab.gaussian_blur``, sigma 1.5 px, 5 taps: Pyramid HBAO §3.5) after the method, timed
+apart from it, as the papers time their filters apart. A method whose own output already
+includes that filter names the switch in ``builtin_blur``; the study turns the switch off
+and applies the shared blur instead (Pyramid HBAO's ``gaussian_filter`` is that same
+Gaussian, bit for bit: docs/methods/pyramid_hbao.md).
+
+Adding a method takes a few lines::
+
+    register("chebyshev",
+             presets={"low": {...}, "medium": {...}, "high": {...}},
+             sweep={"some_setting": [1, 2, 4], "blur": [False, True]},
+             source="Author et al. year, Table 2")
+
+A method from ``aolab.methods()`` with no entry runs once, at its defaults ("default").
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+#: Preset names, cheapest first. ``--sweep quick`` runs the first three.
+PRESET_ORDER = ("low", "medium", "high", "ultra")
+QUICK_PRESETS = ("low", "medium", "high")
+
+#: The shared blur's parameters (Pyramid HBAO §3.5; core/blur.h defaults).
+BLUR_SIGMA = 1.5
+BLUR_TAPS = 5
+
+
+@dataclass(frozen=True)
+class MethodPresets:
+    """Presets and full-sweep grid of one method."""
+    presets: dict                 # name -> settings dict (may contain "blur")
+    sweep: dict                   # setting -> list of values; the grid is their product
+    source: str = ""              # where the values come from (paper, table, our choice)
+    builtin_blur: str | None = None   # the method's own switch for the shared Gaussian
+    constraints: tuple = field(default_factory=tuple)  # callables: settings -> settings|None
+
+
+_REGISTRY: dict[str, MethodPresets] = {}
+
+
+def register(method: str, *, presets: dict, sweep: dict, source: str = "",
+             builtin_blur: str | None = None, constraints=()) -> None:
+    """Declares the presets and sweep grid of ``method`` (see the module docstring)."""
+    unknown = set(presets) - set(PRESET_ORDER)
+    if unknown:
+        raise ValueError(f"presets of {method} must be named from {PRESET_ORDER}, "
+                         f"got {sorted(unknown)}")
+    _REGISTRY[method] = MethodPresets(dict(presets), dict(sweep), source, builtin_blur,
+                                      tuple(constraints))
+
+
+def entry(method: str) -> MethodPresets | None:
+    """The registered presets of ``method``, or None."""
+    return _REGISTRY.get(method)
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One configuration of one method that the study runs."""
+    method: str
+    label: str          # preset name, or "k=v,k=v" for a sweep point
+    settings: dict      # the method's own settings (no radius, no blur)
+    blur: bool          # the shared Gaussian after the method, timed apart
+    preset: str | None  # preset name when this is a preset
+
+    def compute_settings(self) -> dict:
+        """The keyword settings passed to ``aolab.compute`` (radius excepted)."""
+        out = dict(self.settings)
+        e = entry(self.method)
+        if e is not None and e.builtin_blur is not None:
+            out[e.builtin_blur] = False
+        return out
+
+    def recorded_settings(self) -> dict:
+        """Every setting as recorded in results: the method's, the blur, and the builtin
+        switch forced off when the shared blur replaces it."""
+        out = self.compute_settings()
+        out["blur"] = self.blur
+        if self.blur:
+            out["blur_sigma"] = BLUR_SIGMA
+            out["blur_taps"] = BLUR_TAPS
+        return out
+
+
+def _split(method: str, values: dict) -> tuple[dict, bool]:
+    values = dict(values)
+    blur = bool(values.pop("blur", False))
+    return values, blur
+
+
+def _identity(method: str, values: dict, blur: bool) -> tuple:
+    """What a configuration computes: its settings over the method's defaults (floats at the
+    float32 precision the methods store them in), and the blur. Two configurations with the
+    same identity are one, whether or not they name a default explicitly."""
+    import numpy as np
+
+    import aolab
+    full = {}
+    if method in aolab.methods():
+        full = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]
+                if s["name"] != "radius"}
+    full.update(values)
+    norm = {k: (float(np.float32(v)) if isinstance(v, float) else v) for k, v in full.items()}
+    return tuple(sorted(norm.items())), blur
+
+
+def _label(values: dict) -> str:
+    return ",".join(f"{k}={int(v) if isinstance(v, bool) else v}" for k, v in values.items())
+
+
+def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
+    """The configurations of ``method`` for a sweep: ``quick`` = the presets low, medium,
+    high; ``presets`` = every preset; ``full`` = every preset and every point of the grid
+    (points equal to a preset are run once, under the preset's name)."""
+    if sweep not in ("quick", "presets", "full"):
+        raise ValueError(f"sweep must be quick, presets or full, got {sweep!r}")
+    e = entry(method)
+    if e is None:
+        return [Setting(method, "default", {}, False, "default")]
+    names = [p for p in PRESET_ORDER if p in e.presets and (sweep != "quick" or p in QUICK_PRESETS)]
+    out, seen = [], set()
+    for name in names:
+        values, blur = _split(method, e.presets[name])
+        seen.add(_identity(method, values, blur))
+        out.append(Setting(method, name, values, blur, name))
+    if sweep == "full" and e.sweep:
+        keys = list(e.sweep)
+        for combo in itertools.product(*(e.sweep[k] for k in keys)):
+            point = dict(zip(keys, combo))
+            for rule in e.constraints:
+                point = rule(point)
+                if point is None:
+                    break
+            if point is None:
+                continue
+            values, blur = _split(method, point)
+            key = _identity(method, values, blur)
+            if key in seen:
+                continue
+            seen.add(key)
+            out.append(Setting(method, _label(point), values, blur, None))
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# HBAO — Bavoil, Sainz, Dimitrov 2008. The talk's Figure 1 uses N_d = 8 directions and
+# N_s = 8 steps (docs/methods/hbao.md, Settings); it has no table of quality levels, so low,
+# high and ultra halve and double both counts (our choice). Its per-pixel random rotation and
+# jitter trade banding for noise, which the talk leaves to a blur it does not specify: the
+# presets apply the shared Gaussian (timed apart); the full sweep has it on and off, and both
+# attenuations (eq. 3, the talk's; eq. 2, NVIDIA's incremental form), since the choice moves
+# the error more than the sample counts do (docs/methods/hbao.md, step 10b).
+register(
+    "hbao",
+    presets={
+        "low": {"directions": 4, "steps": 4, "blur": True},
+        "medium": {"directions": 8, "steps": 8, "blur": True},
+        "high": {"directions": 16, "steps": 16, "blur": True},
+        "ultra": {"directions": 32, "steps": 32, "blur": True},
+    },
+    sweep={"directions": [4, 8, 16, 32], "steps": [4, 8, 16, 32],
+           "incremental_attenuation": [False, True], "blur": [False, True]},
+    source="Bavoil et al. 2008, Figure 1 (N_d = N_s = 8); other levels halve/double (ours)",
+)
+
+# Pyramid HBAO — Astapov, Gaevoy, Sergeev 2021. §4 uses D = 8 directions and K = 3; Table 1
+# (S and L per radius) did not survive the text extraction (docs/methods/pyramid_hbao.md),
+# so S = 2/4/8 per level are ours (S = 4 is the library default). L = 0 derives the levels
+# from R as §4 does. §3.5's Gaussian (sigma 1.5, 5 taps) is part of the method; the paper
+# times the method without it, and so does the study (builtin switch off, shared blur on).
+register(
+    "pyramid_hbao",
+    presets={
+        "low": {"directions": 4, "samples": 2, "blur": True},
+        "medium": {"directions": 8, "samples": 4, "blur": True},
+        "high": {"directions": 8, "samples": 8, "blur": True},
+        "ultra": {"directions": 16, "samples": 8, "blur": True},
+    },
+    sweep={"directions": [4, 8, 16], "samples": [2, 4, 8], "reduction": [2, 3, 4],
+           "blur": [True]},
+    source="Astapov et al. 2021, §4 (D = 8, K = 3); S per level ours (Table 1 lost)",
+    builtin_blur="gaussian_filter",
+)
+
+
+def _lsao_directions(point: dict) -> dict:
+    """LSAO's K must be 8 x template size (§5.2 aligned directions)."""
+    point = dict(point)
+    point["directions"] = 8 * point["template_size"]
+    return point
+
+
+# Line-sweep AO — Timonen 2013. The paper's own configurations (docs/methods/lsao.md,
+# Settings): Figure 1, K = 8 (n = 1, stride 2, D_L = 2.12) = low; Figure 13, K = 16 with
+# stride 2 and D_L = 2.46 = medium's cheaper sibling, not a preset; Figure 11 and Table 2,
+# K = 16 (n = 2, D_S = 2.43, D_L = 1.64) = medium, the library default. high (n = 3, K = 24,
+# D_L = 1.2) and ultra (n = 4, K = 32, D_L = 1) are ours: denser in both directions and
+# lines. The gather already averages K directions; no blur.
+register(
+    "lsao",
+    presets={
+        "low": {"template_size": 1, "directions": 8, "template_stride": 2, "line_spacing": 2.12},
+        "medium": {"template_size": 2, "directions": 16, "template_stride": 1,
+                   "line_spacing": 1.64},
+        "high": {"template_size": 3, "directions": 24, "template_stride": 1,
+                 "line_spacing": 1.2},
+        "ultra": {"template_size": 4, "directions": 32, "template_stride": 1,
+                  "line_spacing": 1.0},
+    },
+    sweep={"template_size": [1, 2, 3, 4], "template_stride": [1, 2],
+           "line_spacing": [1.0, 1.64, 2.46]},
+    source="Timonen 2013, Figure 1 (low), Figure 11 / Table 2 (medium); high, ultra ours",
+    constraints=(_lsao_directions,),
+)

@@ -1,0 +1,621 @@
+"""report.html of ``aolab compare``: one self-contained file (inline SVG plots, base64 PNG
+images, inline CSS and a small inline self-check script; nothing from the network).
+
+Every plotted point is an SVG element of class ``point`` whose ``data-key`` is the key of
+its row in results.csv, with ``data-metric`` (the results.csv column on the y axis),
+``data-x`` (total_ms) and ``data-y`` (the metric's value), so a test can match every point to
+its row. On load, the script checks that every image decoded and every plot has points and
+writes the outcome into document.title: "AO Lab report: ok ..." or "AO Lab report: error ...".
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+import os
+import struct
+import zlib
+from pathlib import Path
+
+import numpy as np
+
+from .regions import REGIONS
+
+#: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
+#: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
+WEAK_FRACTION = 0.75
+
+#: The signed error maps saturate at +-ERROR_SCALE.
+ERROR_SCALE = 0.25
+#: Light blue: lighter than the reference (under-occlusion); red: darker (over-occlusion).
+LIGHTER_RGB = (0.1, 0.3, 0.9)
+DARKER_RGB = (0.85, 0.1, 0.1)
+
+#: (results.csv column, axis label, lower is better)
+PLOTS = (
+    ("all_mae", "MAE, all scored pixels", True),
+    ("occluded_mae", "MAE, occluded region (reference < 0.9)", True),
+    ("all_ssim", "SSIM, all scored pixels", False),
+)
+#: Kinds whose time is comparable with the methods' and that may lie on the Pareto front.
+FRONT_KINDS = ("method", "cycles")
+PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+           "#bcbd22", "#d62728", "#7f7f7f")
+CYCLES_COLOUR = "#444444"
+EEVEE_COLOUR = "#b8860b"
+
+
+# ----------------------------------------------------------------------------------------
+# PNG
+
+
+def png_bytes(image: np.ndarray) -> bytes:
+    """An 8-bit PNG of a float image in [0, 1]: (H, W) grey or (H, W, 3) RGB."""
+    a = np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0)
+    a = np.round(a * 255).astype(np.uint8)
+    h, w = a.shape[:2]
+    colour = 2 if a.ndim == 3 else 0
+    rows = a.reshape(h, -1)
+    raw = np.concatenate([np.zeros((h, 1), np.uint8), rows], axis=1).tobytes()
+
+    def chunk(tag: bytes, data: bytes) -> bytes:
+        return (struct.pack(">I", len(data)) + tag + data +
+                struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, colour, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+
+
+def signed_error_rgb(err: np.ndarray, scale: float = ERROR_SCALE) -> np.ndarray:
+    """err = method - reference as RGB: white at 0, blue when lighter (> 0, under-occlusion),
+    red when darker (< 0, over-occlusion), full colour at |err| >= scale."""
+    t = np.clip(np.abs(err) / scale, 0, 1)[..., None]
+    colour = np.where(err[..., None] < 0, np.array(DARKER_RGB), np.array(LIGHTER_RGB))
+    return (1 - t) + t * colour
+
+
+def _img(image: np.ndarray, alt: str, cls: str = "") -> str:
+    data = base64.b64encode(png_bytes(image)).decode("ascii")
+    return (f'<img class="{cls}" alt="{html.escape(alt)}" width="{image.shape[1]}" '
+            f'height="{image.shape[0]}" src="data:image/png;base64,{data}">')
+
+
+# ----------------------------------------------------------------------------------------
+# SVG plots
+
+
+def _fmt(v) -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return ""
+    return repr(float(v))
+
+
+def _num(v):
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+def metric(row: dict, column: str):
+    """A row's value of a results.csv metric column such as ``occluded_mae``."""
+    for region in REGIONS:
+        if column.startswith(region + "_"):
+            return _num(row.get("metrics", {}).get(region, {}).get(column[len(region) + 1:]))
+    return _num(row.get(column))
+
+
+def pareto_front(points: list[tuple[float, float, str]], lower_is_better: bool) -> list[str]:
+    """Keys of the points no other point beats in both time and value (ties kept), fastest
+    first."""
+    sign = 1 if lower_is_better else -1
+    best = math.inf
+    front = []
+    for x, y, key in sorted(points, key=lambda p: (p[0], sign * p[1])):
+        if sign * y < best:
+            best = sign * y
+            front.append(key)
+    return front
+
+
+def _nice_ticks(lo: float, hi: float, n: int = 5) -> list[float]:
+    span = hi - lo
+    if span <= 0:
+        return [lo]
+    raw = span / n
+    mag = 10 ** math.floor(math.log10(raw))
+    step = min((m * mag for m in (1, 2, 2.5, 5, 10)), key=lambda s: abs(s - raw))
+    first = math.ceil(lo / step - 1e-9) * step
+    ticks, t = [], first
+    while t <= hi + 1e-9 * step:
+        ticks.append(round(t, 10))
+        t += step
+    return ticks
+
+
+def _tick_label(v: float) -> str:
+    return f"{v:g}"
+
+
+def series_for(rows: list[dict]) -> list[dict]:
+    """Plot series from rows of one scene: one per method, the Cycles ladder, EEVEE."""
+    methods = sorted({r["method"] for r in rows if r["kind"] == "method"})
+    out = []
+    for i, m in enumerate(methods):
+        out.append({"name": m, "colour": PALETTE[i % len(PALETTE)], "marker": "circle",
+                    "line": False, "rows": [r for r in rows if r["kind"] == "method" and r["method"] == m]})
+    cycles = sorted((r for r in rows if r["kind"] == "cycles"),
+                    key=lambda r: (r.get("settings", {}).get("samples") or 0, r["method"]))
+    if cycles:
+        out.append({"name": "Cycles (fewer spp)", "colour": CYCLES_COLOUR, "marker": "square",
+                    "line": True, "rows": cycles})
+    eevee = [r for r in rows if r["kind"] == "eevee"]
+    if eevee:
+        out.append({"name": "EEVEE GTAO (time not comparable)", "colour": EEVEE_COLOUR,
+                    "marker": "diamond", "line": False, "rows": eevee})
+    return out
+
+
+def _marker(shape: str, x: float, y: float, r: float, attrs: str) -> str:
+    if shape == "square":
+        return f'<rect x="{x - r:.2f}" y="{y - r:.2f}" width="{2 * r:.2f}" height="{2 * r:.2f}" {attrs}/>'
+    if shape == "diamond":
+        pts = f"{x:.2f},{y - r * 1.4:.2f} {x + r * 1.4:.2f},{y:.2f} {x:.2f},{y + r * 1.4:.2f} {x - r * 1.4:.2f},{y:.2f}"
+        return f'<polygon points="{pts}" {attrs}/>'
+    return f'<circle cx="{x:.2f}" cy="{y:.2f}" r="{r:.2f}" {attrs}/>'
+
+
+def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_better: bool,
+             hlines: list[dict], standalone: bool = False) -> str:
+    """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
+    comparable kinds highlighted and horizontal reference lines (baseline, noise floor).
+    ``standalone`` embeds the style, for an .svg file of its own."""
+    width, height = 672, 360
+    ml, mr, mt, mb = 62, 232, 16, 44
+    pw, ph = width - ml - mr, height - mt - mb
+    series = series_for(rows)
+    pts = []
+    for s in series:
+        for r in s["rows"]:
+            x, y = _num(r.get("total_ms")), metric(r, column)
+            if x is not None and x > 0 and y is not None:
+                pts.append((s, r, x, y))
+    lines = [h for h in hlines if _num(h.get("value")) is not None]
+    if not pts:
+        return f'<p class="missing">No timed point has a value of {html.escape(label)}.</p>'
+    xs = [p[2] for p in pts]
+    ys = [p[3] for p in pts] + [h["value"] for h in lines]
+    x0, x1 = math.floor(math.log10(min(xs))), math.ceil(math.log10(max(xs)))
+    if x1 == x0:
+        x1 += 1
+    if lower_is_better:
+        y0, y1 = 0.0, max(ys) * 1.08 or 1.0
+    else:
+        lo = min(ys)
+        y0, y1 = max(0.0, lo - 0.05 * (1 - lo) - 0.01), 1.0
+    if y1 <= y0:
+        y1 = y0 + 1
+
+    def px(x):
+        return ml + (math.log10(x) - x0) / (x1 - x0) * pw
+
+    def py(y):
+        return mt + (1 - (y - y0) / (y1 - y0)) * ph
+
+    out = [f'<svg class="plot" id="{html.escape(plot_id)}" xmlns="http://www.w3.org/2000/svg" '
+           f'width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
+           f'data-metric="{column}" role="img" aria-label="{html.escape(label)} against time">',
+           f'<rect x="{ml}" y="{mt}" width="{pw}" height="{ph}" class="frame"/>']
+    if standalone:
+        out.insert(1, f"<style>{SVG_CSS}</style>")
+    for e in range(x0, x1 + 1):
+        for m in (1, 2, 5):
+            v = m * 10 ** e
+            if v > 10 ** x1:
+                break
+            X = px(v)
+            cls = "grid" if m == 1 else "grid minor"
+            out.append(f'<line x1="{X:.2f}" y1="{mt}" x2="{X:.2f}" y2="{mt + ph}" class="{cls}"/>')
+            if m == 1 or (x1 - x0) <= 2:
+                out.append(f'<text x="{X:.2f}" y="{mt + ph + 16}" class="tick" '
+                           f'text-anchor="middle">{_tick_label(v)}</text>')
+    for v in _nice_ticks(y0, y1):
+        Y = py(v)
+        out.append(f'<line x1="{ml}" y1="{Y:.2f}" x2="{ml + pw}" y2="{Y:.2f}" class="grid"/>')
+        out.append(f'<text x="{ml - 6}" y="{Y + 4:.2f}" class="tick" text-anchor="end">'
+                   f'{_tick_label(v)}</text>')
+    out.append(f'<text x="{ml + pw / 2:.1f}" y="{height - 8}" class="axis" text-anchor="middle">'
+               'time per frame, ms (log scale; method + blur)</text>')
+    out.append(f'<text transform="translate(14,{mt + ph / 2:.1f}) rotate(-90)" class="axis" '
+               f'text-anchor="middle">{html.escape(label)}</text>')
+    # Horizontal lines: AO = 1 baseline, noise floor.
+    for h in lines:
+        Y = py(h["value"])
+        out.append(f'<line x1="{ml}" y1="{Y:.2f}" x2="{ml + pw}" y2="{Y:.2f}" '
+                   f'class="hline {h["cls"]}" data-key="{html.escape(h["key"])}" '
+                   f'data-metric="{column}" data-y="{_fmt(h["value"])}">'
+                   f'<title>{html.escape(h["title"])}: {h["value"]:.4g}</title></line>')
+        if h.get("inline", True):
+            out.append(f'<text x="{ml + pw - 4}" y="{Y - 4:.2f}" class="hlabel {h["cls"]}" '
+                       f'text-anchor="end">{html.escape(h["label"])}</text>')
+    # Pareto front of the comparable kinds.
+    comparable = [(x, y, r["key"]) for s, r, x, y in pts if r["kind"] in FRONT_KINDS]
+    front = pareto_front(comparable, lower_is_better)
+    front_set = set(front)
+    if len(front) > 1:
+        where = {r["key"]: (x, y) for s, r, x, y in pts}
+        path = []
+        for i, k in enumerate(front):
+            x, y = where[k]
+            if i:
+                path.append(f"{px(x):.2f},{py(where[front[i - 1]][1]):.2f}")
+            path.append(f"{px(x):.2f},{py(y):.2f}")
+        out.append(f'<polyline points="{" ".join(path)}" class="front-line"/>')
+    # Series.
+    for s in series:
+        mine = [(r, x, y) for t, r, x, y in pts if t is s]
+        if s["line"] and len(mine) > 1:
+            poly = " ".join(f"{px(x):.2f},{py(y):.2f}" for r, x, y in mine)
+            out.append(f'<polyline points="{poly}" fill="none" stroke="{s["colour"]}" '
+                       'stroke-width="1.2" stroke-dasharray="4 3"/>')
+        for r, x, y in mine:
+            on = r["key"] in front_set
+            cls = "point front" if on else "point"
+            attrs = (f'class="{cls}" fill="{s["colour"]}" data-key="{html.escape(r["key"])}" '
+                     f'data-metric="{column}" data-x="{_fmt(x)}" data-y="{_fmt(y)}"')
+            tip = (f'{r["method"]} {r["label"]}: {x:.4g} ms, {label} {y:.4g}'
+                   + (" (Pareto front)" if on else ""))
+            el = _marker(s["marker"], px(x), py(y), 5.5 if on else 4.0, attrs)
+            out.append(el[:-2] + f"><title>{html.escape(tip)}</title></{el.split()[0][1:]}>")
+    # Legend.
+    lx, ly = ml + pw + 14, mt + 8
+    entries = [(s["name"], s["colour"], s["marker"]) for s in series]
+    for i, (name, colour, shape) in enumerate(entries):
+        Y = ly + i * 18
+        out.append(_marker(shape, lx + 5, Y, 4.5, f'fill="{colour}" class="legend-marker"'))
+        out.append(f'<text x="{lx + 16}" y="{Y + 4}" class="legend">{html.escape(name)}</text>')
+    Y = ly + len(entries) * 18
+    out.append(f'<line x1="{lx}" y1="{Y}" x2="{lx + 10}" y2="{Y}" class="front-line"/>'
+               f'<text x="{lx + 16}" y="{Y + 4}" class="legend">Pareto front</text>')
+    for j, h in enumerate(lines):
+        Y = ly + (len(entries) + 1 + j) * 18
+        out.append(f'<line x1="{lx}" y1="{Y}" x2="{lx + 10}" y2="{Y}" class="hline {h["cls"]}"/>'
+                   f'<text x="{lx + 16}" y="{Y + 4}" class="legend">{html.escape(h["label"])}</text>')
+    out.append("</svg>")
+    return "\n".join(out)
+
+
+def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
+    out = []
+    for r in rows:
+        if r["kind"] == "baseline":
+            out.append({"key": r["key"], "value": metric(r, column), "cls": "baseline",
+                        "label": "AO ≡ 1 (no occlusion)", "title": "baseline AO ≡ 1"})
+            base = metric(r, column)
+            if column == "occluded_mae" and base is not None:
+                out.append({"key": r["key"], "value": WEAK_FRACTION * base, "cls": "weak",
+                            "label": f"weak above ({WEAK_FRACTION:g} × AO ≡ 1)",
+                            "title": "flag threshold", "inline": False})
+    if floor:
+        value = floor.get(column)
+        if value is not None:
+            out.append({"key": floor["key"], "value": value, "cls": "floor",
+                        "label": "noise floor" + (" (est.)" if floor.get("estimated") else ""),
+                        "title": floor["source"]})
+    return out
+
+
+# ----------------------------------------------------------------------------------------
+# Tables
+
+
+def _cell(v, fmt: str = ".4f") -> str:
+    v = _num(v)
+    if v is None:
+        return "—"
+    return format(v, fmt)
+
+
+_KIND_ORDER = {"baseline": 0, "method": 1, "cycles": 2, "noise_floor": 3, "eevee": 4}
+
+
+def _row_order(r: dict):
+    """Baseline, then methods by name and time, then peers by time (the Cycles ladder by spp)."""
+    t = _num(r.get("total_ms")) or 0.0
+    if r["kind"] == "method":
+        return (_KIND_ORDER["method"], r["method"], t, r["label"])
+    return (_KIND_ORDER.get(r["kind"], 9), "", t, r["method"])
+
+
+def table(rows: list[dict], floor: dict | None) -> str:
+    front = set(pareto_front([(r["total_ms"], metric(r, "all_mae"), r["key"]) for r in rows
+                              if r["kind"] in FRONT_KINDS and _num(r.get("total_ms"))
+                              and metric(r, "all_mae") is not None], True))
+    head = ("<tr><th>method</th><th>setting</th><th>method ms<br><small>median (min–max)</small>"
+            "</th><th>blur ms</th><th>total ms</th><th>MAE</th><th>SSIM</th><th>RMSE</th>"
+            "<th>PSNR dB</th><th>bias</th><th>MAE calibrated<br><small>a·AO + b</small></th>"
+            + "".join(f"<th>MAE {r.replace('_', ' ')}</th>" for r in REGIONS[1:])
+            + "<th>occl. MAE / AO≡1</th><th>flag</th></tr>")
+    body = []
+    ordered = sorted(rows, key=_row_order)
+    for r in ordered:
+        t = _num(r.get("method_ms"))
+        if r["kind"] in ("method",) and t is not None:
+            tms = f'{t:.1f} <small>({r["method_ms_min"]:.1f}–{r["method_ms_max"]:.1f})</small>'
+        elif t is not None:
+            tms = f"{t:.0f} <small>(render)</small>"
+        else:
+            tms = "—"
+        b = _num(r.get("blur_ms"))
+        bms = f'{b:.1f}' if b is not None else "—"
+        star = " ★" if r["key"] in front else ""
+        flag = r.get("flag") or ""
+        flag_html = '<span class="weak">weak on occluded</span>' if flag == "weak" else ""
+        note = f' title="{html.escape(r["note"])}"' if r.get("note") else ""
+        m = r.get("metrics")
+        if m:
+            cal = (f'{_cell(m["all"]["mae_cal"])} <small>(a {_cell(r.get("calib_a"), ".2f")}, '
+                   f'b {_cell(r.get("calib_b"), ".2f")})</small>')
+            cells = (f'<td>{_cell(m["all"]["mae"])}</td><td>{_cell(m["all"]["ssim"])}</td>'
+                     f'<td>{_cell(m["all"]["rmse"])}</td><td>{_cell(m["all"]["psnr"], ".2f")}</td>'
+                     f'<td>{_cell(m["all"]["bias"], "+.4f")}</td><td>{cal}</td>'
+                     + "".join(f'<td>{_cell(m[reg]["mae"])}</td>' for reg in REGIONS[1:])
+                     + f'<td>{_cell(r.get("occluded_mae_vs_baseline"), ".2f")}</td>')
+        else:
+            cells = f'<td colspan="{7 + len(REGIONS)}">{html.escape(r.get("note", ""))}</td>'
+        body.append(f'<tr class="{r["kind"]}" data-key="{html.escape(r["key"])}"{note}>'
+                    f'<td>{html.escape(r["method"])}</td><td>{html.escape(r["label"])}{star}</td>'
+                    f'<td>{tms}</td><td>{bms}</td><td>{_cell(r.get("total_ms"), ".1f")}</td>'
+                    f'{cells}<td>{flag_html}</td></tr>')
+    if floor:
+        body.append(f'<tr class="floor"><td colspan="5">reference noise floor '
+                    f'({html.escape(floor["source"])})</td><td>{_cell(floor.get("all_mae"))}</td>'
+                    f'<td>{_cell(floor.get("all_ssim"))}</td><td colspan="4"></td>'
+                    + "".join(f'<td>{_cell(floor.get(reg + "_mae"))}</td>' for reg in REGIONS[1:])
+                    + "<td></td><td></td></tr>")
+    return f'<table class="results">{head}{"".join(body)}</table>'
+
+
+# ----------------------------------------------------------------------------------------
+# Images
+
+
+def _colour_bar() -> str:
+    return (f'<svg class="colourbar" xmlns="http://www.w3.org/2000/svg" width="300" height="40">'
+            '<defs><linearGradient id="errgrad" x1="0" x2="1" y1="0" y2="0">'
+            f'<stop offset="0" stop-color="rgb({",".join(str(int(c * 255)) for c in DARKER_RGB)})"/>'
+            '<stop offset="0.5" stop-color="#ffffff"/>'
+            f'<stop offset="1" stop-color="rgb({",".join(str(int(c * 255)) for c in LIGHTER_RGB)})"/>'
+            '</linearGradient></defs><rect x="10" y="4" width="280" height="14" fill="url(#errgrad)" '
+            'stroke="#888"/>'
+            f'<text x="10" y="34" class="tick">−{ERROR_SCALE:g} darker</text>'
+            '<text x="150" y="34" class="tick" text-anchor="middle">0</text>'
+            f'<text x="290" y="34" class="tick" text-anchor="end">+{ERROR_SCALE:g} lighter</text>'
+            '</svg>')
+
+
+def image_grid(scene: str, imgs: dict | None, budget_ms: float) -> str:
+    if not imgs:
+        return "<p class='missing'>No images (the scene did not finish).</p>"
+    cards = [f'<figure class="card"><figcaption><b>Cycles 1024 spp reference</b></figcaption>'
+             f'{_img(imgs["reference"], f"{scene} reference")}</figure>']
+    for e in imgs["entries"]:
+        if e["kind"] == "method":
+            caption = (f'<b>{html.escape(e["method"])}</b> {html.escape(e["label"])}, '
+                       f'{e["total_ms"]:.1f} ms, MAE {e["mae"]:.4f}'
+                       + ("" if e["within_budget"] else f" — <i>fastest setting; none within "
+                          f"{budget_ms:g} ms</i>"))
+        else:
+            t = f'{e["total_ms"] / 1000:.1f} s render' if e.get("total_ms") else "no time"
+            caption = f'<b>{html.escape(e["method"])}</b> ({t}), MAE {e["mae"]:.4f}'
+        cards.append(f'<figure class="card" data-key="{html.escape(e["key"])}"><figcaption>'
+                     f'{caption}</figcaption>'
+                     f'{_img(e["ao"], e["key"] + " AO")}'
+                     f'{_img(signed_error_rgb(e["error"]), e["key"] + " signed error", "err")}'
+                     f'</figure>')
+    return (f'<div class="grid">{"".join(cards)}</div><div class="legendbar">Signed error '
+            f'(method − reference), saturating at ±{ERROR_SCALE:g}: {_colour_bar()}</div>')
+
+
+# ----------------------------------------------------------------------------------------
+# The page
+
+SVG_CSS = """
+svg.plot{background:#fff;border:1px solid #ddd;font-family:system-ui,sans-serif}
+svg .frame{fill:none;stroke:#888} svg .grid{stroke:#e4e4e4} svg .grid.minor{stroke:#f2f2f2}
+svg .tick{font-size:11px;fill:#555} svg .axis{font-size:12px;fill:#333}
+svg .legend{font-size:11px;fill:#333}
+svg .point{stroke:#fff;stroke-width:0.8;opacity:0.9} svg .point.front{stroke:#000;stroke-width:1.6}
+svg .front-line{fill:none;stroke:#000;stroke-width:1.4;opacity:0.55}
+svg .hline{stroke-width:1.3} svg .hline.baseline{stroke:#c0392b;stroke-dasharray:7 4}
+svg .hline.floor{stroke:#27ae60;stroke-dasharray:2 3}
+svg .hline.weak{stroke:#e67e22;stroke-dasharray:3 5} svg .hlabel.weak{fill:#e67e22}
+svg .hlabel{font-size:10px} svg .hlabel.baseline{fill:#c0392b} svg .hlabel.floor{fill:#27ae60}
+"""
+
+CSS = SVG_CSS + """
+body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:24px auto;max-width:1500px;
+ padding:0 16px;color:#222;line-height:1.4}
+h1{margin-bottom:4px} h2{border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:40px}
+.banner{background:#fde2e1;border:2px solid #c0392b;padding:10px 14px;font-weight:bold;margin:12px 0}
+.meta td{padding:1px 12px 1px 0;vertical-align:top} .meta td:first-child{color:#666}
+.plots{display:flex;flex-wrap:wrap;gap:12px}
+table.results{border-collapse:collapse;font-size:12px;margin:8px 0}
+table.results th,table.results td{border:1px solid #ddd;padding:2px 6px;text-align:right}
+table.results td:first-child,table.results td:nth-child(2){text-align:left}
+table.results th{background:#f4f4f4;position:sticky;top:0}
+tr.baseline{background:#fbeaea} tr.cycles,tr.noise_floor{background:#f3f3f3} tr.eevee{background:#fbf5e6}
+tr.floor{background:#eaf7ee;font-style:italic}
+.weak{color:#c0392b;font-weight:bold}
+.grid{display:flex;flex-wrap:wrap;gap:10px} .card{margin:0;border:1px solid #ddd;padding:6px;background:#fafafa}
+.card img{display:inline-block;margin:4px 4px 0 0;vertical-align:top} figcaption{font-size:12px}
+.legendbar{font-size:12px;margin:6px 0;display:flex;align-items:center;gap:8px}
+.missing{color:#a05a00} .note{color:#555;font-size:13px} .scroll{overflow-x:auto}
+"""
+
+CHECK_SCRIPT = """
+window.addEventListener('load', function () {
+  var problems = [];
+  var imgs = document.images;
+  for (var i = 0; i < imgs.length; i++) {
+    if (!imgs[i].complete || imgs[i].naturalWidth === 0) problems.push('image "' + imgs[i].alt + '" did not decode');
+  }
+  var svgs = document.querySelectorAll('svg.plot');
+  if (svgs.length === 0) problems.push('no plot');
+  var points = 0;
+  for (var j = 0; j < svgs.length; j++) {
+    var n = svgs[j].querySelectorAll('.point').length;
+    points += n;
+    if (n === 0) problems.push('plot ' + svgs[j].id + ' has no points');
+  }
+  var outcome = problems.length ? 'error ' + problems.join('; ')
+      : 'ok (' + imgs.length + ' images, ' + svgs.length + ' plots, ' + points + ' points)';
+  document.title = 'AO Lab report: ' + outcome;
+  document.body.setAttribute('data-check', outcome);
+});
+"""
+
+
+def _meta_table(results: dict) -> str:
+    meta = results["meta"]
+    m = meta.get("machine", {})
+    load = lambda v: ", ".join(f"{x:.2f}" for x in v) if v else "—"
+    items = [
+        ("machine", f'{m.get("cpu")}, {m.get("logical_cores")} logical cores '
+                    f'({m.get("usable_cores")} usable), {m.get("memory_gib")} GiB, {m.get("platform")}'),
+        ("threads", f'{m.get("threads")} (requested {m.get("threads_requested")}; 0 = all cores)'),
+        ("timing", f'{meta.get("warmup")} warm-up run(s), then the median of {meta.get("repeat")} '
+                   "timed runs (min–max shown); the method and the shared blur timed apart; "
+                   "wall-clock of the call, G-buffer already in memory"),
+        ("load average", f'start {load(m.get("load_average_start"))}; end '
+                         f'{load(meta.get("load_average_end"))} (1, 5, 15 min)'),
+        ("sweep", f'{meta.get("sweep")}; methods {", ".join(meta.get("methods", []))}'),
+        ("scenes", ", ".join(meta.get("scenes", [])) + (f' (cropped to {meta["crop"]})'
+                                                         if meta.get("crop") else "")),
+        ("time budget for the images", f'{meta.get("budget_ms"):g} ms'),
+        ("run", f'started {meta.get("started")}, finished {meta.get("finished")}, '
+                f'{meta.get("elapsed_s", 0):.0f} s; aolab commit {meta.get("aolab_commit")}'),
+    ]
+    return "<table class='meta'>" + "".join(
+        f"<tr><td>{html.escape(k)}</td><td>{html.escape(str(v))}</td></tr>" for k, v in items) + "</table>"
+
+
+def _how_to_read(results: dict) -> str:
+    meta = results["meta"]
+    regions = "".join(f"<li><b>{html.escape(k.replace('_', ' '))}</b>: {html.escape(v)}</li>"
+                      for k, v in results["regions"].items())
+    sources = "".join(f"<li><b>{html.escape(k)}</b>: {html.escape(v)}</li>"
+                      for k, v in meta.get("presets_source", {}).items())
+    return f"""
+<details open><summary><b>How to read this report</b></summary>
+<ul class="note">
+<li>Every score is against the Cycles 1024-spp AO reference, on geometry pixels (background
+excluded). Time is per frame: the method's median plus its blur's median, log axis; lower-left
+is better for MAE, upper-left for SSIM. Black-ringed points joined by the black step line are
+the <b>Pareto front</b>: no other method or Cycles setting is both faster and more accurate.</li>
+<li>Most pixels of a frame are nearly white, so whole-frame scores flatter every method. The
+red dashed line <b>AO ≡ 1</b> scores "no occlusion at all"; a configuration is flagged
+<span class="weak">weak on occluded</span> when its MAE on the occluded region (reference &lt; 0.9)
+exceeds {meta.get("weak_fraction", 0.75):g} × that of AO ≡ 1, i.e. it removes less than a quarter of the
+error of drawing nothing there.</li>
+<li>The green dotted <b>noise floor</b> is the reference's own noise: the MAE between it and an
+independent 1024-spp render (or, marked "est.", the 256-spp render's MAE × √(2/5)). Differences
+below it are not resolved by the reference.</li>
+<li><b>bias</b> = mean(method − reference): positive = lighter than the reference
+(under-occlusion), negative = darker (over-occlusion).</li>
+<li><b>MAE calibrated</b>: the MAE after the best affine fit a·AO + b to the reference (least
+absolute deviations, fitted on all scored pixels), shown beside (never instead of) the MAE: it separates a different falloff
+(a bias the fit removes) from structural error (what it cannot).</li>
+<li><b>Cycles (fewer spp)</b>: Cycles AO at 1 … 256 samples scored against 1024; its time is
+Blender's render time on this CPU. <b>EEVEE GTAO</b> renders on a software rasteriser (Mesa
+llvmpipe) under xvfb: its time is <b>not comparable</b> with ours; read its accuracy only.</li>
+<li>Images: each method at its best setting (lowest MAE) within the time budget, its signed
+error (blue lighter / red darker than the reference).</li>
+<li>Regions: <ul>{regions}</ul></li>
+<li>Preset sources: <ul>{sources}</ul></li>
+</ul></details>"""
+
+
+def scene_section(name: str, title: str, rows: list[dict], info: dict | None, imgs: dict | None,
+                  budget_ms: float, plot_prefix: str) -> str:
+    parts = []
+    floor = info.get("noise_floor") if info else None
+    plots = []
+    for column, label, lower in PLOTS:
+        plots.append(svg_plot(f"{plot_prefix}-{column}", rows, column, label, lower,
+                              hlines_for(rows, column, floor)))
+    parts.append(f'<div class="plots">{"".join(plots)}</div>')
+    if info is not None:
+        peers = info.get("peers") or []
+        if not peers:
+            parts.append("<p class='missing'>This scene has no peers (no "
+                         "reference_scenes/&lt;scene&gt;/peers/peers.json): the Cycles spp ladder, "
+                         "the EEVEE row and the measured noise floor are missing here.</p>")
+        elif not any(r["kind"] == "eevee" for r in rows):
+            parts.append("<p class='missing'>No EEVEE render among this scene's peers.</p>")
+        if floor is None:
+            parts.append("<p class='missing'>Reference noise floor unknown (no independent "
+                         "1024-spp or 256-spp render).</p>")
+        parts.append(image_grid(name, imgs, budget_ms))
+    parts.append(f'<div class="scroll">{table(rows, floor)}</div>')
+    return "\n".join(parts)
+
+
+def render_html(results: dict, images: dict) -> str:
+    meta = results["meta"]
+    rows = results["rows"]
+    body = ["<h1>AO Lab: what accuracy costs in time</h1>"]
+    if meta.get("partial"):
+        body.append('<div class="banner">PARTIAL results: the study was interrupted or is still '
+                    f'running. Complete scenes: {html.escape(", ".join(meta.get("complete_scenes", [])) or "none")}.'
+                    '</div>')
+    body.append(_meta_table(results))
+    body.append(_how_to_read(results))
+    scenes = meta.get("scenes", [])
+    agg = [r for r in rows if r["scene"] == "ALL"]
+    if agg:
+        body.append(f'<h2 id="all">All scenes</h2><p class="note">Each point is the mean over the '
+                    'complete scenes where the configuration ran (times and scores averaged; '
+                    'peers only over the scenes that have them: see each row\'s note). The '
+                    'noise floor is per scene: see the scenes below.</p>')
+        body.append(scene_section("ALL", "All scenes", agg, None, None, meta.get("budget_ms", 0),
+                                  "plot-ALL"))
+    for name in scenes:
+        mine = [r for r in rows if r["scene"] == name]
+        info = results["scenes"].get(name)
+        body.append(f'<h2 id="scene-{html.escape(name)}">{html.escape(name)}</h2>')
+        if not mine:
+            body.append("<p class='missing'>Not run (interrupted before this scene).</p>")
+            continue
+        if info:
+            body.append(f'<p class="note">{html.escape(info.get("title", ""))}: '
+                        f'{info["width"]}×{info["height"]}, R = {info["radius"]:g}; '
+                        'region pixels: ' + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in
+                                                      info.get("region_pixels", {}).items())
+                        + "</p>")
+        body.append(scene_section(name, name, mine, info, images.get(name),
+                                  meta.get("budget_ms", 0), f"plot-{name}"))
+    if results.get("notes"):
+        body.append("<h2>Notes</h2><ul>" + "".join(f"<li>{html.escape(n)}</li>"
+                                                  for n in results["notes"]) + "</ul>")
+    return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+            "<meta name='viewport' content='width=device-width, initial-scale=1'>"
+            "<title>AO Lab report</title>"
+            f"<style>{CSS}</style><script>{CHECK_SCRIPT}</script></head><body>"
+            + "\n".join(body) + "</body></html>\n")
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Writes ``text`` to a temporary file beside ``path`` and renames it into place, so a
+    reader (or an interrupted run) never sees a half-written file."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def write_report(path: Path, results: dict, images: dict) -> None:
+    """Writes report.html atomically."""
+    atomic_write_text(path, render_html(results, images))

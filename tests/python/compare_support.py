@@ -1,0 +1,110 @@
+"""Shared pieces of the comparison-study tests: a small scenes folder built from committed
+references (one with synthetic peers, one without) and a helper to run ``aolab compare``."""
+from __future__ import annotations
+
+import csv
+import json
+import os
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+
+import aolab
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "reference_scenes"
+LADDER = (1, 4, 16, 64, 256)
+CROP = "160x90"
+
+
+def write_y_exr(path: Path, image: np.ndarray, half: bool = True) -> None:
+    """A one-channel EXR named Y, as the lead's Blender renders are."""
+    h, w = image.shape
+    spec = oiio.ImageSpec(w, h, 1, oiio.HALF if half else oiio.FLOAT)
+    spec.channelnames = ("Y",)
+    out = oiio.ImageOutput.create(str(path))
+    assert out is not None and out.open(str(path), spec), oiio.geterror()
+    out.write_image(np.ascontiguousarray(image[..., None], np.float32))
+    out.close()
+
+
+def link_scene(src: Path, dst: Path) -> None:
+    dst.mkdir(parents=True)
+    for name in ("reference.exr", "reference.json", "manifest.json"):
+        os.symlink(src / name, dst / name)
+
+
+def write_synthetic_peers(folder: Path, seed: int = 7) -> dict:
+    """peers/peers.json and its EXRs for a scene folder: the reference plus binomial-like noise
+    of variance v(1 - v)/N for N spp (Cycles ladder and an independent 1024-spp render) and a
+    blurred, brightened reference standing in for EEVEE. Background stays 1."""
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    ref = np.asarray(g.reference, np.float64)
+    valid = g.valid_mask()
+    rng = np.random.default_rng(seed)
+    peers = folder / "peers"
+    peers.mkdir()
+    entries = []
+
+    def noisy(n):
+        sd = np.sqrt(np.clip(ref * (1 - ref), 0, None) / n)
+        return np.where(valid, np.clip(ref + rng.normal(size=ref.shape) * sd, 0, 1), 1.0)
+
+    for i, n in enumerate(LADDER):
+        name = f"cycles_{n}spp"
+        write_y_exr(peers / f"{name}.exr", noisy(n), half=(i % 2 == 0))
+        entries.append({"name": name, "kind": "cycles", "samples": n, "file": f"{name}.exr",
+                        "render_time_s": 0.05 * n + 0.4, "seed": 1})
+    write_y_exr(peers / "cycles_1024spp_seed2.exr", noisy(1024), half=False)
+    entries.append({"name": "cycles_1024spp_seed2", "kind": "noise_floor", "samples": 1024,
+                    "file": "cycles_1024spp_seed2.exr", "render_time_s": 52.0, "seed": 2})
+    eevee = np.where(valid, np.clip(0.3 + 0.75 * ref, 0, 1), 1.0)
+    write_y_exr(peers / "eevee_gtao.exr", eevee)
+    entries.append({"name": "eevee_gtao", "kind": "eevee", "file": "eevee_gtao.exr",
+                    "render_time_s": 3.5, "settings": {"gtao_distance": 0.5},
+                    "note": "EEVEE on Mesa llvmpipe (software rasteriser): time not comparable"})
+    manifest = {"entries": entries}
+    (peers / "peers.json").write_text(json.dumps(manifest, indent=1))
+    return manifest
+
+
+def make_scenes(tmp: Path) -> Path:
+    """tmp/scenes with room (synthetic peers) and grille (no peers)."""
+    scenes = tmp / "scenes"
+    link_scene(SCENES / "room", scenes / "room")
+    link_scene(SCENES / "grille", scenes / "grille")
+    write_synthetic_peers(scenes / "room")
+    return scenes
+
+
+def read_csv(path: Path) -> list[dict]:
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+class PlotPoints(HTMLParser):
+    """Collects the attributes of every plotted point and horizontal line in report.html."""
+
+    def __init__(self):
+        super().__init__()
+        self.points, self.hlines, self.plots, self.images = [], [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        classes = (a.get("class") or "").split()
+        if "point" in classes:
+            self.points.append(a)
+        if "hline" in classes and "data-key" in a:
+            self.hlines.append(a)
+        if tag == "svg" and "plot" in classes:
+            self.plots.append(a)
+        if tag == "img":
+            self.images.append(a)
+
+
+def parse_report(path: Path) -> PlotPoints:
+    p = PlotPoints()
+    p.feed(Path(path).read_text(encoding="utf-8"))
+    return p

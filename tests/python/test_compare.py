@@ -1,0 +1,338 @@
+"""aolab compare: the study's files, rows, peers, baseline, calibration, regions, presets,
+interruption. Runs on two committed scenes cropped to 160x90 (one with synthetic peers)."""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aolab
+from aolab import cli, compare, presets, regions, results_doc
+from compare_support import CROP, LADDER, ROOT, make_scenes, parse_report, read_csv
+
+
+def run_compare(scenes: Path, out: Path, *extra) -> int:
+    return cli.main(["compare", "--scenes-dir", str(scenes), "--out", str(out), "--crop", CROP,
+                     "--repeat", "2", "--warmup", "0", "--threads", "2", "--no-progress",
+                     *extra])
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("compare")
+    scenes = make_scenes(tmp)
+    out = tmp / "out"
+    assert run_compare(scenes, out) == 0
+    return {"scenes": scenes, "out": out, "rows": read_csv(out / "results.csv"),
+            "json": json.loads((out / "results.json").read_text()),
+            "html": (out / "report.html").read_text(encoding="utf-8")}
+
+
+def test_writes_the_report_files_and_nothing_half_written(study):
+    out = study["out"]
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "results.csv", "results.json"]
+    assert study["json"]["meta"]["partial"] is False
+    assert "PARTIAL" not in study["html"]
+
+
+def test_every_method_and_scene_appears(study):
+    rows, html = study["rows"], study["html"]
+    for scene in ("room", "grille", "ALL"):
+        for method in aolab.methods():
+            mine = [r for r in rows if r["scene"] == scene and r["method"] == method]
+            assert mine, (scene, method)
+            assert {r["label"] for r in mine} >= {s.label for s in presets.settings_for(method)}
+            assert f'data-key="{scene}/{method}/' in html
+        assert any(r["kind"] == "baseline" for r in rows if r["scene"] == scene)
+        assert f'plot-{scene}-all_mae' in html and f'plot-{scene}-occluded_mae' in html
+
+
+def test_every_plotted_point_is_a_row_of_results_csv(study):
+    rows = {r["key"]: r for r in study["rows"]}
+    report = parse_report(study["out"] / "report.html")
+    assert len(report.plots) == 9  # 3 plots each for ALL, room, grille
+    assert len(report.points) > 0
+    for p in report.points:
+        row = rows[p["data-key"]]
+        assert math.isclose(float(p["data-x"]), float(row["total_ms"]), rel_tol=1e-12)
+        assert math.isclose(float(p["data-y"]), float(row[p["data-metric"]]), rel_tol=1e-12)
+    for h in report.hlines:   # baseline and noise floor lines name their rows too
+        assert h["data-key"] in rows
+    # every timed, scored row is plotted on each of the three axes
+    plotted = {(p["data-key"], p["data-metric"]) for p in report.points}
+    for key, r in rows.items():
+        if r["kind"] in ("method", "cycles", "eevee") and r["total_ms"] and r["all_mae"]:
+            for metric in ("all_mae", "occluded_mae", "all_ssim"):
+                assert (key, metric) in plotted
+
+
+def test_peers_are_read_scored_and_shown(study):
+    rows, html = study["rows"], study["html"]
+    room = {r["method"]: r for r in rows if r["scene"] == "room"}
+    for n in LADDER:
+        r = room[f"cycles_{n}spp"]
+        assert r["kind"] == "cycles" and float(r["total_ms"]) == pytest.approx((0.05 * n + 0.4) * 1000)
+    maes = [float(room[f"cycles_{n}spp"]["all_mae"]) for n in LADDER]
+    assert maes == sorted(maes, reverse=True)       # more samples, less error
+    assert room["eevee_gtao"]["kind"] == "eevee" and "not comparable" in room["eevee_gtao"]["note"]
+    assert room["cycles_1024spp_seed2"]["kind"] == "noise_floor"
+    assert "EEVEE GTAO (time not comparable)" in html
+    assert "Cycles (fewer spp)" in html
+    floor = study["json"]["scenes"]["room"]["noise_floor"]
+    assert floor["estimated"] is False and floor["key"] == room["cycles_1024spp_seed2"]["key"]
+    assert floor["all_mae"] == pytest.approx(float(room["cycles_1024spp_seed2"]["all_mae"]))
+    assert not any(r["scene"] == "grille" and r["kind"] in ("cycles", "eevee") for r in rows)
+    assert study["json"]["scenes"]["grille"]["noise_floor"] is None
+    assert "This scene has no peers" in html
+
+
+def test_baseline_scores_no_occlusion(study):
+    g = aolab.load_gbuffer(ROOT / "reference_scenes" / "grille" / "reference.exr")
+    crop = compare.parse_crop(CROP).fit(g.width, g.height)
+    ref = crop.apply(g.reference).astype(np.float64)
+    valid = crop.apply(g.valid_mask()) & np.isfinite(ref)
+    base = next(r for r in study["rows"] if r["scene"] == "grille" and r["kind"] == "baseline")
+    assert float(base["all_mae"]) == pytest.approx(np.mean(1 - ref[valid]), rel=1e-9)
+    assert float(base["all_bias"]) == pytest.approx(np.mean(1 - ref[valid]), rel=1e-9)
+    occ = valid & (ref < 0.9)
+    assert float(base["occluded_mae"]) == pytest.approx(np.mean(1 - ref[occ]), rel=1e-9)
+    assert base["total_ms"] == ""
+
+
+def test_weak_flag_follows_the_stated_rule(study):
+    rows = study["rows"]
+    for r in rows:
+        if r["kind"] != "method" or not r["occluded_mae"]:
+            continue
+        base = next(b for b in rows if b["scene"] == r["scene"] and b["kind"] == "baseline")
+        ratio = float(r["occluded_mae"]) / float(base["occluded_mae"])
+        assert float(r["occluded_mae_vs_baseline"]) == pytest.approx(ratio)
+        assert (r["flag"] == "weak") == (ratio > compare.WEAK_FRACTION)
+
+
+def test_settings_and_timings_are_recorded(study):
+    meta = study["json"]["meta"]
+    assert meta["machine"]["threads"] == 2 and meta["machine"]["cpu"]
+    assert meta["repeat"] == 2 and meta["warmup"] == 0
+    for r in study["json"]["rows"]:
+        if r["kind"] == "method" and r["scene"] != "ALL":
+            assert r["runs"] == 2 and r["method_ms_min"] <= r["method_ms"] <= r["method_ms_max"]
+            s = r["settings"]
+            assert "blur" in s
+            if s["blur"]:
+                assert r["blur_ms"] > 0 and r["total_ms"] == pytest.approx(r["method_ms"] + r["blur_ms"])
+            if r["method"] == "pyramid_hbao":   # the builtin Gaussian is replaced by the timed one
+                assert s["gaussian_filter"] is False and s["blur"] is True
+    agg = [r for r in study["json"]["rows"] if r["scene"] == "ALL" and r["kind"] == "method"]
+    assert all(r["n_scenes"] == 2 for r in agg)
+
+
+def test_aggregate_rows_are_means_over_scenes(study):
+    rows = study["rows"]
+    for r in rows:
+        if r["scene"] != "ALL" or r["kind"] != "method":
+            continue
+        per = [x for x in rows if x["scene"] in ("room", "grille") and x["method"] == r["method"]
+               and x["label"] == r["label"]]
+        assert len(per) == 2
+        for col in ("all_mae", "occluded_ssim", "total_ms"):
+            assert float(r[col]) == pytest.approx(np.mean([float(x[col]) for x in per]))
+
+
+def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
+    path = results_doc.write(study["out"] / "results.json", tmp_path)
+    text = path.read_text()
+    assert results_doc.GENERATED_BEGIN in text and "## What the results show" in text
+    for column, _, _ in __import__("aolab.report").report.PLOTS:
+        svg = tmp_path / "images" / f"results_{column}.svg"
+        assert f"images/results_{column}.svg" in text and "<style>" in svg.read_text()
+    for method in aolab.methods():
+        assert f"| {method} | medium |" in text
+    path.write_text(text.replace("_To be written", "Our paragraph. _To be written"))
+    results_doc.write(study["out"] / "results.json", tmp_path)
+    again = path.read_text()
+    assert "Our paragraph." in again and again.count(results_doc.GENERATED_BEGIN) == 1
+
+
+# ---------------------------------------------------------------------------------------
+# Scoring pieces
+
+
+@pytest.fixture(scope="module")
+def room():
+    return compare.load_scene(ROOT / "reference_scenes" / "room", compare.parse_crop("240x135"))
+
+
+def test_whole_frame_scores_equal_aolab_metrics(room):
+    ao = aolab.compute("hbao", room.g, radius=room.radius, directions=4, steps=4)
+    s = compare.score(ao, room)["regions"]["all"]
+    m = aolab.metrics(ao, room.reference, room.regions["all"])
+    for k in ("mae", "rmse", "psnr", "bias", "ssim"):
+        # SSIM: the same map, averaged in another order (float32 map, double sums)
+        assert s[k] == pytest.approx(m[k], rel=1e-6 if k == "ssim" else 1e-9, abs=1e-12), k
+    assert s["count"] == m["count"]
+
+
+def test_calibration_removes_an_affine_distortion_and_never_raises_the_mae(room):
+    valid = room.regions["all"]
+    distorted = (0.5 * room.reference + 0.4).astype(np.float32)
+    out = compare.score(distorted, room)
+    assert out["calib_a"] == pytest.approx(2.0, rel=1e-3)
+    assert out["calib_b"] == pytest.approx(-0.8, abs=1e-3)
+    assert out["regions"]["all"]["mae_cal"] < 1e-4 < out["regions"]["all"]["mae"]
+    ao = aolab.compute("lsao", room.g, radius=room.radius)
+    s = compare.score(ao, room)["regions"]
+    assert s["all"]["mae_cal"] <= s["all"]["mae"]
+    a, b = compare.calibration(np.full_like(ao, 0.7), room.reference, valid)
+    assert a == 0 and b == pytest.approx(np.median(room.reference[valid]))
+
+
+def test_regions_on_analytic_scenes():
+    w, h = 160, 90
+    plane = aolab.analytic_scene("plane", w, h)
+    m = regions.region_masks(plane, np.ones((h, w), np.float32), 1.0)
+    assert not m["occluded"].any() and not m["creases"].any() and not m["depth_edges"].any()
+    assert m["border"].sum() == w * h - (w - 2 * 8) * (h - 2 * 5)
+    steep = aolab.analytic_scene("plane", w, h, tilt=85)
+    assert regions.region_masks(steep, np.ones((h, w), np.float32), 1.0)["grazing"][h // 2].all()
+    crease = aolab.analytic_scene("crease", w, h, radius=1.0)
+    ref = np.nan_to_num(crease.reference, nan=1.0).astype(np.float32)
+    m = regions.region_masks(crease, ref, 1.0)
+    assert m["creases"].any() and not m["depth_edges"][m["creases"]].all()
+    assert (m["occluded"] == (m["all"] & (ref < 0.9))).all()
+    step = aolab.analytic_scene("step", w, h, step_height=10)   # depth 50 -> 40: 25 %
+    edges = regions.region_masks(step, np.ones((h, w), np.float32), 1.0)["depth_edges"]
+    cols = np.flatnonzero(edges.any(axis=0))
+    assert edges[:, cols].all() and len(cols) == 2 * regions.EDGE_DILATION + 2   # 2 edge columns
+    low = aolab.analytic_scene("step", w, h, step_height=1)    # 2 %: below the 5 % threshold
+    assert not regions.region_masks(low, np.ones((h, w), np.float32), 1.0)["depth_edges"].any()
+
+
+def test_dilate_is_a_square():
+    m = np.zeros((9, 9), bool)
+    m[4, 4] = True
+    assert regions.dilate(m, 2).sum() == 25 and regions.dilate(m, 2)[2:7, 2:7].all()
+
+
+# ---------------------------------------------------------------------------------------
+# Presets
+
+
+def test_every_method_has_settings_and_every_preset_is_accepted():
+    g = aolab.analytic_scene("blocks", 32, 18)
+    for method in aolab.methods():
+        for sweep in ("quick", "presets", "full"):
+            configs = presets.settings_for(method, sweep)
+            assert configs and len({c.label for c in configs}) == len(configs)
+        for c in presets.settings_for(method, "presets"):
+            aolab.compute(method, g, radius=0.5, **c.compute_settings())
+
+
+def test_full_sweep_points_are_accepted_by_the_methods():
+    g = aolab.analytic_scene("blocks", 16, 9)
+    for method in aolab.methods():
+        for c in presets.settings_for(method, "full"):
+            aolab.compute(method, g, radius=0.5, **c.compute_settings())
+
+
+def test_full_sweep_runs_each_computation_once():
+    for method in aolab.methods():
+        configs = presets.settings_for(method, "full")
+        ids = {presets._identity(method, c.settings, c.blur) for c in configs}
+        assert len(ids) == len(configs), method
+    full = {c.label for c in presets.settings_for("hbao", "full")}
+    assert {"low", "medium", "high", "ultra"} <= full
+    assert "directions=8,steps=8,incremental_attenuation=0,blur=1" not in full   # = medium
+    assert len(full) == 4 * 4 * 2 * 2
+
+
+def test_a_method_without_presets_runs_its_defaults_and_registering_is_checked():
+    (only,) = presets.settings_for("some_future_method", "full")
+    assert only.label == "default" and only.settings == {} and not only.blur
+    with pytest.raises(ValueError, match="presets of x must be named"):
+        presets.register("x", presets={"best": {}}, sweep={})
+    with pytest.raises(ValueError, match="sweep"):
+        presets.settings_for("hbao", "everything")
+
+
+def test_rgb_outputs_and_errors_are_recorded_not_scored(room, monkeypatch):
+    study = compare.Study(compare.Options(repeat=1, warmup=0))
+    images = compare._Images(1e9)
+    rgb = np.ones((room.g.height, room.g.width, 3), np.float32)
+    monkeypatch.setattr(aolab, "compute", lambda *a, **k: rgb)
+    cfg = presets.Setting("vao_pp", "default", {}, False, "default")
+    study._run_config(room, "vao_pp", {}, [cfg], 1, images)
+    (row,) = study.rows
+    assert "metrics" not in row and "RGB" in row["note"] and row["total_ms"] >= 0
+
+    def bad(*a, **k):
+        raise ValueError("directions must be in [1, 64], got 0")
+    monkeypatch.setattr(aolab, "compute", bad)
+    study._run_config(room, "hbao", {"directions": 0}, [cfg], 1, images)
+    assert study.rows[-1]["note"].startswith("error: directions")
+    flat = compare.flat(study.rows[-1])
+    assert flat["all_mae"] is None and list(flat) == compare.columns()
+
+
+# ---------------------------------------------------------------------------------------
+# Interruption and the command
+
+
+def test_interrupt_keeps_partial_results(tmp_path, monkeypatch, capsys):
+    scenes = make_scenes(tmp_path)
+    calls = {"n": 0}
+    real = compare.Study._run_config
+
+    def interrupting(self, scene, *a, **k):
+        if scene.name == "room":   # grille (sorted first) completes, room is interrupted
+            calls["n"] += 1
+            if calls["n"] == 3:
+                raise KeyboardInterrupt
+        return real(self, scene, *a, **k)
+
+    monkeypatch.setattr(compare.Study, "_run_config", interrupting)
+    out = tmp_path / "out"
+    assert run_compare(scenes, out, "--methods", "lsao", "hbao") == 130
+    err = capsys.readouterr().err
+    assert "interrupted" in err and "Partial results" in err and str(out) in err
+    rows = read_csv(out / "results.csv")
+    assert {r["scene"] for r in rows if r["kind"] == "method"} == {"grille", "room", "ALL"}
+    assert len([r for r in rows if r["scene"] == "room" and r["kind"] == "method"]) == 2
+    data = json.loads((out / "results.json").read_text())
+    assert data["meta"]["partial"] is True and data["meta"]["complete_scenes"] == ["grille"]
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "PARTIAL results" in html
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_command_line_errors_are_clear(tmp_path):
+    def run(*args):
+        return subprocess.run([sys.executable, "-m", "aolab", "compare", *args],
+                              capture_output=True, text=True)
+    res = run("nonexistent_scene", "--scenes-dir", str(tmp_path))
+    assert res.returncode == 2 and "nonexistent_scene" in res.stderr
+    res = run("--crop", "big", "--scenes-dir", str(tmp_path))
+    assert res.returncode == 2 and "--crop must be WxH" in res.stderr
+    res = run("--methods", "nope", "--scenes-dir", str(ROOT / "reference_scenes"))
+    assert res.returncode == 2 and "nope" in res.stderr
+    assert "--sweep" in run("--help").stdout
+
+
+@pytest.mark.slow
+def test_default_run_on_the_committed_references(tmp_path):
+    """The README's run command at full cost (a few minutes on 2 cores)."""
+    res = subprocess.run([sys.executable, "-m", "aolab", "compare", "--out", str(tmp_path)],
+                         cwd=ROOT, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    rows = read_csv(tmp_path / "results.csv")
+    scenes = sorted(p.name for p in (ROOT / "reference_scenes").iterdir()
+                    if (p / "reference.exr").exists())
+    assert sorted({r["scene"] for r in rows} - {"ALL"}) == scenes
+    report = parse_report(tmp_path / "report.html")
+    keys = {r["key"] for r in rows}
+    assert report.points and all(p["data-key"] in keys for p in report.points)
