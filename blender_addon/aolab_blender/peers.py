@@ -5,8 +5,8 @@ render_peers() renders, from the same camera, at the same AO distance and resolu
 - the Cycles ladder: the AO pass at 1, 4, 16, 64, 256 spp with the reference's settings
   (export._common_settings) but seed 1, so that no rung shares samples with the seed-0
   1024-spp reference — each is an independent estimate, scored against it like a method;
-- the noise floor: the 256-spp rung is also the reference's noise floor (issue 6 allows
-  "256 vs 1024"), recorded as a second entry naming the same file;
+- the noise floor: the study derives it from the 256-spp rung ("256 vs 1024", issue 6;
+  docs/comparison.md), so no second 1024-spp render is needed;
 - EEVEE's GTAO: the AO pass of Blender's rasteriser with ambient occlusion on, its distance
   R, factor 1, bounce approximation off (it brightens AO, which the Cycles pass does not).
   EEVEE needs an OpenGL context: under `xvfb-run` Mesa's llvmpipe renders it on the CPU, so
@@ -31,7 +31,6 @@ from .state import SettingsRestorer
 
 LADDER_SPP = (1, 4, 16, 64, 256)
 LADDER_SEED = 1            # the reference uses seed 0: independent samples
-NOISE_FLOOR_SPP = 256      # "256 vs 1024" (issue 6)
 EEVEE_SAMPLES = 16         # TAA samples; GTAO converges in a few (BLENDER_FACTS: 9.6 s at 16)
 EEVEE_BACKGROUND = 65504.0  # EEVEE's depth where nothing is drawn (half max)
 PEERS_JSON = "peers.json"
@@ -104,11 +103,6 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
             entries.append({"name": name, "kind": "cycles", "samples": int(spp),
                             "file": name + ".exr", "render_time_s": seconds,
                             "seed": LADDER_SEED})
-            if spp == NOISE_FLOOR_SPP:
-                entries.append({**entries[-1], "name": f"noise_floor_{spp}spp",
-                                "kind": "noise_floor",
-                                "note": f"{spp} spp (seed {LADDER_SEED}) against the 1024-spp "
-                                        "reference (seed 0): no score is finer than this"})
         if eevee:
             checkpoint("eevee")
             chosen = _eevee_settings(rs, scene, radius)

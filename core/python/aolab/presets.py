@@ -223,3 +223,64 @@ register(
     source="Timonen 2013, Figure 1 (low), Figure 11 / Table 2 (medium); high, ultra ours",
     constraints=(_lsao_directions,),
 )
+
+def _chebyshev_window(point: dict) -> dict | None:
+    """Each window mode reads one of the two window settings: sweep that one, keep the other
+    at its default (8, 64) so that no configuration is run twice under two names."""
+    if point["kernel_mode"] == 1 and point["kernel_radius"] != 8:
+        return None
+    if point["kernel_mode"] == 0 and point["max_kernel_radius"] != 64:
+        return None
+    return point
+
+
+# Chebyshev AO — Chan & Im 2021. The paper sizes its window from the radius (k ∝ 1/d, §III,
+# our depth-adaptive mode) and gives no quality levels; the cost is the window, so the
+# presets cap the adaptive half-width at 16/32/64/128 px (64, the library default, = high).
+# The sweep adds the fixed pixel windows and eq. 2 against eq. 3. No blur: the window
+# average is already smooth.
+register(
+    "chebyshev",
+    presets={
+        "low": {"kernel_mode": 1, "max_kernel_radius": 16},
+        "medium": {"kernel_mode": 1, "max_kernel_radius": 32},
+        "high": {"kernel_mode": 1, "max_kernel_radius": 64},
+        "ultra": {"kernel_mode": 1, "max_kernel_radius": 128},
+    },
+    sweep={"kernel_mode": [0, 1], "kernel_radius": [4, 8, 16, 32],
+           "max_kernel_radius": [16, 32, 64, 128], "ignore_unoccluded": [True, False]},
+    source="Chan & Im 2021, §III (depth-adaptive window); window caps ours",
+    constraints=(_chebyshev_window,),
+)
+
+# VAO — Szirmay-Kalos et al. 2010 as outlined in VAO++ §3: its one quality parameter is the
+# number of disc samples; VAO++ Table 1 measures 2–32, so low/medium/high/ultra = 4/8/16/32.
+# The per-pixel rotation leaves noise, which the shared Gaussian smooths (timed apart).
+register(
+    "vao",
+    presets={
+        "low": {"samples": 4, "blur": True},
+        "medium": {"samples": 8, "blur": True},
+        "high": {"samples": 16, "blur": True},
+        "ultra": {"samples": 32, "blur": True},
+    },
+    sweep={"samples": [2, 4, 8, 16, 32], "blur": [False, True]},
+    source="VAO++ §3 and Table 1 (2–32 samples)",
+)
+
+# VAO++ — Bokšanský et al. 2017: the same sample counts with its extensions on (the
+# library defaults: adaptive sampling, careful culling, range check, Poisson sets, its own
+# cross-bilateral filter). The full sweep switches each speed extension and the range check,
+# as Table 1 does. Colour bleeding (an RGB result, not scored) stays off.
+register(
+    "vao_pp",
+    presets={
+        "low": {"samples": 4},
+        "medium": {"samples": 8},
+        "high": {"samples": 16},
+        "ultra": {"samples": 32},
+    },
+    sweep={"samples": [2, 4, 8, 16, 32], "adaptive_sampling": [False, True],
+           "culling": [0, 2], "range_check": [False, True]},
+    source="Bokšanský et al. 2017, Table 1 (2–32 samples; adaptive sampling, culling)",
+)
