@@ -14,6 +14,7 @@ results table on the main thread.
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import tempfile
@@ -235,13 +236,16 @@ def _store_results(context, result: dict, kind: str, size) -> None:
             m = run["metrics"]
             row.has_metrics = True
             row.mae, row.ssim, row.rmse, row.bias = m["mae"], m["ssim"], m["rmse"], m["bias"]
+            row.metrics_json = json.dumps(m)
             row.error_image = images.image_name(run["method"], "error")
             images.set_image(row.error_image, run["error_rgb"])
     if result.get("reference") is not None:
         images.set_image(images.image_name("reference"), result["reference"])
     session.results_kind, session.results_scene = kind, context.scene.name
     session.results_size = f"{size[0]}x{size[1]}"
-    session.reference_folder = result["folder"] if kind == "Compare" else session.reference_folder
+    session.gbuffer_folder = result["folder"]
+    if kind == "Compare":
+        session.reference_folder = result["folder"]
 
 
 class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):

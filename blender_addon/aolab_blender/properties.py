@@ -30,6 +30,9 @@ class AOLAB_PG_result(bpy.types.PropertyGroup):
     ssim: bpy.props.FloatProperty(name="SSIM", precision=4)
     rmse: bpy.props.FloatProperty(name="RMSE", precision=4)
     bias: bpy.props.FloatProperty(name="Bias", precision=4)
+    metrics_json: bpy.props.StringProperty(
+        description="aolab.metrics' dict in full (double) precision; the float properties "
+                    "above are single precision, for display")
     image: bpy.props.StringProperty(name="Image")
     error_image: bpy.props.StringProperty(name="Error Image")
 
@@ -47,7 +50,8 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     results_kind: bpy.props.StringProperty()   # "Preview" or "Compare"
     results_scene: bpy.props.StringProperty()
     results_size: bpy.props.StringProperty()
-    reference_folder: bpy.props.StringProperty()
+    reference_folder: bpy.props.StringProperty()   # the last reference rendered or compared
+    gbuffer_folder: bpy.props.StringProperty()     # the G-buffer of the last Preview / Compare
     report_path: bpy.props.StringProperty()
 
 

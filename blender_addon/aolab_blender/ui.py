@@ -8,6 +8,7 @@ import bpy
 from . import lab, operators, properties, study
 
 RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
+WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
 
 
 def _problems(context) -> list[str]:
@@ -25,7 +26,14 @@ def _problems(context) -> list[str]:
     return out
 
 
-def _wrapped(layout, text: str, icon: str = "NONE", width: int = 48) -> None:
+def _chars(context) -> int:
+    """About how many characters fit across the region."""
+    region = context.region
+    scale = context.preferences.view.ui_scale
+    return max(20, int((region.width if region else 300) / (8 * scale)) - 5)
+
+
+def _wrapped(layout, text: str, icon: str = "NONE", width: int = 40) -> None:
     col = layout.column(align=True)
     words, line, first = text.split(), "", True
     for w in words:
@@ -37,7 +45,7 @@ def _wrapped(layout, text: str, icon: str = "NONE", width: int = 48) -> None:
         col.label(text=line, icon=icon if first else "BLANK1")
 
 
-def _draw_methods(layout, scene) -> None:
+def _draw_methods(layout, scene, width: int) -> None:
     box = layout.box()
     box.label(text="Methods", icon="MOD_SMOOTH")
     for method in scene.aolab.methods:
@@ -55,69 +63,84 @@ def _draw_methods(layout, scene) -> None:
             for name in g.setting_names:
                 col.prop(g, name)
             col.prop(g, "use_blur")
-    if not study.preset_names(scene.aolab.methods[0] if scene.aolab.methods else ""):
-        box.label(text="Presets: " + study.UNAVAILABLE.split(" (")[0], icon="INFO")
 
 
-def _draw_results(layout, session, scene) -> None:
+def _image_buttons(layout, r) -> None:
+    op = layout.operator("aolab.show_image", text="", icon="IMAGE_RGB_ALPHA")
+    op.image = r.image
+    if r.error_image:
+        op = layout.operator("aolab.show_image", text="", icon="MOD_MASK")
+        op.image = r.error_image
+
+
+def _columns(row, factors):
+    """Splits `row` into len(factors) + 1 sub-rows of the given width shares."""
+    cols, rest, used = [], row, 0.0
+    for f in factors:
+        split = rest.split(factor=f / (1 - used), align=True)
+        cols.append(split.row(align=True))
+        rest, used = split, used + f
+    cols.append(rest.row(align=True))
+    return cols
+
+
+def _draw_results(layout, session, scene, width: int) -> None:
+    """The results table: one line per method where the region is wide enough (Method, MAE,
+    SSIM, ms, image buttons), else two (method and ms, buttons / MAE and SSIM)."""
     if not len(session.results) or session.results_scene != scene.name:
         return
     box = layout.box()
     box.label(text=f"{session.results_kind} {session.results_size}", icon="IMAGE_DATA")
-    scored = session.results_kind == "Compare"
-
-    def columns(row):
-        cols, rest = [], row
-        for f in RESULT_COLUMNS:
-            split = rest.split(factor=f / (1 - sum(RESULT_COLUMNS[:len(cols)])), align=True)
-            cols.append(split.row(align=True))
-            rest = split
-        cols.append(rest.row(align=True))
-        return cols
-
-    head = columns(box.row())
-    for col, text in zip(head, ("Method", "MAE", "SSIM", "ms", "")):
-        col.label(text=text)
-    for r in session.results:
-        cols = columns(box.row())
-        cols[0].label(text=r.method)
-        cols[1].label(text=f"{r.mae:.4f}" if r.has_metrics else "-")
-        cols[2].label(text=f"{r.ssim:.3f}" if r.has_metrics else "-")
-        cols[3].label(text=f"{r.ms:.1f}")
-        op = cols[4].operator("aolab.show_image", text="", icon="IMAGE_RGB_ALPHA")
-        op.image = r.image
-        if r.error_image:
-            op = cols[4].operator("aolab.show_image", text="", icon="MOD_MASK")
-            op.image = r.error_image
-    if scored:
-        row = box.row()
-        op = row.operator("aolab.show_image", text="Reference", icon="RENDER_RESULT")
+    if width >= WIDE_TABLE_CHARS:
+        for col, text in zip(_columns(box.row(), RESULT_COLUMNS), ("Method", "MAE", "SSIM", "ms")):
+            col.label(text=text)
+        for r in session.results:
+            cols = _columns(box.row(), RESULT_COLUMNS)
+            cols[0].label(text=r.method)
+            cols[1].label(text=f"{r.mae:.4f}" if r.has_metrics else "-")
+            cols[2].label(text=f"{r.ssim:.3f}" if r.has_metrics else "-")
+            cols[3].label(text=f"{r.ms:.1f}")
+            _image_buttons(cols[4], r)
+    else:
+        col = box.column(align=True)
+        for r in session.results:
+            row = col.row(align=True)
+            left, right = _columns(row, (0.8,))
+            left.label(text=f"{r.method}  {r.ms:.0f} ms")
+            right.alignment = "RIGHT"
+            _image_buttons(right, r)
+            if r.has_metrics:
+                col.label(text=f"MAE {r.mae:.4f}  SSIM {r.ssim:.3f}", icon="BLANK1")
+            col.separator()
+    if session.results_kind == "Compare":
+        op = box.operator("aolab.show_image", text="Reference", icon="RENDER_RESULT")
         op.image = "AO Lab reference"
-        box.label(text="Error map: blue = lighter, red = darker than the reference")
+        _wrapped(box, "Error maps: blue = lighter, red = darker than the reference",
+                 width=width)
 
 
 def draw_panel(layout, context) -> None:
     scene = context.scene
     wm = context.window_manager
     session = wm.aolab
+    width = _chars(context)
     for problem in _problems(context):
-        _wrapped(layout.box(), problem, icon="ERROR")
+        _wrapped(layout.box(), problem, icon="ERROR", width=width)
     if not lab.available():
         return
     s = scene.aolab
     col = layout.column(align=True)
-    row = col.row(align=True)
-    row.prop(s, "use_scene_radius")
-    sub = row.row(align=True)
+    col.prop(s, "use_scene_radius")
+    sub = col.row(align=True)
     if s.use_scene_radius and scene.world is not None:
         sub.enabled = False
-        sub.prop(scene.world.light_settings, "distance", text="R")
+        sub.prop(scene.world.light_settings, "distance", text="Radius")
     else:
-        sub.prop(s, "radius", text="R")
+        sub.prop(s, "radius")
     col.prop(s, "preview_scale")
     col.prop(s, "reference_samples")
 
-    _draw_methods(layout, scene)
+    _draw_methods(layout, scene, width)
 
     col = layout.column(align=True)
     col.enabled = not session.busy
@@ -129,8 +152,8 @@ def draw_panel(layout, context) -> None:
     row.operator("aolab.write_report", icon="FILE_TEXT")
     if session.report_path:
         row.operator("aolab.open_report", text="", icon="URL")
-    if not study.report_available():
-        col.label(text=study.UNAVAILABLE.split(" (")[0], icon="INFO")
+    if not study.report_available():  # presets and the report come with it
+        _wrapped(col, study.UNAVAILABLE.split(" (")[0], icon="INFO", width=width)
 
     if session.busy:
         box = layout.box()
@@ -141,9 +164,10 @@ def draw_panel(layout, context) -> None:
         bar.prop(session, "progress", slider=True, text="")
         row.operator("aolab.cancel", text="", icon="CANCEL")
     elif session.message:
-        _wrapped(layout, session.message, icon="ERROR" if session.message_is_error else "INFO")
+        _wrapped(layout, session.message, icon="ERROR" if session.message_is_error else "INFO",
+                 width=width)
 
-    _draw_results(layout, session, scene)
+    _draw_results(layout, session, scene, width)
 
 
 class AOLAB_PT_sidebar(bpy.types.Panel):

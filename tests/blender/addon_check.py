@@ -53,8 +53,8 @@ def call(op, **kw) -> dict:
 
 def results_table() -> list[dict]:
     return [{"method": r.method, "ms": r.ms, "has_metrics": r.has_metrics, "mae": r.mae,
-             "ssim": r.ssim, "rmse": r.rmse, "bias": r.bias, "image": r.image,
-             "error_image": r.error_image}
+             "ssim": r.ssim, "image": r.image, "error_image": r.error_image,
+             "metrics": json.loads(r.metrics_json) if r.metrics_json else None}
             for r in bpy.context.window_manager.aolab.results]
 
 
@@ -124,6 +124,7 @@ for row in results_table():
         "size": list(bpy.data.images[row["image"]].size),
         "colorspace": bpy.data.images[row["image"]].colorspace_settings.name,
         "grey": bool(np.array_equal(px[..., 0], px[..., 1]))}
+r["preview_folder"] = bpy.context.window_manager.aolab.gbuffer_folder
 after_preview = scene_state(scene)
 r["preview_diff"] = [d for d in diff(before, after_preview) if not d.startswith(".ids.images")]
 
@@ -161,6 +162,8 @@ s.reference_samples = 8
 
 r["compare"] = call(bpy.ops.aolab.compare)
 r["compare_table"] = results_table()
+r["compare_folder"] = bpy.context.window_manager.aolab.gbuffer_folder
+np.save(os.path.join(out_dir, "error_hbao.npy"), images.read_image(images.image_name("hbao", "error")))
 for row in results_table():
     np.save(os.path.join(out_dir, f"compare_{row['method']}.npy"), images.read_image(row["image"]))
 r["compare_images"] = sorted(im.name for im in bpy.data.images if im.name.startswith("AO Lab"))
