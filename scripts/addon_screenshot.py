@@ -18,6 +18,7 @@ import bpy
 BUILD, CACHE, OUT = sys.argv[sys.argv.index("--") + 1:][:3]
 SCALE = 25           # % of the scene's 1280x720: 320x180
 SAMPLES = 64         # a quick reference; the panel's default is 1024
+PRESET = "medium"    # each method's preset, where this build has the comparison study
 UI_SCALE = 1.0       # Blender's default text size
 SIDEBAR_EXTRA = 200  # px added to the sidebar's width
 EDGE = 1             # px inside the sidebar's left edge: where dragging resizes it
@@ -30,6 +31,8 @@ def build_scene():
         bpy.data.objects.remove(obj)
     runpy.run_path(BUILD, run_name="__main__")
     addon_utils.enable("aolab_addon", default_set=True)
+    global study
+    from aolab_addon import study
     prefs = bpy.context.preferences
     prefs.addons["aolab_addon"].preferences.cache_dir = CACHE
     prefs.view.show_splash = False
@@ -37,7 +40,10 @@ def build_scene():
     scene.aolab.preview_scale = SCALE
     scene.aolab.reference_samples = SAMPLES
     for method in scene.aolab.methods:
-        getattr(scene.aolab, "m_" + method).use_method = True
+        group = getattr(scene.aolab, "m_" + method)
+        group.use_method = True
+        if PRESET in study.preset_names(method):
+            group.preset = PRESET
 
 
 def areas():

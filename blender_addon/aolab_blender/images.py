@@ -61,10 +61,13 @@ def show(context, name: str) -> str | None:
     if screen is not None:
         area = next((a for a in screen.areas if a.type == "IMAGE_EDITOR"), None)
     if area is None:
-        if context.window is None:
+        if bpy.app.background or context.window is None:
             return "no window to open an Image Editor in (Blender runs in the background)"
         before = set(context.window_manager.windows[:])
-        bpy.ops.wm.window_new()
+        try:
+            bpy.ops.wm.window_new()
+        except RuntimeError as e:
+            return f"could not open a window for the Image Editor: {e}"
         new = [w for w in context.window_manager.windows if w not in before]
         if not new:
             return "could not open a window for the Image Editor"

@@ -30,7 +30,13 @@ mode = args[0]
 
 
 def registered() -> list[str]:
+    """What of the add-on is registered: its classes (bpy.types lists all but the
+    preferences), the property groups, and the properties on Scene and WindowManager."""
     names = [n for n in dir(bpy.types) if n.startswith("AOLAB")]
+    mod = sys.modules.get(ADDON)
+    if mod is not None:
+        names += [f"{c.__name__} (is_registered)" for c in getattr(mod, "classes", ())
+                  if c.is_registered and c.__name__ not in names]
     if hasattr(bpy.types.Scene, "aolab"):
         names.append("Scene.aolab")
     if hasattr(bpy.types.WindowManager, "aolab"):
@@ -79,7 +85,7 @@ tiny, cache, out_dir = args[1:4]
 run_build_script(tiny)
 addon_utils.enable(ADDON, default_set=True)
 mod = sys.modules[ADDON]
-from aolab_addon import images, lab, operators  # noqa: E402
+from aolab_addon import images, lab, operators, properties  # noqa: E402
 
 prefs = bpy.context.preferences.addons[ADDON].preferences
 prefs.cache_dir = cache
@@ -167,9 +173,19 @@ np.save(os.path.join(out_dir, "error_hbao.npy"), images.read_image(images.image_
 for row in results_table():
     np.save(os.path.join(out_dir, f"compare_{row['method']}.npy"), images.read_image(row["image"]))
 r["compare_images"] = sorted(im.name for im in bpy.data.images if im.name.startswith("AO Lab"))
+r["settings_passed"] = properties.chosen_runs(scene)
+s.report_dir = os.path.join(out_dir, "report")
 r["report"] = call(bpy.ops.aolab.write_report)
+r["report_path"] = bpy.context.window_manager.aolab.report_path
+r["presets"] = {m: [item[0] for item in properties._preset_items(getattr(s, "m_" + m), bpy.context)]
+                for m in methods}
+g = getattr(s, "m_hbao")
+if "low" in r["presets"]["hbao"]:
+    g.preset = "low"
+    r["hbao_low"] = {name: getattr(g, name) for name in g.setting_names} | {"blur": g.use_blur}
+    g.preset = "default"
+    r["hbao_default_again"] = lab.changed_settings("hbao", {n: getattr(g, n) for n in g.setting_names})
 r["show_image_background"] = call(bpy.ops.aolab.show_image, image="AO Lab hbao")
-r["settings_passed"] = operators.properties.chosen_runs(scene)
 
 addon_utils.disable(ADDON, default_set=True)
 r["registered_after_disable"] = registered()

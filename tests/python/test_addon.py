@@ -88,7 +88,8 @@ def test_installs_enables_and_unregisters_cleanly(installed):
     assert r["enabled"]
     assert r["file"].startswith(str(base / "scripts" / "addons" / "aolab_addon"))
     for name in ("AOLAB_PT_sidebar", "AOLAB_PT_view_layer", "AOLAB_OT_preview",
-                 "AOLAB_OT_render_reference", "AOLAB_OT_compare", "AOLAB_AddonPreferences",
+                 "AOLAB_OT_render_reference", "AOLAB_OT_compare",
+                 "AOLAB_AddonPreferences (is_registered)",
                  "Scene.aolab", "WindowManager.aolab"):
         assert name in r["registered_enabled"], name
     assert r["registered_disabled"] == []
@@ -104,8 +105,18 @@ def test_user_errors_are_reported(flow):
     for case, text in expected.items():
         assert r[case]["result"] == ["CANCELLED"], case
         assert text in r[case]["error"] and text in r[case]["message"], (case, r[case])
-    assert "comparison study not available" in r["report"]["error"] or \
-        r["report"]["result"] == ["FINISHED"]
+    if r["report"]["result"] == ["FINISHED"]:  # a build with the comparison study
+        assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
+        assert r["presets"]["hbao"][:2] == ["default", "low"]
+        from aolab import presets
+        low, _ = presets.entry("hbao").presets["low"], None
+        for k, v in low.items():
+            if k != "blur":
+                assert r["hbao_low"][k] == pytest.approx(v), k
+        assert r["hbao_default_again"] == {}
+    else:
+        assert "comparison study not available in this build" in r["report"]["error"]
+        assert r["presets"]["hbao"] == ["default"]
     assert "no window" in r["show_image_background"]["error"]
 
 
