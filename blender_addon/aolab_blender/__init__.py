@@ -17,8 +17,9 @@ bl_info = {
 }
 
 try:
-    import bpy  # noqa: F401
+    import bpy
 except ImportError:  # imported by the aolab command for its bpy-free modules
+    bpy = None
     classes = ()
 else:
     from . import operators, preferences, properties, ui
@@ -28,14 +29,12 @@ else:
 def register():
     """The classes in order, then the property groups (properties.register builds one per
     method of aolab.methods() and hooks them onto Scene and WindowManager)."""
-    import bpy
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register()
 
 
 def unregister():
-    import bpy
     properties.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -6,8 +6,6 @@ which write value x 255 with no transfer curve). A repeated Preview or Compare o
 them in place (rescaled when the size changed), so an Image Editor showing one updates.
 """
 
-from __future__ import annotations
-
 import bpy
 import numpy as np
 

@@ -12,8 +12,6 @@ results table on the main thread.
   waits for it, blocking, then finishes the same way.
 """
 
-from __future__ import annotations
-
 import json
 import os
 import shutil

@@ -1,7 +1,5 @@
 """Add-on preferences: the reference cache folder and the worker thread count (bpy)."""
 
-from __future__ import annotations
-
 from pathlib import Path
 
 import bpy

@@ -9,8 +9,6 @@
   and the results table (AOLAB_PG_result rows) of the last Preview or Compare.
 """
 
-from __future__ import annotations
-
 import bpy
 
 from . import lab, study

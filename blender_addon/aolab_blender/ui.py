@@ -1,8 +1,6 @@
 """The AO Lab panel (bpy): the 3D viewport sidebar tab "AO Lab" and Properties > View Layer
 show the same content (draw_panel)."""
 
-from __future__ import annotations
-
 import bpy
 
 from . import lab, operators, properties, study
