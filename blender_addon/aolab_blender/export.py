@@ -71,9 +71,11 @@ def camera_to_world(cam) -> list[list[float]]:
     return m.tolist()
 
 
-def camera_record(scene, cam) -> dict:
+def camera_record(scene, cam, size: tuple[int, int] | None = None) -> dict:
+    """The camera and its intrinsics at the scene's output size, or at `size` (W, H) as a
+    render with that resolution at 100 % would have them."""
     r = scene.render
-    w, h = image_size(r.resolution_x, r.resolution_y, r.resolution_percentage)
+    w, h = size or image_size(r.resolution_x, r.resolution_y, r.resolution_percentage)
     d = cam.data
     k = intrinsics(w, h, lens=d.lens, sensor_width=d.sensor_width,
                    sensor_height=d.sensor_height, sensor_fit=d.sensor_fit, shift_x=d.shift_x,
@@ -87,9 +89,10 @@ def camera_record(scene, cam) -> dict:
                        "pixel_aspect_x": r.pixel_aspect_x, "pixel_aspect_y": r.pixel_aspect_y}}
 
 
-def content_hash(scene, cam) -> str:
+def content_hash(scene, cam, size: tuple[int, int] | None = None) -> str:
     """SHA-256 of what the renders depend on: evaluated geometry and transforms of every
-    object, its render visibility and materials, the camera and the resolution."""
+    object, its render visibility and materials, the camera and the resolution (`size`
+    overrides the scene's, as camera_record does)."""
     h = hashlib.sha256()
     depsgraph = bpy.context.evaluated_depsgraph_get()
     for obj in sorted(depsgraph.objects, key=lambda o: o.name):
@@ -104,7 +107,7 @@ def content_hash(scene, cam) -> str:
             h.update(co.tobytes())
             h.update(loops.tobytes())
             h.update("|".join(m.name if m else "" for m in me.materials).encode())
-    h.update(json.dumps(camera_record(scene, cam), sort_keys=True).encode())
+    h.update(json.dumps(camera_record(scene, cam, size), sort_keys=True).encode())
     return h.hexdigest()
 
 

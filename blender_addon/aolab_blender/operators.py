@@ -1,0 +1,386 @@
+"""The add-on's operators (bpy).
+
+Preview, Render Reference, Compare and Write Report share one pattern (_JobOperator):
+`prepare()` reads everything it needs from Blender on the main thread and checks what the
+user can fix (UserError); a work.Job runs the heavy part in a thread (aolab's C++ with the
+GIL released, or a child process rendering the reference); `finish()` writes images and the
+results table on the main thread.
+
+- invoke() (a click in the panel) is modal: an event timer polls the job, the panel and the
+  window's progress indicator follow it, Esc or the panel's Cancel button stop it.
+- execute() (scripts, tests, `bpy.ops.aolab.preview()` from Python) runs the same job and
+  waits for it, blocking, then finishes the same way.
+"""
+
+import json
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import bpy
+
+from . import images, lab, preferences, properties, study, work
+from .intrinsics import image_size
+from .passes import required_passes
+
+TIMER_S = 0.1
+ACTIVE = {}   # the running job's operator class name -> work.Job (tests use it)
+
+
+class UserError(Exception):
+    """A problem the user can act on; the message says what to do."""
+
+
+# ---- what every operation checks and reads on the main thread ----
+
+def camera_problem(scene) -> str | None:
+    """Why AO Lab cannot render from the scene's camera, or None."""
+    from .export import BridgeError, scene_camera
+    try:
+        scene_camera(scene)
+    except BridgeError as e:
+        return str(e)
+    return None
+
+
+def compare_size(scene) -> tuple[int, int]:
+    """The output size scaled by the panel's resolution percentage."""
+    r = scene.render
+    w, h = image_size(r.resolution_x, r.resolution_y, r.resolution_percentage)
+    pct = scene.aolab.preview_scale
+    return max(1, w * pct // 100), max(1, h * pct // 100)
+
+
+def render_passes() -> list[str]:
+    """The G-buffer passes every registered method needs (one cached render serves all)."""
+    return required_passes([lab.aolab.method_info(m) for m in lab.methods()], [])
+
+
+def scene_inputs(context, *, need_runs: bool = True) -> dict:
+    scene = context.scene
+    if not lab.available():
+        raise UserError(f"{lab.NOT_BUILT} ({lab.IMPORT_ERROR})")
+    problem = camera_problem(scene)
+    if problem:
+        raise UserError(problem)
+    radius = properties.effective_radius(scene)
+    if radius is None:
+        raise UserError("the scene has no world, so no AO distance: add a world or untick "
+                        "Scene AO Distance and set the radius")
+    runs = properties.chosen_runs(scene)
+    if need_runs and not runs:
+        raise UserError("nothing selected: tick at least one method")
+    from .export import content_hash
+    size = compare_size(scene)
+    return {"scene": scene.name, "radius": float(radius), "size": size, "runs": runs,
+            "passes": render_passes(), "cache": preferences.cache_dir(context),
+            "threads": preferences.threads(context),
+            "scene_hash": content_hash(scene, scene.camera, size)}
+
+
+def find_reference(inputs: dict, spp: int | None) -> Path | None:
+    return work.find_reference(inputs["cache"], scene_hash=inputs["scene_hash"],
+                               size=inputs["size"], radius=None if spp is None else inputs["radius"],
+                               spp=spp, passes=tuple(inputs["passes"]))
+
+
+def missing_reference(inputs: dict, spp: int) -> str:
+    w, h = inputs["size"]
+    return (f"reference missing: no {spp}-sample reference of this scene at R = "
+            f"{inputs['radius']:g}, {w}x{h}; click Render Reference first")
+
+
+def save_copy(context) -> tuple[str, str]:
+    """A copy of the open file in a new temporary folder (the user's file, its path and its
+    scene are untouched). Returns (path, folder)."""
+    folder = tempfile.mkdtemp(prefix="aolab-scene-")
+    name = bpy.path.clean_name(context.scene.name) or "scene"
+    path = os.path.join(folder, f"{name}.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path, copy=True, check_existing=False)
+    return path, folder
+
+
+def _redraw(context) -> None:
+    for window in context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type in ("VIEW_3D", "PROPERTIES", "IMAGE_EDITOR"):
+                area.tag_redraw()
+
+
+# ---- the shared modal / blocking pattern ----
+
+class _JobOperator:
+    bl_options = {"REGISTER"}
+    task = None   # work.*_task
+
+    @classmethod
+    def poll(cls, context):
+        if context.window_manager.aolab.busy:
+            cls.poll_message_set("AO Lab is busy: wait, or cancel the running job")
+            return False
+        return True
+
+    def prepare(self, context) -> dict | None:
+        """The job's plan, or None when nothing needs computing (then finish(result))."""
+        raise NotImplementedError
+
+    def finish(self, context, result: dict) -> str:
+        raise NotImplementedError
+
+    def _start(self, context):
+        session = context.window_manager.aolab
+        try:
+            self._plan = self.prepare(context)
+        except UserError as e:
+            return self._fail(context, str(e))
+        if "result" in self._plan:  # served from the cache
+            return self._succeed(context, self._plan["result"])
+        session.busy, session.cancel_requested = True, False
+        session.job_name, session.progress, session.stage = self.bl_label, 0.0, "starting"
+        session.message = ""
+        self._job = work.Job(type(self).task, self._plan)
+        ACTIVE[type(self).__name__] = self._job
+        return None
+
+    def _update(self, context) -> None:
+        session = context.window_manager.aolab
+        session.progress = 100.0 * self._job.progress
+        session.stage = self._job.stage
+        if context.window is not None:
+            context.window_manager.progress_update(session.progress)
+        _redraw(context)
+
+    def _end(self, context):
+        session = context.window_manager.aolab
+        session.busy = False
+        ACTIVE.pop(type(self).__name__, None)
+        folder = self._plan.get("tmpdir")
+        if folder:
+            shutil.rmtree(folder, ignore_errors=True)
+        job = self._job
+        if isinstance(job.error, work.Cancelled) or (job.cancelled and job.error is not None):
+            session.message, session.message_is_error = f"{self.bl_label}: cancelled", False
+            self.report({"WARNING"}, session.message)
+            _redraw(context)
+            return {"CANCELLED"}
+        if job.error is not None:
+            kind = "" if isinstance(job.error, (work.JobError, ValueError)) else \
+                f"{type(job.error).__name__}: "
+            return self._fail(context, f"{kind}{job.error}")
+        return self._succeed(context, job.result)
+
+    def _fail(self, context, message: str):
+        session = context.window_manager.aolab
+        session.message, session.message_is_error = message, True
+        self.report({"ERROR"}, message)
+        _redraw(context)
+        return {"CANCELLED"}
+
+    def _succeed(self, context, result: dict):
+        session = context.window_manager.aolab
+        session.message, session.message_is_error = self.finish(context, result), False
+        self.report({"INFO"}, session.message)
+        _redraw(context)
+        return {"FINISHED"}
+
+    def execute(self, context):
+        started = self._start(context)
+        if started is not None:
+            return started
+        while not self._job.wait(TIMER_S):
+            self._update(context)
+        self._update(context)
+        return self._end(context)
+
+    def invoke(self, context, event):
+        started = self._start(context)
+        if started is not None:
+            return started
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(TIMER_S, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0, 100)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        session = context.window_manager.aolab
+        if (event.type == "ESC" and event.value == "PRESS") or session.cancel_requested:
+            if not self._job.cancelled:
+                self._job.cancel()
+                session.stage = "cancelling"
+            if event.type == "ESC":
+                return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        self._update(context)
+        if not self._job.done:
+            return {"RUNNING_MODAL"}
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        return self._end(context)
+
+
+def _store_results(context, result: dict, kind: str, size) -> None:
+    session = context.window_manager.aolab
+    session.results.clear()
+    for run in result["runs"]:
+        row = session.results.add()
+        row.method, row.label, row.ms = run["method"], run["label"], run["seconds"] * 1000.0
+        row.image = images.image_name(run["method"])
+        images.set_image(row.image, run["ao"])
+        if run["metrics"] is not None:
+            m = run["metrics"]
+            row.has_metrics = True
+            row.mae, row.ssim, row.rmse, row.bias = m["mae"], m["ssim"], m["rmse"], m["bias"]
+            row.metrics_json = json.dumps(m)
+            row.error_image = images.image_name(run["method"], "error")
+            images.set_image(row.error_image, run["error_rgb"])
+    if result.get("reference") is not None:
+        images.set_image(images.image_name("reference"), result["reference"])
+    session.results_kind, session.results_scene = kind, context.scene.name
+    session.results_size = f"{size[0]}x{size[1]}"
+    session.gbuffer_folder = result["folder"]
+    if kind == "Compare":
+        session.reference_folder = result["folder"]
+
+
+class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):
+    """Run the ticked methods on the scene's G-buffer at the preview resolution and show
+    each result as an image with its time"""
+    bl_idname = "aolab.preview"
+    bl_label = "Preview"
+    task = staticmethod(work.preview_task)
+
+    def prepare(self, context):
+        inputs = scene_inputs(context)
+        plan = {**inputs, "cached": find_reference(inputs, spp=None)}
+        if plan["cached"] is None:
+            plan["blend"], plan["tmpdir"] = save_copy(context)
+        return plan
+
+    def finish(self, context, result):
+        _store_results(context, result, "Preview", self._plan["size"])
+        times = ", ".join(f"{r['method']} {r['seconds'] * 1000:.1f} ms" for r in result["runs"])
+        return f"Preview {self._plan['size'][0]}x{self._plan['size'][1]}: {times}"
+
+
+class AOLAB_OT_render_reference(_JobOperator, bpy.types.Operator):
+    """Render the Cycles AO reference (the Reference Samples, adaptive sampling off) of a
+    copy of this file in the background; cached. Esc cancels"""
+    bl_idname = "aolab.render_reference"
+    bl_label = "Render Reference"
+    task = staticmethod(work.reference_task)
+
+    def prepare(self, context):
+        inputs = scene_inputs(context, need_runs=False)
+        spp = context.scene.aolab.reference_samples
+        cached = find_reference(inputs, spp=spp)
+        if cached is not None:
+            return {**inputs, "result": {"folder": str(cached), "cached": True}}
+        blend, tmpdir = save_copy(context)
+        return {**inputs, "spp": spp, "blend": blend, "tmpdir": tmpdir}
+
+    def finish(self, context, result):
+        session = context.window_manager.aolab
+        session.reference_folder = result["folder"]
+        how = "found in the cache" if result.get("cached") else "rendered"
+        return f"Reference {how}: {result['folder']}"
+
+
+class AOLAB_OT_compare(_JobOperator, bpy.types.Operator):
+    """Score the ticked methods against the cached reference: MAE, SSIM and time in the
+    panel, signed error maps as images"""
+    bl_idname = "aolab.compare"
+    bl_label = "Compare"
+    task = staticmethod(work.compare_task)
+
+    def prepare(self, context):
+        inputs = scene_inputs(context)
+        spp = context.scene.aolab.reference_samples
+        folder = find_reference(inputs, spp=spp)
+        if folder is None:
+            raise UserError(missing_reference(inputs, spp))
+        return {**inputs, "folder": str(folder)}
+
+    def finish(self, context, result):
+        _store_results(context, result, "Compare", self._plan["size"])
+        best = min(result["runs"], key=lambda r: r["metrics"]["mae"])
+        return f"Compared {len(result['runs'])} methods; lowest MAE: {best['method']} " \
+               f"{best['metrics']['mae']:.4f}"
+
+
+class AOLAB_OT_write_report(_JobOperator, bpy.types.Operator):
+    """Run the comparison study on this scene's reference and write its HTML report"""
+    bl_idname = "aolab.write_report"
+    bl_label = "Write HTML Report"
+    task = staticmethod(work.report_task)
+
+    def prepare(self, context):
+        if not study.report_available():
+            raise UserError(study.UNAVAILABLE)
+        inputs = scene_inputs(context)
+        spp = context.scene.aolab.reference_samples
+        folder = find_reference(inputs, spp=spp)
+        if folder is None:
+            raise UserError(missing_reference(inputs, spp))
+        out = context.scene.aolab.report_dir
+        if out.startswith("//") and not bpy.data.filepath:
+            out = os.path.join(tempfile.gettempdir(), "aolab_report", bpy.path.clean_name(context.scene.name))
+        return {**inputs, "folder": str(folder), "out": bpy.path.abspath(out),
+                "methods": [r["method"] for r in inputs["runs"]]}
+
+    def finish(self, context, result):
+        context.window_manager.aolab.report_path = result["report"]
+        return f"Report written: {result['report']}"
+
+
+class AOLAB_OT_cancel(bpy.types.Operator):
+    """Cancel the running AO Lab job (like Esc)"""
+    bl_idname = "aolab.cancel"
+    bl_label = "Cancel"
+    bl_options = {"INTERNAL"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.window_manager.aolab.busy
+
+    def execute(self, context):
+        context.window_manager.aolab.cancel_requested = True
+        return {"FINISHED"}
+
+
+class AOLAB_OT_show_image(bpy.types.Operator):
+    """Show this result in an Image Editor (the screen's, or a new window)"""
+    bl_idname = "aolab.show_image"
+    bl_label = "Show Image"
+    bl_options = {"INTERNAL"}
+
+    image: bpy.props.StringProperty(name="Image")
+
+    def execute(self, context):
+        problem = images.show(context, self.image)
+        if problem:
+            self.report({"ERROR"}, problem)
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+class AOLAB_OT_open_report(bpy.types.Operator):
+    """Open the written HTML report in the web browser"""
+    bl_idname = "aolab.open_report"
+    bl_label = "Open Report"
+    bl_options = {"INTERNAL"}
+
+    @classmethod
+    def poll(cls, context):
+        return bool(context.window_manager.aolab.report_path)
+
+    def execute(self, context):
+        bpy.ops.wm.url_open(url=Path(context.window_manager.aolab.report_path).as_uri())
+        return {"FINISHED"}
+
+
+CLASSES = (AOLAB_OT_preview, AOLAB_OT_render_reference, AOLAB_OT_compare,
+           AOLAB_OT_write_report, AOLAB_OT_cancel, AOLAB_OT_show_image, AOLAB_OT_open_report)

@@ -1,0 +1,47 @@
+"""Add-on preferences: the reference cache folder and the worker thread count (bpy)."""
+
+from pathlib import Path
+
+import bpy
+
+
+class AOLAB_AddonPreferences(bpy.types.AddonPreferences):
+    bl_idname = __package__
+
+    cache_dir: bpy.props.StringProperty(
+        name="Cache Folder", subtype="DIR_PATH", default="",
+        description="Where rendered references are kept (empty: $AOLAB_CACHE, else "
+                    "~/.cache/aolab/references, as the aolab command)")
+    threads: bpy.props.IntProperty(
+        name="Threads", default=0, min=0, max=1024,
+        description="Worker threads for the AO methods (0 = all cores; results do not "
+                    "depend on it)")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.prop(self, "cache_dir")
+        layout.prop(self, "threads")
+        layout.label(text=f"Cache in use: {cache_dir(context)}")
+
+
+def get(context):
+    """The preferences, or None when the package is imported without being enabled as an
+    add-on (then the defaults apply)."""
+    addon = context.preferences.addons.get(__package__)
+    return addon.preferences if addon is not None else None
+
+
+def cache_dir(context) -> Path:
+    prefs = get(context)
+    if prefs is not None and prefs.cache_dir:
+        return Path(bpy.path.abspath(prefs.cache_dir))
+    try:
+        from aolab.reference import default_cache
+        return default_cache()
+    except ImportError:
+        return Path("~/.cache/aolab/references").expanduser()
+
+
+def threads(context) -> int:
+    prefs = get(context)
+    return prefs.threads if prefs is not None else 0

@@ -1,0 +1,184 @@
+"""The add-on's properties (bpy).
+
+- `scene.aolab` (saved with the file): R, preview scale, reference samples, report folder,
+  and one group per method (`scene.aolab.m_<method>`) with its checkbox, preset, shared
+  blur and every setting of aolab.method_info as a Blender property (default, range and
+  description from the C++ field table). The method groups are built when the add-on is
+  registered, from aolab.methods() at that time.
+- `window_manager.aolab` (this session only): the running job's progress, the last message,
+  and the results table (AOLAB_PG_result rows) of the last Preview or Compare.
+"""
+
+import bpy
+
+from . import lab, study
+
+METHOD_PREFIX = "m_"
+UI_FIELDS = ("use_method", "show_expanded", "preset", "use_blur")
+INT_LIMIT = 2**31 - 1
+FLOAT_LIMIT = 3.0e38
+
+
+class AOLAB_PG_result(bpy.types.PropertyGroup):
+    method: bpy.props.StringProperty(name="Method")
+    label: bpy.props.StringProperty(name="Settings", description="Preset or changed settings")
+    ms: bpy.props.FloatProperty(name="ms", description="Compute time in milliseconds")
+    has_metrics: bpy.props.BoolProperty()
+    mae: bpy.props.FloatProperty(name="MAE", precision=4)
+    ssim: bpy.props.FloatProperty(name="SSIM", precision=4)
+    rmse: bpy.props.FloatProperty(name="RMSE", precision=4)
+    bias: bpy.props.FloatProperty(name="Bias", precision=4)
+    metrics_json: bpy.props.StringProperty(
+        description="aolab.metrics' dict in full (double) precision; the float properties "
+                    "above are single precision, for display")
+    image: bpy.props.StringProperty(name="Image")
+    error_image: bpy.props.StringProperty(name="Error Image")
+
+
+class AOLAB_PG_session(bpy.types.PropertyGroup):
+    busy: bpy.props.BoolProperty()
+    cancel_requested: bpy.props.BoolProperty()
+    job_name: bpy.props.StringProperty()
+    progress: bpy.props.FloatProperty(name="Progress", subtype="PERCENTAGE", min=0, max=100,
+                                      precision=0)
+    stage: bpy.props.StringProperty()
+    message: bpy.props.StringProperty()
+    message_is_error: bpy.props.BoolProperty()
+    results: bpy.props.CollectionProperty(type=AOLAB_PG_result)
+    results_kind: bpy.props.StringProperty()   # "Preview" or "Compare"
+    results_scene: bpy.props.StringProperty()
+    results_size: bpy.props.StringProperty()
+    reference_folder: bpy.props.StringProperty()   # the last reference rendered or compared
+    gbuffer_folder: bpy.props.StringProperty()     # the G-buffer of the last Preview / Compare
+    report_path: bpy.props.StringProperty()
+
+
+def _setting_property(s: dict):
+    desc = s["description"] + (f" ({s['unit']})" if s["unit"] else "")
+    name = s["name"].replace("_", " ").title()
+    if s["type"] == "bool":
+        return bpy.props.BoolProperty(name=name, description=desc, default=bool(s["default"]))
+    if s["type"] == "int":
+        return bpy.props.IntProperty(name=name, description=desc, default=int(s["default"]),
+                                     min=int(max(s["min"], -INT_LIMIT)),
+                                     max=int(min(s["max"], INT_LIMIT)))
+    return bpy.props.FloatProperty(name=name, description=desc, default=float(s["default"]),
+                                   min=max(s["min"], -FLOAT_LIMIT), max=min(s["max"], FLOAT_LIMIT),
+                                   precision=4)
+
+
+def _preset_items(self, context):
+    names = [study.DEFAULT_PRESET] + study.preset_names(self.method_name)
+    items = [(n, n.title(), f"{self.method_name} at its {n} preset") for n in names]
+    # The enum keeps the returned strings alive only while they are referenced.
+    _preset_items.cache[self.method_name] = items
+    return items
+
+
+_preset_items.cache = {}
+
+
+def _apply_preset(self, context):
+    """Puts the preset's values into the settings (default: every setting's default)."""
+    values, blur = study.preset_values(self.method_name, self.preset)
+    for s in lab.method_settings(self.method_name):
+        setattr(self, s["name"], values.get(s["name"], s["default"]))
+    self.use_blur = blur
+
+
+def _method_group(method: str, index: int):
+    settings = lab.method_settings(method)
+    clash = [s["name"] for s in settings if s["name"] in UI_FIELDS]
+    if clash:
+        raise RuntimeError(f"{method}: settings {clash} clash with the panel's own fields")
+    annotations = {
+        "use_method": bpy.props.BoolProperty(name=method, default=index == 0,
+                                             description=f"Compare {method}"),
+        "show_expanded": bpy.props.BoolProperty(name="Show settings", default=False),
+        "preset": bpy.props.EnumProperty(name="Preset", items=_preset_items, update=_apply_preset,
+                                         description="Quality preset of the comparison study"),
+        "use_blur": bpy.props.BoolProperty(
+            name="Blur", default=False,
+            description="The shared separable Gaussian after the method (sigma 1.5 px, 5 taps)"),
+    }
+    annotations.update({s["name"]: _setting_property(s) for s in settings})
+    return type(f"AOLAB_PG_method_{method}", (bpy.types.PropertyGroup,),
+                {"__annotations__": annotations, "method_name": method,
+                 "setting_names": tuple(s["name"] for s in settings)})
+
+
+def _scene_group(method_groups: dict):
+    annotations = {
+        "use_scene_radius": bpy.props.BoolProperty(
+            name="Scene AO Distance", default=True,
+            description="Use the world's AO distance (World > Ambient Occlusion) as R"),
+        "radius": bpy.props.FloatProperty(
+            name="Radius", default=1.0, min=1e-6, max=1e6, subtype="DISTANCE", precision=3,
+            description="R, the AO distance of the reference and every method (scene units)"),
+        "preview_scale": bpy.props.IntProperty(
+            name="Resolution", default=25, min=1, max=100, subtype="PERCENTAGE",
+            description="Preview, reference and comparison resolution, as a percentage of the "
+                        "scene's output resolution"),
+        "reference_samples": bpy.props.IntProperty(
+            name="Reference Samples", default=1024, min=1, max=65536,
+            description="Cycles AO samples of the reference (adaptive sampling off)"),
+        "report_dir": bpy.props.StringProperty(
+            name="Report Folder", subtype="DIR_PATH", default="//aolab_report",
+            description="Where Write Report puts report.html (// = beside the .blend file)"),
+    }
+    for method, cls in method_groups.items():
+        annotations[METHOD_PREFIX + method] = bpy.props.PointerProperty(type=cls)
+    return type("AOLAB_PG_scene", (bpy.types.PropertyGroup,),
+                {"__annotations__": annotations, "methods": tuple(method_groups)})
+
+
+STATIC = (AOLAB_PG_result, AOLAB_PG_session)
+_dynamic = []
+
+
+def register():
+    """Registers the result and session groups, one group per method (when aolab imports)
+    and the scene group, then hooks them onto Scene and WindowManager."""
+    groups = {m: _method_group(m, i) for i, m in enumerate(lab.methods())}
+    _dynamic[:] = list(STATIC) + list(groups.values()) + [_scene_group(groups)]
+    for cls in _dynamic:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.aolab = bpy.props.PointerProperty(type=_dynamic[-1])
+    bpy.types.WindowManager.aolab = bpy.props.PointerProperty(type=AOLAB_PG_session)
+
+
+def unregister():
+    del bpy.types.WindowManager.aolab
+    del bpy.types.Scene.aolab
+    for cls in reversed(_dynamic):
+        bpy.utils.unregister_class(cls)
+    _dynamic.clear()
+
+
+def method_group(scene, method: str):
+    return getattr(scene.aolab, METHOD_PREFIX + method)
+
+
+def effective_radius(scene) -> float | None:
+    """R: the world's AO distance, or the panel's value (None: no world to take it from)."""
+    s = scene.aolab
+    if s.use_scene_radius:
+        return scene.world.light_settings.distance if scene.world is not None else None
+    return s.radius
+
+
+def chosen_runs(scene) -> list[dict]:
+    """The checked methods with their settings (only those changed from the defaults) and
+    blur, in aolab.methods() order."""
+    runs = []
+    for method in scene.aolab.methods:
+        g = method_group(scene, method)
+        if not g.use_method:
+            continue
+        values = {name: getattr(g, name) for name in g.setting_names}
+        changed = lab.changed_settings(method, values)
+        label = g.preset if g.preset != study.DEFAULT_PRESET else \
+            (",".join(f"{k}={v}" for k, v in changed.items()) or "defaults")
+        runs.append({"method": method, "settings": changed, "blur": bool(g.use_blur),
+                     "label": label + (" +blur" if g.use_blur else "")})
+    return runs

@@ -1,0 +1,194 @@
+"""The AO Lab panel (bpy): the 3D viewport sidebar tab "AO Lab" and Properties > View Layer
+show the same content (draw_panel)."""
+
+import bpy
+
+from . import lab, operators, properties, study
+
+RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
+WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
+
+
+def _problems(context) -> list[str]:
+    scene = context.scene
+    if not lab.available():
+        return [lab.NOT_BUILT]
+    out = []
+    problem = operators.camera_problem(scene)
+    if problem:
+        out.append(problem)
+    if properties.effective_radius(scene) is None:
+        out.append("no world: set the radius by hand")
+    if not properties.chosen_runs(scene):
+        out.append("nothing selected: tick a method")
+    return out
+
+
+def _chars(context) -> int:
+    """About how many characters fit across the region."""
+    region = context.region
+    scale = context.preferences.view.ui_scale
+    return max(20, int((region.width if region else 300) / (8 * scale)) - 5)
+
+
+def _wrapped(layout, text: str, icon: str = "NONE", width: int = 40) -> None:
+    col = layout.column(align=True)
+    words, line, first = text.split(), "", True
+    for w in words:
+        if line and len(line) + len(w) + 1 > width:
+            col.label(text=line, icon=icon if first else "BLANK1")
+            line, first = "", False
+        line = f"{line} {w}".strip()
+    if line:
+        col.label(text=line, icon=icon if first else "BLANK1")
+
+
+def _draw_methods(layout, scene, width: int) -> None:
+    box = layout.box()
+    box.label(text="Methods", icon="MOD_SMOOTH")
+    for method in scene.aolab.methods:
+        g = properties.method_group(scene, method)
+        row = box.row(align=True)
+        row.prop(g, "show_expanded", text="", emboss=False,
+                 icon="TRIA_DOWN" if g.show_expanded else "TRIA_RIGHT")
+        row.prop(g, "use_method", text=method)
+        sub = row.row(align=True)
+        sub.active = g.use_method
+        sub.prop(g, "preset", text="")
+        if g.show_expanded:
+            col = box.column(align=True)
+            col.active = g.use_method
+            for name in g.setting_names:
+                col.prop(g, name)
+            col.prop(g, "use_blur")
+
+
+def _image_buttons(layout, r) -> None:
+    op = layout.operator("aolab.show_image", text="", icon="IMAGE_RGB_ALPHA")
+    op.image = r.image
+    if r.error_image:
+        op = layout.operator("aolab.show_image", text="", icon="MOD_MASK")
+        op.image = r.error_image
+
+
+def _columns(row, factors):
+    """Splits `row` into len(factors) + 1 sub-rows of the given width shares."""
+    cols, rest, used = [], row, 0.0
+    for f in factors:
+        split = rest.split(factor=f / (1 - used), align=True)
+        cols.append(split.row(align=True))
+        rest, used = split, used + f
+    cols.append(rest.row(align=True))
+    return cols
+
+
+def _draw_results(layout, session, scene, width: int) -> None:
+    """The results table: one line per method where the region is wide enough (Method, MAE,
+    SSIM, ms, image buttons), else two (method and ms, buttons / MAE and SSIM)."""
+    if not len(session.results) or session.results_scene != scene.name:
+        return
+    box = layout.box()
+    box.label(text=f"{session.results_kind} {session.results_size}", icon="IMAGE_DATA")
+    if width >= WIDE_TABLE_CHARS:
+        for col, text in zip(_columns(box.row(), RESULT_COLUMNS), ("Method", "MAE", "SSIM", "ms")):
+            col.label(text=text)
+        for r in session.results:
+            cols = _columns(box.row(), RESULT_COLUMNS)
+            cols[0].label(text=r.method)
+            cols[1].label(text=f"{r.mae:.4f}" if r.has_metrics else "-")
+            cols[2].label(text=f"{r.ssim:.3f}" if r.has_metrics else "-")
+            cols[3].label(text=f"{r.ms:.1f}")
+            _image_buttons(cols[4], r)
+    else:
+        col = box.column(align=True)
+        for r in session.results:
+            row = col.row(align=True)
+            left, right = _columns(row, (0.8,))
+            left.label(text=f"{r.method}  {r.ms:.0f} ms")
+            right.alignment = "RIGHT"
+            _image_buttons(right, r)
+            if r.has_metrics:
+                col.label(text=f"MAE {r.mae:.4f}  SSIM {r.ssim:.3f}", icon="BLANK1")
+            col.separator()
+    if session.results_kind == "Compare":
+        op = box.operator("aolab.show_image", text="Reference", icon="RENDER_RESULT")
+        op.image = "AO Lab reference"
+        _wrapped(box, "Error maps: blue = lighter, red = darker than the reference",
+                 width=width)
+
+
+def draw_panel(layout, context) -> None:
+    scene = context.scene
+    wm = context.window_manager
+    session = wm.aolab
+    width = _chars(context)
+    for problem in _problems(context):
+        _wrapped(layout.box(), problem, icon="ERROR", width=width)
+    if not lab.available():
+        return
+    s = scene.aolab
+    col = layout.column(align=True)
+    col.prop(s, "use_scene_radius")
+    sub = col.row(align=True)
+    if s.use_scene_radius and scene.world is not None:
+        sub.enabled = False
+        sub.prop(scene.world.light_settings, "distance", text="Radius")
+    else:
+        sub.prop(s, "radius")
+    col.prop(s, "preview_scale")
+    col.prop(s, "reference_samples")
+
+    _draw_methods(layout, scene, width)
+
+    col = layout.column(align=True)
+    col.enabled = not session.busy
+    col.operator("aolab.preview", icon="HIDE_OFF")
+    row = col.row(align=True)
+    row.operator("aolab.render_reference", icon="RENDER_STILL")
+    row.operator("aolab.compare", icon="GRAPH")
+    row = col.row(align=True)
+    row.operator("aolab.write_report", icon="FILE_TEXT")
+    if session.report_path:
+        row.operator("aolab.open_report", text="", icon="URL")
+    if not study.report_available():  # presets and the report come with it
+        _wrapped(col, study.UNAVAILABLE.split(" (")[0], icon="INFO", width=width)
+
+    if session.busy:
+        box = layout.box()
+        box.label(text=f"{session.job_name}: {session.stage}", icon="SORTTIME")
+        row = box.row(align=True)
+        bar = row.row()
+        bar.enabled = False
+        bar.prop(session, "progress", slider=True, text="")
+        row.operator("aolab.cancel", text="", icon="CANCEL")
+    elif session.message:
+        _wrapped(layout, session.message, icon="ERROR" if session.message_is_error else "INFO",
+                 width=width)
+
+    _draw_results(layout, session, scene, width)
+
+
+class AOLAB_PT_sidebar(bpy.types.Panel):
+    bl_label = "AO Lab"
+    bl_idname = "AOLAB_PT_sidebar"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "AO Lab"
+
+    def draw(self, context):
+        draw_panel(self.layout, context)
+
+
+class AOLAB_PT_view_layer(bpy.types.Panel):
+    bl_label = "AO Lab"
+    bl_idname = "AOLAB_PT_view_layer"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "view_layer"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        draw_panel(self.layout, context)
+
+
+CLASSES = (AOLAB_PT_sidebar, AOLAB_PT_view_layer)

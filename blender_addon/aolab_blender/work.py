@@ -1,0 +1,259 @@
+"""The add-on's heavy work, outside Blender's main thread (no bpy).
+
+A Job runs one function in a daemon thread. The main thread (a modal operator's timer, or
+an operator's execute() waiting in a loop) polls `progress`, `stage` and `done`, and reads
+`result` or `error` once done; `cancel()` sets a flag the task checks and terminates the
+child process it may be waiting on. Tasks receive plain Python data prepared on the main
+thread and never touch bpy: images and results are made on the main thread afterwards.
+
+References are rendered by `aolab reference` in a child /usr/bin/python3 (reference_job.py;
+not sys.executable: BLENDER_FACTS.md) on a copy of the user's file, so the user's scene is
+never changed. Its cache is content-keyed by the file's bytes; `find_reference` also finds a
+render by the scene's content hash (export.content_hash, stored in each sidecar), so that a
+re-saved, unchanged scene is served from the cache.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+PYTHON = "/usr/bin/python3"
+DRIVER = Path(__file__).with_name("reference_job.py")
+TERMINATE_GRACE_S = 10.0
+# Share of the progress bar per stage of a reference render (G-buffer render, AO render).
+STAGE_SPAN = {"start": (0.0, 0.02), "prepare": (0.02, 0.03), "gbuffer": (0.03, 0.06),
+              "reference": (0.06, 0.97), "merge": (0.97, 0.99), "done": (0.99, 1.0)}
+
+
+class Cancelled(Exception):
+    pass
+
+
+class JobError(Exception):
+    """A problem the user can act on; the message says what to do."""
+
+
+class Job:
+    def __init__(self, task, *args):
+        self._progress = 0.0
+        self._samples = None  # (lo, hi, done, total, t_first, t_last) of a running render
+        self.stage = "starting"
+        self.result = None
+        self.error: Exception | None = None
+        self.done = False
+        self._cancel = threading.Event()
+        self._proc = None
+        self._lock = threading.Lock()
+        self._thread = threading.Thread(target=self._run, args=(task, args), daemon=True)
+        self._thread.start()
+
+    def _run(self, task, args):
+        try:
+            self.result = task(self, *args)
+        except Exception as e:  # reported on the main thread
+            self.error = e
+        finally:
+            self.done = True
+
+    # -- called by tasks (worker thread) --
+    def report(self, progress: float, stage: str) -> None:
+        self._progress, self.stage = max(0.0, min(1.0, progress)), stage
+        self._samples = None
+
+    def report_samples(self, lo: float, hi: float, done: int, total: int, stage: str) -> None:
+        """Cycles prints its sample count rarely (after sample 1, then every few seconds):
+        between reports, `progress` moves on at the rate measured so far."""
+        now = time.monotonic()
+        first = self._samples[4] if self._samples and done > 0 else now
+        self.report(lo + (hi - lo) * done / max(total, 1), stage)
+        self._samples = (lo, hi, done, total, first, now)
+
+    @property
+    def progress(self) -> float:
+        s = self._samples
+        if s is None or not 0 < s[2] < s[3]:
+            return self._progress
+        lo, hi, done, total, first, last = s
+        per_sample = max(last - first, 1e-3) / done
+        estimate = min(done + (time.monotonic() - last) / per_sample, 0.99 * total)
+        return lo + (hi - lo) * estimate / total
+
+    def check(self) -> None:
+        if self._cancel.is_set():
+            raise Cancelled()
+
+    def run_process(self, cmd: list[str], on_line) -> int:
+        """Runs cmd, calling on_line(line) for each output line; cancel() terminates it."""
+        with self._lock:
+            self.check()
+            self._proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                          stdin=subprocess.DEVNULL, text=True,
+                                          start_new_session=True)
+        try:
+            for line in self._proc.stdout:
+                on_line(line.rstrip("\n"))
+            return self._proc.wait()
+        finally:
+            with self._lock:
+                self._proc = None
+
+    # -- called by the main thread --
+    @property
+    def cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    def cancel(self) -> None:
+        """Asks the task to stop; a child process gets SIGTERM (reference_job.py then kills
+        its Blender and removes its temporary folder), SIGKILL to its group after a grace
+        period."""
+        self._cancel.set()
+        with self._lock:
+            proc = self._proc
+        if proc is not None and proc.poll() is None:
+            proc.terminate()
+            threading.Thread(target=_kill_later, args=(proc,), daemon=True).start()
+
+    def wait(self, timeout: float | None = None) -> bool:
+        self._thread.join(timeout)
+        return self.done
+
+
+def _kill_later(proc) -> None:
+    try:
+        proc.wait(TERMINATE_GRACE_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+
+
+def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
+                   radius: float | None = None, spp: int | None = None,
+                   passes: tuple[str, ...] = ()) -> Path | None:
+    """The newest cached render of this scene content at this size (and R, samples, with
+    these passes, when given), or None."""
+    best, best_time = None, -1.0
+    cache = Path(cache)
+    if not cache.is_dir():
+        return None
+    for side_path in cache.glob("[!.]*/reference.json"):
+        try:
+            side = json.loads(side_path.read_text())
+            exr = side_path.with_name("reference.exr")
+            if not exr.exists():
+                continue
+        except (OSError, ValueError):
+            continue
+        if side.get("scene_hash") != scene_hash or (side.get("width"), side.get("height")) != tuple(size):
+            continue
+        if radius is not None and side.get("ao_distance") != radius:
+            continue
+        if spp is not None and side.get("samples") != spp:
+            continue
+        if not set(passes) <= set(side.get("passes", ())):
+            continue
+        mtime = side_path.stat().st_mtime
+        if mtime > best_time:
+            best, best_time = side_path.parent, mtime
+    return best
+
+
+def render_reference(job: Job, blend: str, *, spp: int, radius: float, size: tuple[int, int],
+                     passes: list[str], cache: Path | None, scale: tuple[float, float] = (0.0, 1.0)) -> Path:
+    """Renders (or finds in the `aolab reference` cache) the reference of `blend`; returns the
+    folder of reference.exr. Progress is mapped into `scale` of the job's bar."""
+    cmd = [PYTHON, str(DRIVER), "--scene", blend, "--spp", str(spp), "--radius", repr(float(radius)),
+           "--resolution", f"{size[0]}x{size[1]}", "--passes", ",".join(passes)]
+    if cache is not None:
+        cmd += ["--cache", str(cache)]
+    lo, hi = scale
+    state = {"result": None, "error": None, "tail": []}
+
+    def on_line(line: str) -> None:
+        state["tail"] = (state["tail"] + [line])[-30:]
+        kind, _, rest = line.partition(" ")
+        if kind == "AOLAB_PROGRESS":
+            done, total, stage = rest.split(" ", 2)
+            a, b = STAGE_SPAN.get(stage, (0.0, 0.0))
+            a, b = lo + (hi - lo) * a, lo + (hi - lo) * b
+            if stage == "reference":
+                job.report_samples(a, b, int(done), int(total), f"reference: {done}/{total} samples")
+            else:
+                job.report(a, f"reference: {stage}")
+        elif kind == "AOLAB_RESULT":
+            state["result"] = json.loads(rest)
+        elif kind == "AOLAB_ERROR":
+            state["error"] = rest
+
+    job.report(lo, "reference: starting Blender")
+    rc = job.run_process(cmd, on_line)
+    job.check()
+    if state["error"]:
+        raise JobError(state["error"])
+    if rc != 0 or state["result"] is None:
+        raise JobError("the reference render failed:\n" + "\n".join(state["tail"]))
+    return Path(state["result"]["folder"])
+
+
+def run_methods(job: Job, g, runs: list[dict], *, radius: float, threads: int,
+                scale: tuple[float, float] = (0.0, 1.0)) -> list[dict]:
+    """Computes each run ({method, settings, blur}) on G-buffer `g`; with a reference in g,
+    also its metrics and signed error map. Returns dicts with ao, seconds, metrics, error."""
+    from . import lab
+    out = []
+    lo, hi = scale
+    mask = lab.scored_mask(g)
+    for i, run in enumerate(runs):
+        job.check()
+        job.report(lo + (hi - lo) * i / len(runs), f"computing {run['method']}")
+        ao, seconds = lab.compute(run["method"], g, radius=radius, settings=run["settings"],
+                                  blur=run["blur"], threads=threads)
+        item = {**run, "ao": ao, "seconds": seconds, "metrics": None, "error_rgb": None}
+        if mask is not None:
+            item["metrics"] = lab.score(ao, g)
+            item["error_rgb"] = lab.signed_error_rgb(ao, g.reference, mask)
+        out.append(item)
+    job.report(hi, "done")
+    return out
+
+
+def preview_task(job: Job, plan: dict) -> dict:
+    """The G-buffer (cached, or rendered at 1 sample), then the methods on it."""
+    from . import lab
+    folder = plan.get("cached")
+    if folder is None:
+        folder = render_reference(job, plan["blend"], spp=1, radius=plan["radius"],
+                                  size=plan["size"], passes=plan["passes"], cache=plan["cache"],
+                                  scale=(0.0, 0.7))
+    g = lab.load(str(Path(folder) / "reference.exr"))
+    g.reference = None  # a preview is not scored (the G-buffer's AO may be 1 sample)
+    runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"],
+                       scale=(0.7, 1.0))
+    return {"folder": str(folder), "runs": runs, "reference": None}
+
+
+def reference_task(job: Job, plan: dict) -> dict:
+    folder = render_reference(job, plan["blend"], spp=plan["spp"], radius=plan["radius"],
+                              size=plan["size"], passes=plan["passes"], cache=plan["cache"])
+    return {"folder": str(folder)}
+
+
+def compare_task(job: Job, plan: dict) -> dict:
+    """The methods on the reference's own G-buffer, scored against its AO."""
+    from . import lab
+    job.report(0.0, "loading the reference")
+    g = lab.load(str(Path(plan["folder"]) / "reference.exr"))
+    runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"])
+    return {"folder": plan["folder"], "runs": runs, "reference": g.reference}
+
+
+def report_task(job: Job, plan: dict) -> dict:
+    from . import study
+    job.report(0.05, "running the comparison study")
+    path = study.write_report(Path(plan["folder"]), plan["methods"], Path(plan["out"]),
+                              plan["threads"])
+    return {"report": str(path)}

@@ -1,0 +1,151 @@
+"""Run by scripts/addon_screenshot.sh in Blender's full UI under Xvfb:
+
+    blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE OUT.png
+
+Builds a reference scene, enables the AO Lab add-on, opens the 3D viewport's sidebar on the
+AO Lab tab, with an Image Editor beside it, then clicks through Preview, Render Reference (64 samples, cached) and Compare
+with their real modal operators (INVOKE_DEFAULT, driven by the event loop), shows the
+lowest-MAE method's error map in the Image Editor, saves a screenshot and quits. Exits with
+code 1 (and no screenshot) if a step fails.
+"""
+import runpy
+import sys
+import traceback
+
+import addon_utils
+import bpy
+
+BUILD, CACHE, OUT = sys.argv[sys.argv.index("--") + 1:][:3]
+SCALE = 25           # % of the scene's 1280x720: 320x180
+SAMPLES = 64         # a quick reference; the panel's default is 1024
+PRESET = "medium"    # each method's preset, where this build has the comparison study
+UI_SCALE = 1.0       # Blender's default text size
+SIDEBAR_EXTRA = 200  # px added to the sidebar's width
+EDGE = 1             # px inside the sidebar's left edge: where dragging resizes it
+SPLIT = 0.62         # share of the 3D viewport's width kept by it (the rest: Image Editor)
+state = {"step": 0, "t": 0}
+
+
+def build_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    runpy.run_path(BUILD, run_name="__main__")
+    addon_utils.enable("aolab_addon", default_set=True)
+    global study
+    from aolab_addon import study
+    prefs = bpy.context.preferences
+    prefs.addons["aolab_addon"].preferences.cache_dir = CACHE
+    prefs.view.show_splash = False
+    scene = bpy.context.scene
+    scene.aolab.preview_scale = SCALE
+    scene.aolab.reference_samples = SAMPLES
+    for method in scene.aolab.methods:
+        group = getattr(scene.aolab, "m_" + method)
+        group.use_method = True
+        if PRESET in study.preset_names(method):
+            group.preset = PRESET
+
+
+def areas():
+    """(window, the 3D viewport, the Image Editor), after split_screen()."""
+    window = bpy.context.window_manager.windows[0]
+    view = next(a for a in window.screen.areas if a.type == "VIEW_3D")
+    editor = next((a for a in window.screen.areas if a.type == "IMAGE_EDITOR"), None)
+    return window, view, editor
+
+
+def region(area, kind="WINDOW"):
+    return next(r for r in area.regions if r.type == kind)
+
+
+def invoke(op):
+    window, view, _ = areas()
+    with bpy.context.temp_override(window=window, area=view, region=region(view)):
+        return op("INVOKE_DEFAULT")
+
+
+def split_screen():
+    """The 3D viewport split: itself on the left with its sidebar open, an Image Editor on
+    the right. An active object, so that the sidebar has its usual four tabs."""
+    bpy.context.view_layer.objects.active = bpy.context.scene.camera
+    window, view, _ = areas()
+    with bpy.context.temp_override(window=window, area=view, region=region(view)):
+        bpy.ops.screen.area_split(direction="VERTICAL", factor=SPLIT)
+    views = sorted((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.x)
+    views[-1].type = "IMAGE_EDITOR"
+    space = views[0].spaces.active
+    space.show_region_ui = True
+    space.region_3d.view_perspective = "CAMERA"
+    space.overlay.show_overlays = False
+
+
+def click_tab_and_widen():
+    """Blender 3.4 has no Python API to choose the sidebar's tab or its width: this clicks
+    the AO Lab tab (the fourth, 165 px below the region's top at UI scale 1) and drags the
+    sidebar's edge, with simulated events (--enable-event-simulate)."""
+    window, view, _ = areas()
+    ui = region(view, "UI")
+    x, y = ui.x + ui.width - 8, ui.y + ui.height - 165
+    for kind, value in (("MOUSEMOVE", "NOTHING"), ("LEFTMOUSE", "PRESS"), ("LEFTMOUSE", "RELEASE")):
+        window.event_simulate(type=kind, value=value, x=x, y=y)
+    x, y = ui.x + EDGE, ui.y + ui.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    window.event_simulate(type="LEFTMOUSE", value="PRESS", x=x, y=y)
+    for dx in range(20, SIDEBAR_EXTRA + 1, 20):
+        window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x - dx, y=y)
+    window.event_simulate(type="LEFTMOUSE", value="RELEASE", x=x - SIDEBAR_EXTRA, y=y)
+
+
+def show_results():
+    """The lowest-MAE method's error map in the Image Editor, the camera view framed, and
+    the larger UI scale."""
+    window, view, editor = areas()
+    rows = [r for r in bpy.context.window_manager.aolab.results if r.has_metrics]
+    best = min(rows, key=lambda r: r.mae)
+    editor.spaces.active.image = bpy.data.images[best.error_image]
+    bpy.context.preferences.view.ui_scale = UI_SCALE
+    with bpy.context.temp_override(window=window, area=editor, region=region(editor)):
+        bpy.ops.image.view_all(fit_view=True)
+    with bpy.context.temp_override(window=window, area=view, region=region(view)):
+        bpy.ops.view3d.view_center_camera()
+
+
+def tick():
+    """One step per call; returns the delay before the next (None: done)."""
+    try:
+        session = bpy.context.window_manager.aolab
+        if session.busy:
+            return 0.5
+        if session.message_is_error:
+            raise RuntimeError(session.message)
+        step = state["step"]
+        state["step"] += 1
+        if step == 0:
+            split_screen()
+            return 1.0
+        elif step == 1:
+            click_tab_and_widen()
+            return 1.0
+        elif step == 2:
+            invoke(bpy.ops.aolab.preview)
+        elif step == 3:
+            invoke(bpy.ops.aolab.render_reference)
+        elif step == 4:
+            invoke(bpy.ops.aolab.compare)
+        elif step == 5:
+            show_results()
+            return 2.0
+        elif step == 6:
+            bpy.ops.screen.screenshot(filepath=OUT)
+            print(f"addon_screenshot: wrote {OUT}; {session.message}", flush=True)
+            bpy.ops.wm.quit_blender()
+            return None
+        return 0.5
+    except Exception:
+        traceback.print_exc()
+        print("addon_screenshot: FAILED", flush=True)
+        sys.exit(1)
+
+
+build_scene()
+bpy.app.timers.register(tick, first_interval=3.0)

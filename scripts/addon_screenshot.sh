@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Screenshot of Blender's UI with the AO Lab panel and its results: docs/images/addon_panel.png.
+#
+#   scripts/addon_screenshot.sh [OUT.png] [SCENE_BUILD.py]
+#
+# Installs the add-on into temporary Blender user folders (your preferences are untouched),
+# starts Blender's full UI under Xvfb (xvfb-run; Debian packages xvfb xauth), builds the
+# scene (default reference_scenes/room/build.py), and runs scripts/addon_screenshot.py: the
+# real Preview / Render Reference (64 samples, 320x180, cached in $AOLAB_CACHE or
+# ~/.cache/aolab/references) / Compare operators, then the screenshot. With PYTHONPATH set
+# (e.g. to build/python), Blender uses that `aolab` instead of the one the .pth points at.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out="$(realpath -m "${1:-$root/docs/images/addon_panel.png}")"
+scene="$(realpath "${2:-$root/reference_scenes/room/build.py}")"
+cache="${AOLAB_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aolab/references}"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+export BLENDER_USER_CONFIG="$tmp/config" BLENDER_USER_SCRIPTS="$tmp/scripts"
+AOLAB_ADDON_ZIP="$tmp/aolab_addon.zip" "$root/scripts/install_addon.sh" >/dev/null
+mkdir -p "$(dirname "$out")"
+rm -f "$out"
+xvfb-run -a -s "-screen 0 1920x1080x24" "${AOLAB_BLENDER:-blender}" --factory-startup -noaudio \
+  --enable-event-simulate ${PYTHONPATH:+--python-use-system-env} --python-exit-code 1 --python "$root/scripts/addon_screenshot.py" -- "$scene" "$cache" "$out"
+[ -s "$out" ] || { echo "addon_screenshot: no screenshot written" >&2; exit 1; }
+echo "addon_screenshot: $out"

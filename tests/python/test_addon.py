@@ -1,0 +1,183 @@
+"""The Blender add-on (docs/blender_addon.md), in real Blender, headless: installed and
+enabled by scripts/install_addon.sh into temporary user folders (the real preferences are
+untouched), registered and unregistered cleanly, and its operators run on the tiny scene:
+Preview, Render Reference (8 spp), a cancelled Render Reference, Compare. Their images and
+metrics equal the command line's (`aolab run`) for the same inputs, and the user's scene is
+exactly as before. Skipped with a reason where Blender is absent."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aolab
+
+ROOT = Path(__file__).resolve().parents[2]
+TINY = ROOT / "tests" / "data" / "tiny_scene.py"
+CHECK = ROOT / "tests" / "blender" / "addon_check.py"
+BLENDER = shutil.which("blender")
+pytestmark = [pytest.mark.blender,
+              pytest.mark.skipif(BLENDER is None, reason="Blender is not installed "
+                                 "(scripts/install-deps.sh installs it)")]
+
+
+def blender_env(base: Path) -> dict:
+    """Temporary Blender user folders, and the `aolab` this test imports placed first on
+    Blender's path (with --python-use-system-env), so that Blender, its child processes and
+    this test use one build."""
+    aolab_dir = str(Path(aolab.__file__).resolve().parents[1])
+    return dict(os.environ, BLENDER_USER_CONFIG=str(base / "config"),
+                BLENDER_USER_SCRIPTS=str(base / "scripts"),
+                PYTHONPATH=os.pathsep.join([aolab_dir, os.environ.get("PYTHONPATH", "")]))
+
+
+def run_blender(env, *args, factory=True) -> dict:
+    cmd = [BLENDER, "-b"] + (["--factory-startup"] if factory else []) + \
+        ["-noaudio", "--python-use-system-env", "--python-exit-code", "1",
+         "--python", str(CHECK), "--", *args]
+    res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+    assert res.returncode == 0 and lines, res.stdout[-4000:] + res.stderr[-3000:]
+    return json.loads(lines[-1][len("RESULT "):])
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    base = tmp_path_factory.mktemp("blender_user")
+    env = blender_env(base)
+    env["AOLAB_ADDON_ZIP"] = str(base / "aolab_addon.zip")
+    res = subprocess.run([str(ROOT / "scripts" / "install_addon.sh")], capture_output=True,
+                         text=True, env=env, timeout=120)
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    assert "AO Lab enabled" in res.stdout
+    return base, env
+
+
+@pytest.fixture(scope="module")
+def flow(installed, tmp_path_factory):
+    base, env = installed
+    work = tmp_path_factory.mktemp("addon_flow")
+    (work / "out").mkdir()
+    r = run_blender(env, "flow", str(TINY), str(work / "cache"), str(work / "out"))
+    return r, work
+
+
+def aolab_run(method, exr, out, *settings):
+    cmd = [sys.executable, "-m", "aolab", "run", method, str(exr), "--out", str(out),
+           "--json", str(out) + ".json"]
+    for s in settings:
+        cmd += ["--set", s]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stdout + res.stderr
+    import OpenImageIO as oiio
+    image = oiio.ImageBuf(str(out) + ".exr").get_pixels(oiio.FLOAT)
+    return np.asarray(image)[..., 0], json.loads(Path(str(out) + ".json").read_text())
+
+
+def cli_settings(run: dict) -> list[str]:
+    return [f"{k}={v}" for k, v in run["settings"].items()]
+
+
+def test_installs_enables_and_unregisters_cleanly(installed):
+    base, env = installed
+    r = run_blender(env, "installed", factory=False)  # the saved preferences enable it
+    assert r["enabled"]
+    assert r["file"].startswith(str(base / "scripts" / "addons" / "aolab_addon"))
+    for name in ("AOLAB_PT_sidebar", "AOLAB_PT_view_layer", "AOLAB_OT_preview",
+                 "AOLAB_OT_render_reference", "AOLAB_OT_compare",
+                 "AOLAB_AddonPreferences (is_registered)",
+                 "Scene.aolab", "WindowManager.aolab"):
+        assert name in r["registered_enabled"], name
+    assert r["registered_disabled"] == []
+    assert r["registered_reenabled"] == len(r["registered_enabled"])
+    assert r["registered_disabled_again"] == []
+
+
+def test_user_errors_are_reported(flow):
+    r, _ = flow
+    expected = {"compare_without_reference": "reference missing",
+                "nothing_selected": "nothing selected", "not_built": "module not built: run "
+                "scripts/setup.sh", "orthographic": "orthographic", "no_camera": "no camera"}
+    for case, text in expected.items():
+        assert r[case]["result"] == ["CANCELLED"], case
+        assert text in r[case]["error"] and text in r[case]["message"], (case, r[case])
+    if r["report"]["result"] == ["FINISHED"]:  # a build with the comparison study
+        assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
+        assert r["presets"]["hbao"][:2] == ["default", "low"]
+        from aolab import presets
+        low, _ = presets.entry("hbao").presets["low"], None
+        for k, v in low.items():
+            if k != "blur":
+                assert r["hbao_low"][k] == pytest.approx(v), k
+        assert r["hbao_default_again"] == {}
+    else:
+        assert "comparison study not available in this build" in r["report"]["error"]
+        assert r["presets"]["hbao"] == ["default"]
+    assert "no window" in r["show_image_background"]["error"]
+
+
+def test_preview_images_equal_the_command_line(flow):
+    r, work = flow
+    assert r["preview"]["result"] == ["FINISHED"], r["preview"]
+    assert r["preview_diff"] == []
+    runs = {run["method"]: run for run in r["settings_passed"]}
+    assert runs["hbao"]["settings"] == {"directions": 4} and runs["lsao"]["settings"] == {}
+    gbuffer = Path(r["preview_folder"]) / "reference.exr"
+    assert json.loads(gbuffer.with_suffix(".json").read_text())["samples"] == 1
+    for row in r["preview_table"]:
+        info = r["preview_images"][row["method"]]
+        assert info["size"] == [96, 54] and info["colorspace"] == "Non-Color" and info["grey"]
+        assert row["ms"] > 0 and not row["has_metrics"]
+        cli, _ = aolab_run(row["method"], gbuffer, work / f"cli_preview_{row['method']}",
+                           *cli_settings(runs[row["method"]]))
+        ours = np.load(work / "out" / f"preview_{row['method']}.npy")[..., 0]
+        assert np.array_equal(ours, cli), row["method"]
+
+
+def test_reference_render_and_cancel_leave_the_scene_as_before(flow):
+    r, work = flow
+    assert r["reference"]["result"] == ["FINISHED"] and "rendered" in r["reference"]["message"]
+    assert r["reference_diff"] == []
+    assert r["reference_again"]["result"] == ["FINISHED"]
+    assert "found in the cache" in r["reference_again"]["message"]
+    assert r["reference_again"]["seconds"] < 1.0
+    side = json.loads((Path(r["reference_folder"]) / "reference.json").read_text())
+    assert side["samples"] == 8 and (side["width"], side["height"]) == (96, 54)
+    # Cancelled during the 4096-sample render: nothing changed, nothing half-written.
+    assert "/4096 samples" in r["cancel_seen"]["stage"]
+    assert r["cancel"]["result"] == ["CANCELLED"] and "cancelled" in r["cancel"]["message"]
+    assert r["cancel"]["seconds"] < 60
+    assert r["cancel_diff"] == []
+    assert not [n for n in r["cache_after_cancel"] if n.startswith(".")]
+    sides = [json.loads((work / "cache" / n / "reference.json").read_text())
+             for n in r["cache_after_cancel"]]
+    assert sorted(s["samples"] for s in sides) == [1, 8]
+
+
+def test_compare_metrics_and_images_equal_the_command_line(flow):
+    r, work = flow
+    assert r["compare"]["result"] == ["FINISHED"], r["compare"]
+    assert r["compare_folder"] == r["reference_folder"]
+    runs = {run["method"]: run for run in r["settings_passed"]}
+    reference = Path(r["reference_folder"]) / "reference.exr"
+    for row in r["compare_table"]:
+        method = row["method"]
+        assert row["has_metrics"] and row["error_image"] == f"AO Lab {method} error"
+        cli, result = aolab_run(method, reference, work / f"cli_compare_{method}",
+                                *cli_settings(runs[method]))
+        assert row["metrics"] == result["metrics"], method        # exact, every metric
+        ours = np.load(work / "out" / f"compare_{method}.npy")[..., 0]
+        assert np.array_equal(ours, cli), method
+    assert {"AO Lab hbao error", "AO Lab lsao error", "AO Lab reference"} <= set(r["compare_images"])
+    # The error map is white where the method equals the reference, blue where lighter.
+    g = aolab.load_gbuffer(reference)
+    err = np.load(work / "out" / "error_hbao.npy")[..., :3]
+    ao = np.load(work / "out" / "compare_hbao.npy")[..., 0]
+    lighter = g.valid_mask() & (ao - g.reference > 0.25)
+    if lighter.any():
+        assert np.allclose(err[lighter], [0.1, 0.3, 0.9], atol=1e-6)
+    assert r["registered_after_disable"] == []
