@@ -13,17 +13,10 @@ from pathlib import Path
 import numpy as np
 
 import aolab
+from aolab.report import signed_error_rgb
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "images"
-
-
-def signed_error_rgb(err: np.ndarray, scale: float = 0.5) -> np.ndarray:
-    """err = method - reference mapped to white (0), red (< 0, over-occlusion), blue (> 0)."""
-    t = np.clip(np.abs(err) / scale, 0, 1)[..., None]
-    red, blue = np.array([0.85, 0.1, 0.1]), np.array([0.1, 0.3, 0.9])
-    colour = np.where(err[..., None] < 0, red, blue)
-    return (1 - t) + t * colour
 
 
 def main(scenes):
@@ -43,7 +36,7 @@ def main(scenes):
             m = aolab.metrics(ao, g.reference, mask)
             err = np.where(mask, ao - g.reference, 0.0)
             grey = lambda a: np.repeat(a[..., None], 3, axis=2)
-            strip = np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err)], axis=1)
+            strip = np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err, 0.5)], axis=1)
             aolab.write_image(OUT / f"{scene}_{method}.png",
                               np.ascontiguousarray(strip[::2, ::2], dtype=np.float32))
             print(f"| {scene} | {method} | {m['mae']:.4f} | {m['ssim']:.4f} | "

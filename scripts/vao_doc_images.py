@@ -1,12 +1,13 @@
 #!/usr/bin/python3
 """Images and scores for docs/methods/vao.md and vao_pp.md: VAO and VAO++ with each VAO++
 extension switched off in turn on the room reference (vs Cycles), and colour bleeding and
-luminance sensitivity on the `blocks` analytic scene with a synthetic colour buffer (the
-committed colored_room reference has no DiffCol pass yet). Run after scripts/build.sh:
+luminance sensitivity on the `blocks` analytic scene with a synthetic colour buffer and on
+the colored_room reference with Cycles' DiffCol and Emit passes. Run after scripts/build.sh:
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/vao_doc_images.py
 
-Writes docs/images/room_vao*.png and blocks_vao_pp_*.png; prints Markdown tables.
+Writes docs/images/room_vao*.png, blocks_vao_pp_*.png and colored_room_vao_pp_*.png; prints
+Markdown tables.
 """
 import time
 from pathlib import Path
@@ -14,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import aolab
+from aolab.report import signed_error_rgb
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "images"
@@ -30,12 +32,6 @@ VARIANTS = [
     ("vao_pp", dict(filter=False), "VAO++ without the low-pass filter"),
     ("vao_pp", dict(samples=32), "VAO++, 32 samples"),
 ]
-
-
-def signed_error_rgb(err, scale=0.5):
-    t = np.clip(np.abs(err) / scale, 0, 1)[..., None]
-    red, blue = np.array([0.85, 0.1, 0.1]), np.array([0.1, 0.3, 0.9])
-    return (1 - t) + t * np.where(err[..., None] < 0, red, blue)
 
 
 def grey(a):
@@ -70,10 +66,10 @@ def room():
         print(f"| {label} | {m['mae']:.4f} | {m['ssim']:.4f} | {m['bias']:+.4f} | {culled} | "
               f"{samples} | {ms:.0f} |")
         err = np.where(mask, ao - g.reference, 0.0)
-        rows.append(np.concatenate([grey(ao), signed_error_rgb(err)], axis=1))
+        rows.append(np.concatenate([grey(ao), signed_error_rgb(err, 0.5)], axis=1))
         if not settings:
             save(f"room_{method}.png",
-                 np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err)], axis=1))
+                 np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err, 0.5)], axis=1))
     save("room_vao_variants.png", np.concatenate(rows[1:2] + rows[3:], axis=0), step=4)
 
 
@@ -98,9 +94,35 @@ def coloured_blocks():
           f"{ao[~side].mean():.4f} -> {lum[~side].mean():.4f} elsewhere")
 
 
+def coloured_room():
+    """Colour bleeding and luminance sensitivity on the colored_room reference, whose G-buffer
+    has Cycles' DiffCol and Emit passes (scripts/update_references.sh colored_room)."""
+    g = aolab.load_gbuffer(ROOT / "reference_scenes" / "colored_room" / "reference.exr")
+    if g.color is None or g.emission is None:
+        print("colored_room has no DiffCol/Emit passes: re-render it first")
+        return
+    radius, mask = g.sidecar["ao_distance"], g.valid_mask()
+    ao = aolab.compute("vao_pp", g, radius=radius)
+    rgb = aolab.compute("vao_pp", g, radius=radius, color_bleeding=True)
+    lum = aolab.compute("vao_pp", g, radius=radius, luminance_sensitivity=True)
+    albedo = np.clip(g.color, 0, 1)
+    save("colored_room_vao_pp_bleeding.png", np.concatenate([grey(ao), rgb, albedo], axis=1))
+    glow = np.clip(g.color + g.emission, 0, 1)
+    save("colored_room_vao_pp_luminance.png", np.concatenate([grey(ao), grey(lum), glow], axis=1))
+    emitter = mask & (g.emission.max(axis=2) > 0)
+    m_ao, m_lum = aolab.metrics(ao, g.reference, mask), aolab.metrics(lum, g.reference, mask)
+    diff = np.abs(rgb - ao[..., None])[mask]
+    print(f"\ncolored_room R {radius}: emitter pixels {emitter.sum()}, mean A there "
+          f"{ao[emitter].mean():.4f} -> {lum[emitter].mean():.4f} with luminance sensitivity "
+          f"(Cycles {g.reference[emitter].mean():.4f}); elsewhere {ao[mask & ~emitter].mean():.4f}"
+          f" -> {lum[mask & ~emitter].mean():.4f}; MAE {m_ao['mae']:.4f} -> {m_lum['mae']:.4f}; "
+          f"bleeding |A·B - A| mean {diff.mean():.4f} max {diff.max():.4f}")
+
+
 if __name__ == "__main__":
     OUT.mkdir(parents=True, exist_ok=True)
     import sys
     if "--skip-room" not in sys.argv:
         room()
     coloured_blocks()
+    coloured_room()

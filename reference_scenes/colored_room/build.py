@@ -14,7 +14,6 @@ For colour bleeding (coloured diffuse albedo beside grey surfaces) and luminance
 """
 import math
 
-import bmesh
 import bpy
 from mathutils import Vector
 
@@ -125,19 +124,30 @@ def finish_scene(scene, camera, radius):
 
 
 def add_sphere(name, centre, radius, mat, segments=32, rings=16):
-    """A flat-shaded UV sphere."""
-    mesh = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius)
-    bm.to_mesh(mesh)
-    bm.free()
-    for poly in mesh.polygons:
-        poly.use_smooth = False
-    mesh.materials.append(mat)
-    obj = bpy.data.objects.new(name, mesh)
-    obj.location = centre
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
+    """A flat-shaded UV sphere: poles on the z axis, `rings` bands of `segments` faces,
+    outward normals. Built vertex by vertex (not with bmesh.ops.create_uvsphere, whose loop
+    order varies from run to run and with it the bridge's scene hash)."""
+    mb = MeshBuilder()
+    mb.verts.append((0.0, 0.0, radius))
+    for i in range(1, rings):
+        polar = math.pi * i / rings
+        for k in range(segments):
+            azimuth = 2.0 * math.pi * k / segments
+            mb.verts.append((radius * math.sin(polar) * math.cos(azimuth),
+                             radius * math.sin(polar) * math.sin(azimuth),
+                             radius * math.cos(polar)))
+    mb.verts.append((0.0, 0.0, -radius))
+    south = len(mb.verts) - 1
+
+    def ring(i, k):  # vertex k of latitude ring i (1 ... rings - 1)
+        return 1 + (i - 1) * segments + k % segments
+
+    for k in range(segments):
+        mb.faces.append((0, ring(1, k), ring(1, k + 1)))
+        for i in range(1, rings - 1):
+            mb.faces.append((ring(i, k), ring(i + 1, k), ring(i + 1, k + 1), ring(i, k + 1)))
+        mb.faces.append((ring(rings - 1, k), south, ring(rings - 1, k + 1)))
+    return mb.build(name, mat, location=centre)
 
 
 def build():
