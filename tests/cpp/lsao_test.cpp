@@ -483,6 +483,7 @@ TEST_P(LsaoHullOnReferences, MatchesBruteForce) {
   g.depth = cut(g.depth);
   g.normal = cut(g.normal);
   g.color = cut(g.color);
+  g.emission = cut(g.emission);
   g.camera.cx -= float(crop.x0);
   g.camera.cy -= float(crop.y0);
   for (int search : {0, 16}) {
