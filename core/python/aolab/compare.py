@@ -256,7 +256,8 @@ def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
         side = g.sidecar
         cropped = aolab.GBuffer(crop.apply(g.depth), crop.apply(g.normal), crop.apply(g.color),
                                 fx=g.fx, fy=g.fy, cx=g.cx - crop.x0, cy=g.cy - crop.y0,
-                                background_depth=g.background_depth)
+                                background_depth=g.background_depth,
+                                emission=crop.apply(g.emission))
         cropped.sidecar, cropped.path = side, g.path
         reference = crop.apply(reference)
         cropped.reference = reference
