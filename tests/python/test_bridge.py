@@ -260,3 +260,18 @@ def test_background_reference_is_one(tmp_path):
     background = ~g.valid_mask()
     assert background.sum() > 100
     assert (g.reference[background] == 1).all()
+
+
+def test_scene_key_covers_the_shared_helpers(tmp_path):
+    """A reference scene's content hash (the cache key's scene part) covers its build.py,
+    its manifest and reference_scenes/scene_kit.py, which every build.py imports."""
+    from aolab.reference import SCENE_KIT, resolve_scene
+    scenes = tmp_path / "reference_scenes"
+    shutil.copytree(ROOT / "reference_scenes" / "analytic", scenes / "analytic",
+                    ignore=shutil.ignore_patterns("*.exr", "peers"))
+    shutil.copyfile(ROOT / "reference_scenes" / SCENE_KIT, scenes / SCENE_KIT)
+    before = resolve_scene(str(scenes / "analytic")).content_sha256
+    assert resolve_scene(str(scenes / "analytic")).content_sha256 == before
+    with open(scenes / SCENE_KIT, "a") as f:
+        f.write("\n# a changed helper\n")
+    assert resolve_scene(str(scenes / "analytic")).content_sha256 != before

@@ -30,6 +30,7 @@ BRIDGE_VERSION = 1  # bump when the bridge's output changes: invalidates cached 
 RESULT_EXR = "reference.exr"
 RESULT_JSON = "reference.json"
 PEERS_JSON = "peers.json"
+SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build scripts
 LADDER_SPP = (1, 4, 16, 64, 256)  # aolab_blender.peers.LADDER_SPP (no bpy import here)
 _SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
 
@@ -87,6 +88,9 @@ def resolve_scene(spec: str) -> Scene:
         if not script.exists():
             raise ReferenceError(f"{mpath} names the build script {script.name}, which is missing")
         h = hashlib.sha256(script.read_bytes() + mpath.read_bytes())
+        kit = p.resolve().parent / SCENE_KIT  # the helpers every reference scene imports
+        if kit.exists():
+            h.update(kit.read_bytes())
         return Scene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
     if p.suffix == ".blend":
         return Scene(p.stem, "blend", p, {}, hashlib.sha256(p.read_bytes()).hexdigest())
