@@ -184,12 +184,7 @@ def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], 
     except (OSError, ValueError) as e:
         return [], [f"{path}: unreadable ({e})"]
     peers = []
-    files = [e.get("file") for e in entries]
     for e in entries:
-        if e.get("kind") == "noise_floor" and files.count(e.get("file")) > 1:
-            # Renders made before the bridge stopped writing it name the 256-spp rung again
-            # as the floor: that rung is scored once, and the floor is estimated from it.
-            continue
         try:
             ao = read_y_exr(folder / PEERS_DIR / e["file"])
             if crop is not None:
