@@ -9,7 +9,7 @@
 //   never an occluder, excluded from metrics.
 // - Errors. Input is validated at the API boundary; invalid input throws
 //   std::invalid_argument whose message starts with the parameter's name and ends with the
-//   offending value. Internal invariants throw std::logic_error (core/check.h). Nothing here
+//   offending value. Internal invariants throw std::logic_error (core/base/check.h). Nothing here
 //   calls exit or abort: the library runs inside Blender.
 // - Threads. Heavy calls take a thread count (0 = all cores) and an optional Progress with
 //   a cancel flag. Randomness is a pure function of (seed, pixel, stream), so results are
@@ -19,15 +19,15 @@
 //   used without copies; results are owning Images.
 #pragma once
 
-#include "core/analytic_scenes.h"
-#include "core/blur.h"
-#include "core/camera.h"
-#include "core/gbuffer.h"
-#include "core/hbao.h"
-#include "core/image.h"
-#include "core/image_io.h"
-#include "core/methods.h"
-#include "core/metrics.h"
-#include "core/parallel.h"
-#include "core/sidecar.h"
-#include "core/ssim.h"
+#include "core/base/camera.h"
+#include "core/base/gbuffer.h"
+#include "core/base/image.h"
+#include "core/base/parallel.h"
+#include "core/filters/blur.h"
+#include "core/io/image_io.h"
+#include "core/io/sidecar.h"
+#include "core/methods/hbao/hbao.h"
+#include "core/methods/registry.h"
+#include "core/scenes/analytic_scenes.h"
+#include "core/scoring/metrics.h"
+#include "core/scoring/ssim.h"

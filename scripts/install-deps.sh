@@ -4,8 +4,8 @@
 set -euo pipefail
 
 PACKAGES=(
-  # build
-  cmake g++ make pkg-config
+  # build, and the checks scripts/lint.sh runs
+  cmake g++ make pkg-config clang-format flake8
   # C++ libraries
   libopenimageio-dev libopenexr-dev libglm-dev nlohmann-json3-dev pybind11-dev
   libgtest-dev libbenchmark-dev

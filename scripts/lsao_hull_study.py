@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Algorithm 1 of Timonen 2013 (the obscure hull), transcribed separately from core/lsao.cpp,
+"""Algorithm 1 of Timonen 2013 (the obscure hull), transcribed separately from core/methods/lsao/lsao.cpp,
 against brute force on rows of a reference depth buffer.
 
 Sweeps every third row of a 320x180 tile in both horizontal directions, with the paper's

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds and runs every test: the C++ suite (ctest) and the Python suite (pytest).
+# Builds and runs every test: the lint checks, the C++ suite (ctest) and the Python suite
+# (pytest).
 # Installs missing Debian packages first, so it works on a fresh machine.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -7,6 +8,9 @@ build="${AOLAB_BUILD_DIR:-$root/build}"
 
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh"
+
+echo "== Lint (clang-format, flake8)"
+"$root/scripts/lint.sh"
 
 echo "== C++ tests (ctest)"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"

@@ -1,8 +1,8 @@
 // The scene every method's benchmark times: `blocks` at 1280x720 (docs/benchmarks.md).
 #pragma once
 
-#include "core/analytic_scenes.h"
-#include "core/gbuffer.h"
+#include "core/base/gbuffer.h"
+#include "core/scenes/analytic_scenes.h"
 
 namespace aolab::bench {
 

@@ -7,9 +7,8 @@
 //  - BM_ChebyshevFixed/k: fixed windows of half-width 2, 4, 8, 16, 32, 64 px, 2 threads.
 #include <benchmark/benchmark.h>
 
+#include "core/methods/chebyshev/chebyshev.h"
 #include "tests/bench/bench_scene.h"
-
-#include "core/chebyshev.h"
 
 namespace {
 
@@ -35,7 +34,13 @@ void BM_ChebyshevRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(chebyshev(g, s, opt));
   state.counters["radius"] = s.radius;
 }
-BENCHMARK(BM_ChebyshevRadius)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ChebyshevRadius)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_ChebyshevFixed(benchmark::State& state) {
   const GBuffer g = bench::blocks_gbuffer();
@@ -47,6 +52,10 @@ void BM_ChebyshevFixed(benchmark::State& state) {
   opt.threads = 2;
   for (auto _ : state) benchmark::DoNotOptimize(chebyshev(g, s, opt));
 }
-BENCHMARK(BM_ChebyshevFixed)->RangeMultiplier(2)->Range(2, 64)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ChebyshevFixed)
+    ->RangeMultiplier(2)
+    ->Range(2, 64)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace

@@ -7,10 +7,9 @@
 //    (N_s grows with R), 2 threads.
 #include <benchmark/benchmark.h>
 
+#include "core/methods/hbao/hbao.h"
+#include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
-
-#include "core/analytic_scenes.h"
-#include "core/hbao.h"
 #include "tests/oracles/hbao_oracle.h"
 
 namespace {
@@ -18,7 +17,6 @@ namespace {
 using namespace aolab;
 using bench::kRadius;
 const auto gbuffer = bench::blocks_gbuffer;
-
 
 HbaoSettings settings(float radius_scale = 1.0f, int steps = kHbaoDefaultSteps) {
   HbaoSettings st;
@@ -51,7 +49,13 @@ void BM_HbaoRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(hbao(g, settings(scale), opt));
   state.counters["radius"] = kRadius * scale;
 }
-BENCHMARK(BM_HbaoRadius)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HbaoRadius)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_HbaoRadiusDensity(benchmark::State& state) {
   const GBuffer g = gbuffer();
@@ -63,7 +67,13 @@ void BM_HbaoRadiusDensity(benchmark::State& state) {
   state.counters["radius"] = kRadius * float(scale);
   state.counters["steps"] = kHbaoDefaultSteps * scale;
 }
-BENCHMARK(BM_HbaoRadiusDensity)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HbaoRadiusDensity)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Constant sample density in the disc of radius R: N_s and N_d both grow with R, so the
 // samples per pixel grow as R² (at x8: 64 directions x 64 steps).
@@ -78,7 +88,13 @@ void BM_HbaoRadiusArea(benchmark::State& state) {
   state.counters["radius"] = kRadius * float(scale);
   state.counters["samples"] = double(st.directions * st.steps);
 }
-BENCHMARK(BM_HbaoRadiusArea)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HbaoRadiusArea)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

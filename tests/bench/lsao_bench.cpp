@@ -9,17 +9,15 @@
 //  - BM_LsaoSweep, BM_LsaoGather: the two phases apart, 2 threads (the paper's Table 2).
 #include <benchmark/benchmark.h>
 
+#include "core/methods/lsao/lsao.h"
+#include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
-
-#include "core/analytic_scenes.h"
-#include "core/lsao.h"
 
 namespace {
 
 using namespace aolab;
 using bench::kRadius;
 const auto gbuffer = bench::blocks_gbuffer;
-
 
 LsaoSettings settings(float radius_scale = 1.0f) {
   LsaoSettings s;
@@ -44,7 +42,13 @@ void BM_LsaoRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(lsao(g, settings(scale), opt));
   state.counters["radius"] = kRadius * scale;
 }
-BENCHMARK(BM_LsaoRadius)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LsaoRadius)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_LsaoSweep(benchmark::State& state) {
   const GBuffer g = gbuffer();

@@ -8,11 +8,10 @@
 //  - BM_DepthPyramid: building the pyramid alone (K = 3, all levels).
 #include <benchmark/benchmark.h>
 
+#include "core/methods/pyramid_hbao/depth_pyramid.h"
+#include "core/methods/pyramid_hbao/pyramid_hbao.h"
+#include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
-
-#include "core/analytic_scenes.h"
-#include "core/depth_pyramid.h"
-#include "core/pyramid_hbao.h"
 
 namespace {
 
@@ -35,10 +34,22 @@ void run_radius(benchmark::State& state, bool filter) {
 }
 
 void BM_PyramidHbaoRadius(benchmark::State& state) { run_radius(state, true); }
-BENCHMARK(BM_PyramidHbaoRadius)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PyramidHbaoRadius)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_PyramidHbaoRaw(benchmark::State& state) { run_radius(state, false); }
-BENCHMARK(BM_PyramidHbaoRaw)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PyramidHbaoRaw)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_DepthPyramid(benchmark::State& state) {
   const GBuffer g = gbuffer();

@@ -10,9 +10,9 @@
 //  - BM_Vao/<samples>: the plain `vao` method (spiral set, random rotation) at 1920x1080.
 #include <benchmark/benchmark.h>
 
-#include "core/analytic_scenes.h"
-#include "core/vao.h"
-#include "core/vao_pp.h"
+#include "core/methods/vao/vao.h"
+#include "core/methods/vao_pp/vao_pp.h"
+#include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
 
 namespace {

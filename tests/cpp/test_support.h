@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/analytic_scenes.h"
-#include "core/gbuffer.h"
+#include "core/base/gbuffer.h"
+#include "core/scenes/analytic_scenes.h"
 
 namespace aolab::testing {
 
@@ -34,7 +34,7 @@ struct SceneFixture {
 struct PlaneCase {
   double tilt, azimuth, fov;
 };
-inline const PlaneCase kOpenPlaneCases[] = {{0, 0, 60},  {30, 45, 60},    {60, 0, 90},
+inline const PlaneCase kOpenPlaneCases[] = {{0, 0, 60},   {30, 45, 60},    {60, 0, 90},
                                             {85, 30, 60}, {-85, 200, 120}, {89, 90, 30}};
 inline SceneFixture open_plane(const PlaneCase& c) {
   return SceneFixture("plane", 160, 90, {{"tilt", c.tilt}, {"azimuth", c.azimuth}, {"fov", c.fov}});

@@ -89,8 +89,8 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
             gain = std::sin(alpha) - std::sin(t_sample);
           } else {
             gain = std::sin(alpha) - std::sin(t_dir);
-            const double tolerance = kHbaoNormalTolerance +
-                                     kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
+            const double tolerance =
+                kHbaoNormalTolerance + kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
           if (gain > 0.0 && (best_r == 0.0 || gain > best_gain + kHbaoHorizonTie)) {

@@ -126,8 +126,8 @@ LsaoSweep lsao_oracle_sweep(const GBuffer& g, const LsaoSettings& s) {
           if (crit >= best) best = crit, best_sin = sin_h, best_rho = rho, found = true;
         }
         // Eq. 1 for one direction; no occluder: h = t.
-        const double o = found ? t_obscurance + std::max(0.0, best_sin - t_obscurance) * best_rho
-                               : t_obscurance;
+        const double o =
+            found ? t_obscurance + std::max(0.0, best_sin - t_obscurance) * best_rho : t_obscurance;
         sweep.buffer[plan.value_index(k, line.offset + i)] = float(o);
       }
     }

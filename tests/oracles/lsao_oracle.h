@@ -1,15 +1,15 @@
 // The brute-force line sweep: per receiver, every earlier sample of its line, in double
 // precision, with the 2-D geometry rebuilt from view-space positions (no obscure hull, no
-// cancellation-free shortcuts). It shares with core/lsao.cpp only the layout — which samples
-// a line visits (lsao_plan, lsao_line_samples) — so both look at the same points. The obscure
-// hull of §4.1 must return the same largest occluder except in the degenerate cases the
+// cancellation-free shortcuts). It shares with core/methods/lsao/lsao.cpp only the layout — which
+// samples a line visits (lsao_plan, lsao_line_samples) — so both look at the same points. The
+// obscure hull of §4.1 must return the same largest occluder except in the degenerate cases the
 // paper describes; tests/cpp/lsao_test.cpp measures how often it does not and what that costs
 // in the final AO (docs/methods/lsao.md, "The hull against brute force").
 #pragma once
 
-#include "core/gbuffer.h"
-#include "core/image.h"
-#include "core/lsao.h"
+#include "core/base/gbuffer.h"
+#include "core/base/image.h"
+#include "core/methods/lsao/lsao.h"
 
 namespace aolab {
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 PRESET_ORDER = ("low", "medium", "high", "ultra")
 QUICK_PRESETS = ("low", "medium", "high")
 
-#: The shared blur's parameters (Pyramid HBAO §3.5; core/blur.h defaults).
+#: The shared blur's parameters (Pyramid HBAO §3.5; core/filters/blur.h defaults).
 BLUR_SIGMA = 1.5
 BLUR_TAPS = 5
 

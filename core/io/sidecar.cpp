@@ -1,0 +1,214 @@
+#include "core/io/sidecar.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "core/base/check.h"
+#include "core/io/image_io.h"
+
+namespace aolab {
+
+namespace {
+
+// ordered_json keeps the keys in the order the document has them, so a sidecar passed
+// through save_gbuffer keeps the layout its writer chose.
+using Json = nlohmann::ordered_json;
+
+std::string key_list(const Json& doc) {
+  std::string s = "[";
+  bool first = true;
+  for (const auto& item : doc.items()) {
+    s += (first ? "" : ", ") + item.key();
+    first = false;
+  }
+  return s + "]";
+}
+
+// Every error about one key goes through here, so all of them name the key and the file.
+[[noreturn]] void bad_value(const std::string& source, const std::string& key,
+                            const std::string& requirement, const Json& value) {
+  throw_invalid("sidecar key \"" + key + "\" in " + source, requirement, value.dump());
+}
+
+// nullptr when the key is absent or null: an optional key written as null (what json.dumps
+// makes of None) means "not given".
+const Json* optional_key(const Json& doc, const char* key) {
+  const auto it = doc.find(key);
+  if (it == doc.end() || it->is_null()) return nullptr;
+  return &*it;
+}
+
+const Json& required_key(const Json& doc, const char* key, const std::string& source) {
+  const Json* value = optional_key(doc, key);
+  if (!value)
+    throw_invalid("sidecar " + source, "must have the required key \"" + std::string(key) + "\"",
+                  "keys " + key_list(doc));
+  return *value;
+}
+
+double finite_number(const Json& value, const char* key, const std::string& source) {
+  // JSON booleans are not numbers in nlohmann's model either, so `true` is rejected here.
+  if (!value.is_number()) bad_value(source, key, "must be a number", value);
+  const double d = value.get<double>();
+  if (!std::isfinite(d)) bad_value(source, key, "must be finite", value);
+  return d;
+}
+
+double positive_number(const Json& value, const char* key, const std::string& source) {
+  const double d = finite_number(value, key, source);
+  if (!(d > 0)) bad_value(source, key, "must be > 0", value);
+  return d;
+}
+
+int integer(const Json& value, const char* key, const std::string& source, int min_value) {
+  // Strict on purpose: 640.0 for a width means the writer computed it in floating point,
+  // which is worth fixing at the source rather than rounding here.
+  if (!value.is_number_integer()) bad_value(source, key, "must be an integer", value);
+  const bool fits =
+      value.is_number_unsigned()
+          ? value.get<std::uint64_t>() <= std::uint64_t(std::numeric_limits<int>::max())
+          : value.get<std::int64_t>() >= std::numeric_limits<int>::min() &&
+                value.get<std::int64_t>() <= std::numeric_limits<int>::max();
+  if (!fits) bad_value(source, key, "must fit in a 32-bit integer", value);
+  const int i = value.get<int>();
+  if (i < min_value) bad_value(source, key, "must be >= " + std::to_string(min_value), value);
+  return i;
+}
+
+std::array<double, 16> matrix4(const Json& value, const char* key, const std::string& source) {
+  const char* shape = "must be a 4x4 matrix as 4 rows of 4 numbers [[...], [...], [...], [...]]";
+  if (!value.is_array() || value.size() != 4) bad_value(source, key, shape, value);
+  std::array<double, 16> m{};
+  for (int r = 0; r < 4; ++r) {
+    const Json& row = value[std::size_t(r)];
+    if (!row.is_array() || row.size() != 4) bad_value(source, key, shape, value);
+    for (int c = 0; c < 4; ++c) {
+      const Json& e = row[std::size_t(c)];
+      if (!e.is_number() || !std::isfinite(e.get<double>()))
+        bad_value(source, key, "must hold finite numbers only", value);
+      m[std::size_t(4 * r + c)] = e.get<double>();
+    }
+  }
+  // Normals are rotated with the column-normalised upper-left 3x3 (Blender's
+  // matrix_world.to_3x3().normalized()): a zero axis cannot be normalised.
+  for (int c = 0; c < 3; ++c) {
+    const double len = std::hypot(m[std::size_t(c)], m[std::size_t(4 + c)], m[std::size_t(8 + c)]);
+    if (!(len > 0))
+      bad_value(source, key, "must have non-zero axis columns in its 3x3 part", value);
+  }
+  return m;
+}
+
+Json parse_json(const std::string& text, const std::string& source) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::exception& e) {
+    // parse_error and out_of_range (number overflow, e.g. 1e999): both mean invalid JSON.
+    throw std::invalid_argument("sidecar " + source + " is not valid JSON: " + e.what());
+  }
+}
+
+// The shortest decimal that reads back as the same float: 123.4f is written as 123.4, not
+// 123.40000152587891, and still loads as exactly the same float.
+double shortest_decimal(float v) {
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  double d = v;
+  std::from_chars(buf, res.ptr, d);
+  return d;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (!in) throw std::invalid_argument("sidecar " + path + " cannot be read");
+  return s.str();
+}
+
+}  // namespace
+
+std::string sidecar_path_for(const std::string& exr_path) {
+  return std::filesystem::path(exr_path).replace_extension(".json").string();
+}
+
+CameraSidecar parse_sidecar(const std::string& json_text, const std::string& source) {
+  const Json doc = parse_json(json_text, source);
+  if (!doc.is_object())
+    throw_invalid("sidecar " + source, "must be a JSON object {...}", std::string(doc.type_name()));
+
+  CameraSidecar s;
+  s.width = integer(required_key(doc, "width", source), "width", source, 1);
+  s.height = integer(required_key(doc, "height", source), "height", source, 1);
+  s.fx = positive_number(required_key(doc, "fx", source), "fx", source);
+  s.fy = positive_number(required_key(doc, "fy", source), "fy", source);
+  s.cx = finite_number(required_key(doc, "cx", source), "cx", source);
+  s.cy = finite_number(required_key(doc, "cy", source), "cy", source);
+  if (const Json* v = optional_key(doc, "camera_to_world")) {
+    s.camera_to_world = matrix4(*v, "camera_to_world", source);
+    s.has_camera_to_world = true;
+  }
+  if (const Json* v = optional_key(doc, "ao_distance"))
+    s.ao_distance = positive_number(*v, "ao_distance", source);
+  if (const Json* v = optional_key(doc, "samples")) s.samples = integer(*v, "samples", source, 0);
+  if (const Json* v = optional_key(doc, "background_depth")) {
+    const double d = positive_number(*v, "background_depth", source);
+    if (!std::isfinite(float(d)))
+      bad_value(source, "background_depth", "must fit in a float (< 3.4e38)", *v);
+    s.background_depth = float(d);
+  }
+  if (const Json* v = optional_key(doc, "normal_space")) {
+    if (!v->is_string() || (*v != "view" && *v != "world"))
+      bad_value(source, "normal_space", "must be \"view\" or \"world\"", *v);
+    s.normal_space = v->get<std::string>();
+  }
+  s.json_text = json_text;
+  return s;
+}
+
+CameraSidecar read_sidecar(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (std::filesystem::exists(path, ec))
+      throw std::invalid_argument("sidecar " + path + " is not a regular file");
+    throw FileNotFound(path, "camera sidecar");
+  }
+  return parse_sidecar(read_text(path), path);
+}
+
+void write_sidecar(const std::string& path, const std::string& json_text) {
+  // Refuse to write what read_sidecar would reject: the error belongs to the writer.
+  parse_sidecar(json_text, path);
+  write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << json_text;
+    if (json_text.empty() || json_text.back() != '\n') out << '\n';
+    out.close();
+    if (!out) throw std::runtime_error("cannot write sidecar " + path + " (via " + temporary + ")");
+  });
+}
+
+std::string sidecar_json_for(const GBuffer& g, const std::string& base_json) {
+  Json doc = base_json.empty() ? Json::object() : parse_json(base_json, "given to save_gbuffer");
+  if (!doc.is_object())
+    throw_invalid("sidecar", "must be a JSON object {...}", std::string(doc.type_name()));
+  doc["width"] = g.width();
+  doc["height"] = g.height();
+  doc["fx"] = shortest_decimal(g.camera.fx);
+  doc["fy"] = shortest_decimal(g.camera.fy);
+  doc["cx"] = shortest_decimal(g.camera.cx);
+  doc["cy"] = shortest_decimal(g.camera.cy);
+  doc["background_depth"] = shortest_decimal(g.background_depth);
+  doc["normal_space"] = "view";
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace aolab

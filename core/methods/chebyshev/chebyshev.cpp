@@ -1,0 +1,351 @@
+#include "core/methods/chebyshev/chebyshev.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "core/base/check.h"
+#include "core/base/parallel.h"
+
+namespace aolab {
+
+namespace {
+
+// One window size: half-widths along x (the horizontal pass) and y (the vertical pass).
+struct Level {
+  int rh, rv;
+};
+
+// The frame as the two passes read it: depth with background as 0 and a 0/1 weight, so the
+// passes can sum without branches (a background pixel adds 0 to every sum and to the count).
+struct Frame {
+  int w, h;
+  std::vector<float> depth, weight;
+  std::vector<int> level;  // per pixel: index into the level list, −1 = no window
+};
+
+// Horizontal pass of one row for half-width r (§III: "two mutually perpendicular blur
+// filters"), for the columns [lo, hi]: for each column x, over the symmetric segment
+// [x − rx, x + rx] with rx = min(r, x, w − 1 − x), the count n, s1 = Σ(f − c) and
+// s2 = Σ(f − c)² about a reference c in the segment: the pixel itself, or if it is background
+// the nearest valid pixel (left on ties), or 0 if the segment has none (n = 0). Sums of
+// offsets, never of raw depths: they keep their precision at any depth.
+void horizontal_row(const Frame& f, int y, int r, int lo, int hi, float* hn, float* hs1, float* hs2,
+                    float* hc, std::vector<int>& left, std::vector<int>& right) {
+  const int w = f.w;
+  const float* d = f.depth.data() + std::size_t(y) * w;
+  const float* m = f.weight.data() + std::size_t(y) * w;
+  for (int x = 0, last = -1; x < w; ++x) left[x] = last = m[x] != 0.0f ? x : last;
+  for (int x = w - 1, last = -1; x >= 0; --x) right[x] = last = m[x] != 0.0f ? x : last;
+  for (int x = lo; x <= hi; ++x) {
+    const int rx = std::min({r, x, w - 1 - x});
+    const int dl = left[x] >= 0 ? x - left[x] : w, dr = right[x] >= 0 ? right[x] - x : w;
+    const int nearest = dl <= dr ? left[x] : right[x];
+    hc[x] = std::min(dl, dr) <= rx ? d[nearest] : 0.0f;
+    hn[x] = hs1[x] = hs2[x] = 0.0f;
+  }
+  // Interior columns (rx = r): taps outer, columns inner, so the columns vectorise while each
+  // column still sums its taps in the order −r … r.
+  const int x0 = std::max(r, lo), x1 = std::min(w - r, hi + 1);  // [x0, x1)
+  for (int i = -r; i <= r && x0 < x1; ++i) {
+    for (int x = x0; x < x1; ++x) {
+      const float wi = m[x + i];
+      const float diff = wi * (d[x + i] - hc[x]);
+      hn[x] += wi;
+      hs1[x] += diff;
+      hs2[x] += diff * diff;
+    }
+  }
+  // Columns near the image border, same order of taps.
+  for (int x = lo; x <= hi; ++x) {
+    if (x >= x0 && x < x1) continue;
+    const int rx = std::min({r, x, w - 1 - x});
+    for (int i = -rx; i <= rx; ++i) {
+      const float wi = m[x + i];
+      const float diff = wi * (d[x + i] - hc[x]);
+      hn[x] += wi;
+      hs1[x] += diff;
+      hs2[x] += diff * diff;
+    }
+  }
+}
+
+// The quantised half-widths: 0 … kChebyshevExactLevels, then kChebyshevLevelsPerOctave per
+// octave up to the largest setting (1024).
+const std::vector<int>& level_table() {
+  static const std::vector<int> table = [] {
+    std::vector<int> t;
+    for (int r = 0; r <= kChebyshevExactLevels; ++r) t.push_back(r);
+    for (int i = 1;; ++i) {
+      const int r = int(
+          std::lround(kChebyshevExactLevels * std::exp2(double(i) / kChebyshevLevelsPerOctave)));
+      t.push_back(r);
+      if (r >= 1024) break;
+    }
+    return t;
+  }();
+  return table;
+}
+
+// Chessboard distance of every pixel to the nearest background pixel (background: 0; none:
+// a large value), by the two-pass 3×3 chamfer, which is exact for this metric. The window of
+// half-width r around a pixel holds no background iff r < distance.
+std::vector<int> background_distance(const Frame& f) {
+  const int w = f.w, h = f.h, far = 1 << 30;
+  std::vector<int> dist(std::size_t(w) * h);
+  for (std::size_t i = 0; i < dist.size(); ++i) dist[i] = f.weight[i] != 0.0f ? far : 0;
+  auto at = [&](int x, int y) { return dist[std::size_t(y) * w + x]; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int v = at(x, y);
+      if (x > 0) v = std::min(v, at(x - 1, y) + 1);
+      if (y > 0) {
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+          v = std::min(v, at(i, y - 1) + 1);
+      }
+      dist[std::size_t(y) * w + x] = v;
+    }
+  for (int y = h - 1; y >= 0; --y)
+    for (int x = w - 1; x >= 0; --x) {
+      int v = at(x, y);
+      if (x < w - 1) v = std::min(v, at(x + 1, y) + 1);
+      if (y < h - 1) {
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+          v = std::min(v, at(i, y + 1) + 1);
+      }
+      dist[std::size_t(y) * w + x] = v;
+    }
+  return dist;
+}
+
+struct Buffers {
+  std::vector<float> n, s1, s2, c;  // the horizontal pass, w·h each
+};
+
+}  // namespace
+
+int chebyshev_quantised_radius(double r, int cap) {
+  if (!(r >= 0.5) || cap <= 0) return 0;
+  if (r >= double(cap)) return cap;
+  if (r < kChebyshevExactLevels + 0.5) return std::min(cap, int(std::lround(r)));
+  const std::vector<int>& t = level_table();
+  const auto hi = std::upper_bound(t.begin(), t.end(), r);  // r < 1024 here
+  const int above = *hi, below = *(hi - 1);
+  return std::min(cap, r / below <= above / r ? below : above);  // the nearer in ratio
+}
+
+int chebyshev_level_below(int r) {
+  const std::vector<int>& t = level_table();
+  if (r >= t.back()) return t.back();
+  return *(std::upper_bound(t.begin(), t.end(), std::max(r, 0)) - 1);
+}
+
+float chebyshev_visibility(float gap, float variance, const ChebyshevSettings& s) {
+  const double var = std::max(0.0, double(variance));
+  double lambda = gap;
+  // Rounding of the window mean is not occlusion (kChebyshevMeanTolerance).
+  if (std::abs(lambda) <= kChebyshevMeanTolerance * std::sqrt(var + lambda * lambda)) lambda = 0;
+  // Eq. 3 (§III-B): only a receiver behind the mean is occluded; eq. 2: either side.
+  const double g = s.ignore_unoccluded ? std::max(lambda, 0.0) : std::abs(lambda);
+  if (!(g > 0.0)) return 1.0f;  // includes §III-A's σ² = 0, d = μ: P = ε/ε = 1
+  const double radius = s.radius;
+  const double biased = var + double(s.variance_bias) * radius * radius;  // σ² + ε (§III-A)
+  const double p = biased / (biased + g * g);                             // eq. 2 / eq. 3
+  if (!s.range_check) return float(std::clamp(p, 0.0, 1.0));
+  // §III-C: occluders far in front of the receiver (mean gap beyond R) fade out.
+  const double t = std::min(1.0, radius / g);
+  const double fade = t * t * (3.0 - 2.0 * t);
+  return float(std::clamp(1.0 - (1.0 - p) * fade, 0.0, 1.0));
+}
+
+Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  g.validate();
+  validate_settings(s, kChebyshevFields);
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const std::size_t pixels = std::size_t(w) * h;
+
+  Frame f{w, h, std::vector<float>(pixels), std::vector<float>(pixels), std::vector<int>(pixels)};
+  // Window half-width per pixel: R·fx/d (k ∝ 1/d, §III) quantised, or the fixed one.
+  const bool adaptive = s.kernel_mode == int(ChebyshevKernel::Adaptive);
+  std::vector<int> radius_of(pixels, 0);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        const bool valid = g.valid(x, y);
+        f.depth[i] = valid ? g.depth(x, y) : 0.0f;
+        f.weight[i] = valid ? 1.0f : 0.0f;
+        if (!valid) continue;
+        radius_of[i] =
+            adaptive ? chebyshev_quantised_radius(double(s.radius) * g.camera.fx / g.depth(x, y),
+                                                  s.max_kernel_radius)
+                     : s.kernel_radius;
+      }
+  });
+  // The vertical half-width of a window: R·fy/d = rh·fy/fx when adaptive, square otherwise.
+  const double aspect = double(g.camera.fy) / g.camera.fx;
+  auto vertical = [&](int rh) {
+    return adaptive ? int(std::min<double>(std::round(rh * aspect), s.max_kernel_radius)) : rh;
+  };
+  if (s.shrink_at_background) {
+    // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
+    // exactly 1 up to its silhouette).
+    const std::vector<int> dist = background_distance(f);
+    for (std::size_t i = 0; i < pixels; ++i) {
+      int r = radius_of[i];
+      while (r > 0 && std::max(r, vertical(r)) >= dist[i])
+        r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
+      radius_of[i] = r;
+    }
+  }
+  // The distinct half-widths (levels).
+  const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);
+  std::vector<int> index_of(std::size_t(max_r) + 1, -1);
+  for (int r : radius_of) index_of[r] = 0;
+  std::vector<Level> levels;
+  for (int r = 1; r <= max_r; ++r) {
+    if (index_of[r] < 0) continue;
+    index_of[r] = int(levels.size());
+    levels.push_back({r, vertical(r)});
+  }
+  for (std::size_t i = 0; i < pixels; ++i)
+    f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+  radius_of.clear();
+  radius_of.shrink_to_fit();
+
+  // Per level: the rows holding its receivers with their column span, and the rows and
+  // columns the horizontal pass must cover (the union of the spans of the receiver rows
+  // within their vertical half-width).
+  const int nl = int(levels.size());
+  std::vector<std::vector<int>> receiver_rows(nl), pass_rows(nl);
+  std::vector<std::vector<int>> span_lo(nl, std::vector<int>(h, w)),
+      span_hi(nl, std::vector<int>(h, -1));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int l = f.level[std::size_t(y) * w + x];
+      if (l < 0) continue;
+      span_lo[l][y] = std::min(span_lo[l][y], x);
+      span_hi[l][y] = std::max(span_hi[l][y], x);
+    }
+  std::vector<std::vector<int>> need_lo(nl), need_hi(nl);
+  std::int64_t total = 0;
+  for (int l = 0; l < nl; ++l) {
+    std::vector<int>& lo = need_lo[l];
+    std::vector<int>& hi = need_hi[l];
+    lo.assign(h, w), hi.assign(h, -1);
+    for (int y = 0; y < h; ++y) {
+      if (span_hi[l][y] < 0) continue;
+      receiver_rows[l].push_back(y);
+      const int ry = std::min({levels[l].rv, y, h - 1 - y});
+      for (int j = y - ry; j <= y + ry; ++j) {
+        lo[j] = std::min(lo[j], span_lo[l][y]);
+        hi[j] = std::max(hi[j], span_hi[l][y]);
+      }
+    }
+    for (int y = 0; y < h; ++y)
+      if (hi[y] >= 0) pass_rows[l].push_back(y);
+    total += std::int64_t(pass_rows[l].size() + receiver_rows[l].size());
+  }
+  if (options.progress) options.progress->total += total;
+
+  Image out(w, h, 3, 0.0f);
+  // Pixels without a window (half-width 0): the window is the pixel itself.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (f.weight[std::size_t(y) * w + x] != 0.0f && f.level[std::size_t(y) * w + x] < 0)
+        out(x, y, 0) = 1.0f;
+
+  if (total == 0)  // no window anywhere: still one tick, and a chance to cancel
+    parallel_for_rows(
+        1, 1, [](int, int) {}, options.progress);
+
+  Buffers b{std::vector<float>(nl ? pixels : 0), std::vector<float>(nl ? pixels : 0),
+            std::vector<float>(nl ? pixels : 0), std::vector<float>(nl ? pixels : 0)};
+  for (int l = 0; l < nl; ++l) {
+    const Level lv = levels[l];
+    const std::vector<int>& rows = pass_rows[l];
+    parallel_for_rows(
+        int(rows.size()), threads,
+        [&](int i0, int i1) {
+          std::vector<int> left(w), right(w);
+          for (int i = i0; i < i1; ++i) {
+            const int y = rows[i];
+            const std::size_t o = std::size_t(y) * w;
+            horizontal_row(f, y, lv.rh, need_lo[l][y], need_hi[l][y], b.n.data() + o,
+                           b.s1.data() + o, b.s2.data() + o, b.c.data() + o, left, right);
+          }
+        },
+        options.progress);
+    // Vertical pass: shift each row's sums from its reference c to the receiver's depth d,
+    //   Σ(f − d) = s1 + n·δ,  Σ(f − d)² = s2 + 2δ·s1 + n·δ²,  δ = c − d,
+    // exact identities evaluated in double; c lies in the receiver's window, so every term
+    // is bounded by the window's own Σ(f − d)² (no cancellation beyond that sum's rounding).
+    const std::vector<int>& recv = receiver_rows[l];
+    parallel_for_rows(
+        int(recv.size()), threads,
+        [&](int i0, int i1) {
+          std::vector<double> sn, s1, s2;
+          for (int i = i0; i < i1; ++i) {
+            const int y = recv[i];
+            const int xa = span_lo[l][y], xb = span_hi[l][y] + 1;
+            const int span = xb - xa;
+            sn.assign(span, 0.0), s1.assign(span, 0.0), s2.assign(span, 0.0);
+            const float* dr = f.depth.data() + std::size_t(y) * w + xa;
+            const int ry = std::min({lv.rv, y, h - 1 - y});
+            for (int j = -ry; j <= ry; ++j) {
+              const std::size_t o = std::size_t(y + j) * w + xa;
+              const float *hn = b.n.data() + o, *h1 = b.s1.data() + o, *h2 = b.s2.data() + o,
+                          *hc = b.c.data() + o;
+              for (int x = 0; x < span; ++x) {
+                const double n = hn[x], a = h1[x];
+                const double delta = double(hc[x]) - double(dr[x]);
+                sn[x] += n;
+                s1[x] += a + n * delta;
+                s2[x] += double(h2[x]) + delta * (2.0 * a + n * delta);
+              }
+            }
+            const int* level = f.level.data() + std::size_t(y) * w + xa;
+            for (int x = 0; x < span; ++x) {
+              if (level[x] != l) continue;
+              const double m1 = s1[x] / sn[x], m2 = s2[x] / sn[x];
+              out(xa + x, y, 0) = float(sn[x]);
+              out(xa + x, y, 1) = float(-m1);                          // λ = d − μ
+              out(xa + x, y, 2) = float(std::max(0.0, m2 - m1 * m1));  // σ² (§III)
+            }
+          }
+        },
+        options.progress);
+  }
+  return out;
+}
+
+Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  const Image moments = chebyshev_moments(g, s, options);
+  const int w = g.width(), h = g.height();
+  Image out(w, h, 1, 1.0f);
+  parallel_for_rows(h, resolve_threads(options.threads), [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x)
+        if (moments(x, y, 0) > 0.0f)
+          out(x, y) = chebyshev_visibility(moments(x, y, 1), moments(x, y, 2), s);
+  });
+  return out;
+}
+
+Method chebyshev_method() {
+  Method m;
+  m.name = "chebyshev";
+  m.title = "Chebyshev ambient occlusion";
+  m.paper = "Chan, Im 2021, Chebyshev Ambient Occlusion";
+  m.needs_normal = false;
+  m.settings = describe_settings(kChebyshevFields);
+  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
+    return chebyshev(g, settings_from_values(values, kChebyshevFields, "chebyshev"), options);
+  };
+  return m;
+}
+
+}  // namespace aolab

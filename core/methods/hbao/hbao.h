@@ -1,0 +1,128 @@
+// Horizon-based ambient occlusion: Bavoil, Sainz, Dimitrov, "Image-Space Horizon-Based
+// Ambient Occlusion", SIGGRAPH 2008 talk (shared/papers/hbao-bavoil-2008.md).
+//
+// A = 1 - (1/N_d) Σ_θ (sin h(θ) - sin t(θ)) W(θ)            (eq. 3, Monte Carlo over θ, §3)
+// t(θ): tangent angle from the normal; h(θ) = max(t, α(S_i)) over N_s texel-centre samples
+// within the eye-space radius R; α(S) = atan(D.z/|D.xy|), D = S - P; W = max(0, 1 - r/R)
+// with r the distance to the horizon sample. docs/methods/hbao.md gives the details.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "core/base/gbuffer.h"
+#include "core/base/image.h"
+#include "core/base/settings.h"
+#include "core/methods/registry.h"
+
+namespace aolab {
+
+/// N_d and N_s of the paper's Figure 1 (8 directions, 8 steps).
+constexpr int kHbaoDefaultDirections = 8;
+constexpr int kHbaoDefaultSteps = 8;
+
+/// Float32 rounding must not create occlusion: with per-sample tangents a sample counts only
+/// if it lies nearer than the tangent plane, along its own view ray, by more than
+/// 2^-24 · depth · (kHbaoDepthUlps + kHbaoNormalUlps · g), g = |r|/|n·r| summed over P's and
+/// the sample's rays (how much normal rounding moves a tangent-plane depth; large at grazing
+/// angles). With the paper's per-direction tangent the gain sin α - sin t must exceed
+/// kHbaoNormalTolerance + kHbaoDepthUlps · 2^-24 · max(d_P, d_S)/|D|. Either way an
+/// unoccluded plane gives exactly 1; only occluders within a few ulps of depth of the
+/// tangent plane are lost.
+constexpr float kHbaoDepthUlps = 8.0f;
+constexpr float kHbaoNormalUlps = 4.0f;
+constexpr float kHbaoNormalTolerance = 1e-6f;
+
+/// The horizon point's distance r sets W (eq. 3), so the choice among samples of nearly
+/// equal elevation must not hinge on rounding: a farther sample becomes the horizon only if
+/// its sin α - sin t exceeds the current one by more than this (ties go to the nearer
+/// sample, the first one met). 1e-5 in sine is far below any visible difference.
+constexpr float kHbaoHorizonTie = 1e-5f;
+
+struct HbaoSettings {
+  /// R: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
+  float radius = 1.0f;
+  /// N_d: directions around the view axis, uniformly spaced (§3). [1, 64].
+  int directions = kHbaoDefaultDirections;
+  /// N_s: equal steps the projected radius is split into (§3). [1, 512].
+  int steps = kHbaoDefaultSteps;
+  /// Rotate the N_d directions by a random angle per pixel ("trade banding for noise", §3).
+  bool random_rotation = true;
+  /// Jitter the steps per pixel: sample i at (i - u)·step, u ∈ [0, 1) per pixel (§3);
+  /// off: at i·step.
+  bool jitter = true;
+  /// The paper finds t(θ) by intersecting a view ray with the tangent plane (§3).
+  /// true: that construction on each sample's own view ray (through its snapped texel), so
+  /// the sample is compared with the tangent plane where it actually is and a plane is
+  /// exactly unoccluded. false: one t(θ) per direction, from the ray one pixel along θ;
+  /// snapping moves samples off θ, so a tilted plane then occludes itself slightly.
+  bool per_sample_tangent = true;
+  /// Where W is evaluated. false (eq. 3, the paper's estimator): W = 1 - r/R with r the
+  /// distance of the horizon sample, so a horizon that keeps rising towards R (a wall, a
+  /// crease) is weighted by a W near 0. true (eq. 2 discretised, W(ω) inside the elevation
+  /// integral): each rise of sin h along the march is weighted by W of the sample that
+  /// caused it — the form of NVIDIA's HBAO implementations, with stronger creases.
+  bool incremental_attenuation = false;
+  /// Seed of the per-pixel random rotation and jitter. [0, 2^31 - 1].
+  int seed = 0;
+};
+
+inline const SettingField<HbaoSettings> kHbaoFields[] = {
+    {"radius", &HbaoSettings::radius, 1e-12, 1e30, "view-space units",
+     "R, radius of influence (same as the reference's AO distance)"},
+    {"directions", &HbaoSettings::directions, 1, 64, "", "N_d, directions per pixel"},
+    {"steps", &HbaoSettings::steps, 1, 512, "", "N_s, steps per direction"},
+    {"random_rotation", &HbaoSettings::random_rotation, 0, 1, "",
+     "rotate the directions randomly per pixel"},
+    {"jitter", &HbaoSettings::jitter, 0, 1, "", "jitter the step offsets randomly per pixel"},
+    {"per_sample_tangent", &HbaoSettings::per_sample_tangent, 0, 1, "",
+     "intersect each sample's own view ray with the tangent plane (exact on planes); off: "
+     "one tangent per direction, as the paper words it"},
+    {"incremental_attenuation", &HbaoSettings::incremental_attenuation, 0, 1, "",
+     "weight each rise of the horizon by W of the sample that raised it (eq. 2) instead of "
+     "W of the final horizon (eq. 3)"},
+    {"seed", &HbaoSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
+};
+
+/// HBAO of a G-buffer with normals. Returns a 1-channel image in [0, 1]; background = 1.
+/// Throws std::invalid_argument for invalid settings, a G-buffer without normals (estimate
+/// them with prepared_normals if needed) or an invalid G-buffer; Cancelled if cancelled.
+Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& options = {});
+
+/// The registry entry.
+Method hbao_method();
+
+// ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
+// texels; the oracle re-derives everything else in double precision. ----
+
+struct HbaoPixelPattern {
+  float rotation;  ///< fraction of one direction spacing, [0, 1)
+  float jitter;    ///< step offset u, [0, 1)
+};
+
+HbaoPixelPattern hbao_pixel_pattern(const HbaoSettings& s, int x, int y);
+
+/// The N_d view-space directions θ_k = 2π (k + rotation) / N_d: a table of the unrotated
+/// directions built once, rotated per pixel (one sincos per pixel instead of N_d).
+class HbaoDirections {
+ public:
+  explicit HbaoDirections(int directions);
+  int size() const { return int(base_cos_.size()); }
+  /// cos/sin of the directions rotated by `rotation` (a fraction of the spacing, [0, 1)).
+  void rotated(float rotation, float* cos_out, float* sin_out) const;
+
+ private:
+  std::vector<float> base_cos_, base_sin_;
+};
+
+/// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
+/// radius projected and split into N_s steps; image y points down, view y up.
+inline void hbao_step(const CameraIntrinsics& cam, float radius, int steps, float depth, float c,
+                      float s, float& step_x, float& step_y) {
+  const float k = radius / (depth * float(steps));
+  step_x = c * cam.fx * k;
+  step_y = -s * cam.fy * k;
+}
+
+}  // namespace aolab

@@ -1,0 +1,248 @@
+#include "core/methods/vao/vao.h"
+
+#include <glm/geometric.hpp>
+#include <limits>
+#include <numbers>
+
+#include "core/base/parallel.h"
+#include "core/sampling/random.h"
+
+namespace aolab {
+
+namespace {
+constexpr float kFloatEpsilon = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
+}  // namespace
+
+VaoKernel vao_kernel(const std::vector<DiskPoint>& points) {
+  VaoKernel k;
+  for (const auto& p : points) {
+    k.x.push_back(p.x);
+    k.y.push_back(p.y);
+    k.h.push_back(float(std::sqrt(std::max(0.0, 1.0 - double(p.x) * p.x - double(p.y) * p.y))));
+  }
+  return k;
+}
+
+VaoKernel vao_spiral_kernel(int n) {
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  std::vector<DiskPoint> points;
+  for (int i = 0; i < n; ++i) {
+    const double rho = std::sqrt((i + 0.5) / n), phi = golden * i;
+    points.push_back({float(rho * std::cos(phi)), float(rho * std::sin(phi))});
+  }
+  return vao_kernel(points);
+}
+
+VaoKernel rotated(const VaoKernel& k, float angle) {
+  VaoKernel out = k;
+  const double c = std::cos(double(angle)), s = std::sin(double(angle));
+  for (int i = 0; i < k.size(); ++i) {
+    out.x[std::size_t(i)] = float(c * k.x[std::size_t(i)] - s * k.y[std::size_t(i)]);
+    out.y[std::size_t(i)] = float(s * k.x[std::size_t(i)] + c * k.y[std::size_t(i)]);
+  }
+  return out;
+}
+
+void vao_random_rotation(const VaoKernel& base, std::uint32_t seed, int x, int y, VaoKernel& out) {
+  const float angle = float(2.0 * std::numbers::pi) * pixel_random(seed, x, y, 0);
+  const float ca = std::cos(angle), sa = std::sin(angle);
+  out.x.resize(base.x.size());
+  out.y.resize(base.y.size());
+  out.h = base.h;
+  for (std::size_t i = 0; i < base.x.size(); ++i) {
+    out.x[i] = ca * base.x[i] - sa * base.y[i];
+    out.y[i] = sa * base.x[i] + ca * base.y[i];
+  }
+}
+
+double vao_eq2_normaliser(const VaoKernel& k, double radius) {
+  double sum = 0.0;
+  for (float h : k.h) sum += h;
+  return radius * sum;
+}
+
+VaoCase vao_case(const VaoPipe& pipe, float surface_depth, float tolerance) {
+  if (!(surface_depth < pipe.back - tolerance)) return VaoCase::B;  // NaN: background
+  if (surface_depth <= pipe.front) return VaoCase::C;
+  return VaoCase::A;
+}
+
+float vao_unoccluded_length(const VaoPipe& pipe, float surface_depth, float tolerance,
+                            bool range_check, float radius) {
+  const float full = pipe.back - pipe.front;
+  float open;
+  switch (vao_case(pipe, surface_depth, tolerance)) {
+    case VaoCase::B:
+      return full;
+    case VaoCase::C:
+      open = 0.0f;
+      break;
+    default:
+      open = surface_depth - pipe.front;
+      break;
+  }
+  if (!range_check) return open;
+  // §4.4: the occluded part is weighted by s(d), d = how far the sample point (the middle of
+  // the pipe) lies behind the surface.
+  const float behind = 0.5f * (pipe.front + pipe.back) - surface_depth;
+  const float s = behind > 0.0f ? vao_range_falloff(behind, radius) : 1.0f;
+  return full - (full - open) * s;
+}
+
+VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
+  VaoFrame f;
+  f.width = g.width();
+  f.height = g.height();
+  f.camera = g.camera;
+  f.depth.resize(std::size_t(f.width) * f.height);
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      f.depth[std::size_t(y) * f.width + x] =
+          g.valid(x, y) ? g.depth(x, y) : std::numeric_limits<float>::quiet_NaN();
+  f.normals = prepared_normals(g, threads);
+  if (with_color && g.has_color()) {
+    f.color = Image(f.width, f.height, 3);
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const float v = g.color(x, y, c);
+          f.color(x, y, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+        }
+  }
+  return f;
+}
+
+VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y, const float* sx,
+                       const float* sy, const float* sh, int n) {
+  VaoPixelSums out;
+  const int w = f.width, h = f.height;
+  const std::size_t idx = std::size_t(y) * w + x;
+  const float d = f.depth[idx];
+  const glm::vec3 nrm(f.normals.data()[3 * idx], f.normals.data()[3 * idx + 1],
+                      f.normals.data()[3 * idx + 2]);
+  const CameraIntrinsics& cam = f.camera;
+  const float inv_fx = 1.0f / cam.fx, inv_fy = 1.0f / cam.fy;
+  const glm::vec3 v0((float(x) + 0.5f - cam.cx) * inv_fx, -(float(y) + 0.5f - cam.cy) * inv_fy,
+                     -1.0f);
+  const glm::vec3 p = d * v0;
+  const float r = 0.5f * o.radius;  // the tangent sphere (§3)
+  const glm::vec3 c = p + r * nrm;
+  const float dc = -c.z;
+  if (!(dc > 0.0f) || !std::isfinite(dc)) return out;  // the disc is not in front of the camera
+  const float inv_dc = 1.0f / dc;
+  // |C|² - r² = |P|² + 2r P·n, without forming r² (no cancellation, no overflow first).
+  const float c_term = d * d * glm::dot(v0, v0) + 2.0f * r * d * glm::dot(v0, nrm);
+  const float inv_radius = 1.0f / o.radius;
+
+  for (int i = 0; i < n; ++i) {
+    const float ox = r * sx[i], oy = r * sy[i];
+    const float px = cam.cx + cam.fx * (c.x + ox) * inv_dc;
+    const float py = cam.cy - cam.fy * (c.y + oy) * inv_dc;
+    // Off-screen samples carry no information: left out (the test also rejects NaN).
+    if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
+    const int ix = int(px), iy = int(py);
+    const float ds = f.depth[std::size_t(iy) * w + ix];
+    VaoPipe pipe;
+    float full, tolerance;
+    if (o.view_ray_pipes) {
+      // The view ray X = δ v through the texel centre meets |X - C| = r at
+      // δ = (b ± sqrt(b² - a·c_term))/a, a = |v|², b = v·C; δ is planar depth.
+      const glm::vec3 v((float(ix) + 0.5f - cam.cx) * inv_fx, -(float(iy) + 0.5f - cam.cy) * inv_fy,
+                        -1.0f);
+      const float a = glm::dot(v, v), b = glm::dot(v, c);
+      const float disc = b * b - a * c_term;
+      if (!(disc > 0.0f)) continue;  // the ray misses the sphere: no pipe
+      const float sq = std::sqrt(disc);
+      if (!(b + sq > 0.0f) || !std::isfinite(b + sq)) continue;
+      pipe.back = (b + sq) / a;
+      pipe.front = std::max(0.0f, c_term / (b + sq));  // the camera may be inside
+      full = pipe.back - pipe.front;
+      // Rounding of b, c_term (and of P and n in them) moves δ by ~ε (|b| + sq + (b² +
+      // |a c_term|)/sq)/a: ill-conditioned for rays grazing the sphere (small sq).
+      tolerance = kFloatEpsilon * kVaoDepthUlps *
+                  (std::abs(ds) + (std::abs(b) + sq + (b * b + std::abs(a * c_term)) / sq) / a);
+    } else {
+      const float half = r * sh[i];  // half the pipe parallel to the view axis
+      pipe = {dc - half, dc + half};
+      full = 2.0f * half;  // Σ full = R Σ h_i: F of eq. 2
+      tolerance = kFloatEpsilon * kVaoDepthUlps * (std::abs(ds) + d + r);
+    }
+    if (!(full > 0.0f)) continue;
+    float open;
+    if ((ix == x && iy == y) || vao_case(pipe, ds, tolerance) == VaoCase::B) {
+      open = full;  // case B; on P's own texel the surface is P, where the sphere touches it
+    } else {
+      open = std::min(full, vao_unoccluded_length(pipe, ds, tolerance, o.range_check, o.radius));
+    }
+    out.open += open;
+    out.full += full;
+    if (o.bleeding_step > 0 && i % o.bleeding_step == 0 && ds == ds) {
+      // Eq. 5: c(x) = max(0, (x - p)·n/|x - p|) (1 - |x - p|/radius)², x the sample point.
+      const glm::vec3 to_sample = r * nrm + glm::vec3(ox, oy, 0.0f);
+      const float len = glm::length(to_sample);
+      const float cosine = len > 0.0f ? std::max(0.0f, glm::dot(to_sample, nrm) / len) : 0.0f;
+      const float fall = std::max(0.0f, 1.0f - len * inv_radius);
+      const float weight = cosine * fall * fall;
+      const float* col = f.color.data() + 3 * (std::size_t(iy) * w + ix);
+      for (int k = 0; k < 3; ++k) out.bleed[k] += 1.0f + weight * (col[k] - 1.0f);
+      ++out.bleed_count;
+    }
+  }
+  return out;
+}
+
+Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
+  g.validate();
+  if (!g.has_normal())
+    throw_invalid("normal",
+                  "is required by vao, which reads view-space normals (estimate them "
+                  "from depth with GBuffer.prepared_normals())",
+                  "none");
+  validate_settings(s, kVaoFields);
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const VaoFrame frame = vao_frame(g, false, threads);
+  const VaoKernel kernel = vao_spiral_kernel(s.samples);
+  VaoPixelOptions po;
+  po.radius = s.radius;
+  po.view_ray_pipes = s.view_ray_pipes;
+
+  Image out(w, h, 1, 1.0f);
+  if (options.progress) options.progress->total += h;
+  parallel_for_rows(
+      h, threads,
+      [&](int y0, int y1) {
+        VaoKernel scratch;
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w; ++x) {
+            if (!(frame.depth[std::size_t(y) * w + x] == frame.depth[std::size_t(y) * w + x]))
+              continue;  // background: 1
+            const VaoKernel* k = &kernel;
+            if (s.random_rotation) {
+              vao_random_rotation(kernel, std::uint32_t(s.seed), x, y, scratch);
+              k = &scratch;
+            }
+            out(x, y) =
+                vao_pixel(frame, po, x, y, k->x.data(), k->y.data(), k->h.data(), k->size()).ao();
+          }
+      },
+      options.progress);
+  return out;
+}
+
+Method vao_method() {
+  Method m;
+  m.name = "vao";
+  m.title = "Volumetric ambient occlusion";
+  m.paper =
+      "Szirmay-Kalos, Umenhoffer, Toth, Szecsi, Sbert 2010, Volumetric Ambient Occlusion "
+      "for Real-Time Rendering and Games (as outlined in VAO++ 2017, section 3)";
+  m.needs_normal = true;
+  m.settings = describe_settings(kVaoFields);
+  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
+    return vao(g, settings_from_values(values, kVaoFields, "vao"), options);
+  };
+  return m;
+}
+
+}  // namespace aolab

@@ -1,0 +1,283 @@
+#include "core/methods/vao_pp/vao_pp.h"
+
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <numbers>
+
+#include "core/base/parallel.h"
+#include "core/methods/vao_pp/bilateral.h"
+#include "core/sampling/poisson_disk.h"
+#include "core/sampling/random.h"
+
+namespace aolab {
+
+float vao_pp_luminance_factor(float lum, float threshold, float width, float sigma) {
+  // Eq. 3 prints min(1, max(0, lum - threshold + width)) / (2 width); the clamp is taken after
+  // the division (docs: the printed order gives a negative base above threshold + width).
+  const float t = std::clamp((lum - threshold + width) / (2.0f * width), 0.0f, 1.0f);
+  return std::pow(1.0f - t, sigma);
+}
+
+float vao_pp_lum(const float rgb[3], int mode) {
+  if (mode == 1) return std::max(rgb[0], std::max(rgb[1], rgb[2]));
+  return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
+
+int vao_pp_adaptive_samples(float diameter, float min_diameter, int max_samples) {
+  const double area_ratio = (double(diameter) / min_diameter) * (double(diameter) / min_diameter);
+  if (!(area_ratio >= 2.0)) return std::min(kVaoPpMinSamples, max_samples);
+  if (!std::isfinite(area_ratio)) return max_samples;
+  int exponent;
+  std::frexp(area_ratio, &exponent);  // area_ratio = m·2^e, m in [0.5, 1): floor(log2) = e - 1
+  const int doublings = exponent - 1;
+  return doublings >= 5 ? max_samples : std::min(max_samples, kVaoPpMinSamples << doublings);
+}
+
+namespace {
+
+constexpr int kSetSizes[] = {2, 4, 8, 16, 32};
+
+int set_index(int n) {
+  int i = 0;
+  while (kSetSizes[i] != n) ++i;
+  return i;
+}
+
+// The sample sets of §4.1 and §4.5. Poisson: per size, the 9 rotations of the 3×3 tile
+// (tile (x mod 3, y mod 3) takes rotation (x mod 3) + 3 (y mod 3)), all turned by the seed's
+// angle. Spiral: per size one set, turned per pixel by a random angle.
+class SampleSets {
+ public:
+  SampleSets(bool poisson, int seed) : poisson_(poisson), seed_(std::uint32_t(seed)) {
+    const float seed_angle =
+        seed ? float(2.0 * std::numbers::pi) * pixel_random(seed_, -1, -1, 7) : 0.0f;
+    for (int s = 0; s < 5; ++s) {
+      const int n = kSetSizes[s];
+      if (poisson) {
+        const VaoKernel base = vao_kernel(rotation_aware_poisson_disk(n).points);
+        for (int k = 0; k < kPoissonRotations; ++k)
+          sets_[s].push_back(
+              rotated(base, seed_angle + float(2.0 * std::numbers::pi * k / kPoissonRotations)));
+      } else {
+        sets_[s].push_back(vao_spiral_kernel(n));
+      }
+    }
+  }
+
+  // The set of n samples for pixel (x, y); `scratch` holds a per-pixel rotation.
+  const VaoKernel& get(int n, int x, int y, VaoKernel& scratch) const {
+    const auto& sets = sets_[set_index(n)];
+    if (poisson_) return sets[std::size_t((x % 3) + 3 * (y % 3))];
+    vao_random_rotation(sets[0], seed_, x, y, scratch);
+    return scratch;
+  }
+
+ private:
+  bool poisson_;
+  std::uint32_t seed_;
+  std::array<std::vector<VaoKernel>, 5> sets_;
+};
+
+bool is_power_of_two_set(int n) {
+  for (int s : kSetSizes)
+    if (s == n) return true;
+  return false;
+}
+
+// §4.2: the bilinear fetch of the low-resolution AO (texel centres at (i + 0.5)·8, clamped
+// to the edge) at each of the pixel's four corners; occlusion if any is below the threshold.
+bool occlusion_nearby(const Image& low, int x, int y, float threshold) {
+  const int lw = low.width(), lh = low.height();
+  auto texel = [&](int i, int j) {
+    return low(std::clamp(i, 0, lw - 1), std::clamp(j, 0, lh - 1));
+  };
+  for (int b = 0; b <= 1; ++b)
+    for (int a = 0; a <= 1; ++a) {
+      const float u = float(x + a) / float(kVaoPpCullFactor) - 0.5f;
+      const float v = float(y + b) / float(kVaoPpCullFactor) - 0.5f;
+      const float fu = std::floor(u), fv = std::floor(v);
+      const int i = int(fu), j = int(fv);
+      const float tu = u - fu, tv = v - fv;
+      const float top = texel(i, j) + tu * (texel(i + 1, j) - texel(i, j));
+      const float bottom = texel(i, j + 1) + tu * (texel(i + 1, j + 1) - texel(i, j + 1));
+      if (top + tv * (bottom - top) < threshold) return true;
+    }
+  return false;
+}
+
+void validate_vao_pp(const GBuffer& g, const VaoPpSettings& s) {
+  g.validate();
+  if (!g.has_normal())
+    throw_invalid("normal",
+                  "is required by vao_pp, which reads view-space normals (estimate "
+                  "them from depth with GBuffer.prepared_normals())",
+                  "none");
+  validate_settings(s, kVaoPpFields);
+  if (!is_power_of_two_set(s.samples))
+    throw_invalid("samples", "must be 2, 4, 8, 16 or 32 (the sample sets of 4.1)", s.samples);
+  if (s.filter_taps % 2 == 0) throw_invalid("filter_taps", "must be odd", s.filter_taps);
+  if (s.bleeding_sample_step == 3)
+    throw_invalid("bleeding_sample_step", "must be 1, 2 or 4", s.bleeding_sample_step);
+  if (s.color_bleeding && !g.has_color())
+    throw_invalid("color", "is required by vao_pp with color_bleeding on", "none");
+  if (s.luminance_sensitivity && !g.has_color())
+    throw_invalid("color", "is required by vao_pp with luminance_sensitivity on", "none");
+}
+
+}  // namespace
+
+Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options,
+             VaoPpStats* stats) {
+  validate_vao_pp(g, s);
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const VaoFrame frame = vao_frame(g, s.color_bleeding, threads);
+  const SampleSets sets(s.poisson_samples, s.seed);
+  VaoPixelOptions po;
+  po.radius = s.radius;
+  po.view_ray_pipes = s.view_ray_pipes;
+  po.range_check = s.range_check;
+  auto is_geometry = [&](int x, int y) {
+    const float d = frame.depth[std::size_t(y) * w + x];
+    return d == d;
+  };
+
+  const auto culling = VaoPpCulling(s.culling);
+  const int lw = (w + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
+  const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
+  if (options.progress) options.progress->total += (culling != VaoPpCulling::Off ? lh : 0) + h;
+  std::atomic<std::int64_t> prepass_pixels{0}, pixels{0}, culled{0}, samples{0};
+
+  // §4.2: AO at 1/8 resolution, 8 samples, at the pixel nearest each low-res texel's centre.
+  Image low;
+  if (culling != VaoPpCulling::Off) {
+    low = Image(lw, lh, 1, 1.0f);
+    parallel_for_rows(
+        lh, threads,
+        [&](int j0, int j1) {
+          VaoKernel scratch;
+          std::int64_t count = 0;
+          for (int j = j0; j < j1; ++j)
+            for (int i = 0; i < lw; ++i) {
+              const int x = std::min(i * kVaoPpCullFactor + kVaoPpCullFactor / 2, w - 1);
+              const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
+              if (!is_geometry(x, y)) continue;
+              const VaoKernel& k = sets.get(kVaoPpCullSamples, x, y, scratch);
+              low(i, j) =
+                  vao_pixel(frame, po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size()).ao();
+              ++count;
+            }
+          prepass_pixels += count;
+        },
+        options.progress);
+  }
+
+  // Pass 1 (§3): occlusion, and with colour bleeding the bleed colour B, into a working image
+  // of 1 or 4 channels (A, B_r, B_g, B_b).
+  const int nc = s.color_bleeding ? 4 : 1;
+  Image work(w, h, nc, 1.0f);
+  VaoPixelOptions full_po = po;
+  full_po.bleeding_step = s.color_bleeding ? s.bleeding_sample_step : 0;
+  const float inv_height = 1.0f / float(h);
+  parallel_for_rows(
+      h, threads,
+      [&](int y0, int y1) {
+        VaoKernel scratch;
+        std::int64_t band_pixels = 0, band_culled = 0, band_samples = 0;
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w; ++x) {
+            if (!is_geometry(x, y)) continue;
+            ++band_pixels;
+            int n = s.samples;
+            if (s.adaptive_sampling) {
+              // §4.1: the disc of diameter R at the sphere centre's depth, projected.
+              const std::size_t idx = std::size_t(y) * w + x;
+              const float dc =
+                  frame.depth[idx] - 0.5f * s.radius * frame.normals.data()[3 * idx + 2];
+              const float diameter =
+                  dc > 0.0f ? s.radius * g.camera.fy / dc * inv_height : INFINITY;
+              n = vao_pp_adaptive_samples(diameter, s.adaptive_min_diameter, s.samples);
+            }
+            if (culling != VaoPpCulling::Off && !occlusion_nearby(low, x, y, s.cull_threshold)) {
+              ++band_culled;
+              if (culling == VaoPpCulling::Greedy) continue;  // left at 1 (and white)
+              n = std::min(n, kVaoPpCarefulSamples);
+            }
+            const VaoKernel& k = sets.get(n, x, y, scratch);
+            const VaoPixelSums sums =
+                vao_pixel(frame, full_po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size());
+            band_samples += n;
+            work(x, y, 0) = sums.ao();
+            if (s.color_bleeding && sums.bleed_count > 0)
+              for (int c = 0; c < 3; ++c)
+                work(x, y, 1 + c) = sums.bleed[c] / float(sums.bleed_count);
+          }
+        pixels += band_pixels;
+        culled += band_culled;
+        samples += band_samples;
+      },
+      options.progress);
+
+  // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
+  if (s.filter)
+    work = cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius, threads,
+                                  options.progress);
+
+  // Pass 3: luminance sensitivity (eq. 3) on the occlusion 1 - A, then A·B.
+  if (s.luminance_sensitivity) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!is_geometry(x, y)) continue;
+        float rgb[3];
+        for (int c = 0; c < 3; ++c) {
+          float v = g.color(x, y, c) + (g.has_emission() ? g.emission(x, y, c) : 0.0f);
+          rgb[c] = std::isfinite(v) ? v : 0.0f;
+        }
+        const float factor =
+            vao_pp_luminance_factor(vao_pp_lum(rgb, s.luminance_mode), s.luminance_threshold,
+                                    s.luminance_width, s.luminance_sigma);
+        work(x, y, 0) = 1.0f - (1.0f - work(x, y, 0)) * factor;
+      }
+  }
+  if (stats) {
+    stats->pixels = pixels;
+    stats->culled = culled;
+    stats->samples = samples;
+    stats->prepass_pixels = prepass_pixels;
+  }
+  if (!s.color_bleeding) return work;
+  Image out(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        out(x, y, c) = std::clamp(work(x, y, 0) * work(x, y, 1 + c), 0.0f, 1.0f);
+  return out;
+}
+
+Method vao_pp_method() {
+  Method m;
+  m.name = "vao_pp";
+  m.title = "VAO++: practical volumetric ambient occlusion";
+  m.paper =
+      "Boksansky, Pospisil, Bittner 2017, VAO++: Practical Volumetric Ambient Occlusion "
+      "for Games";
+  m.needs_normal = true;
+  m.needs_color = true;  // with luminance_sensitivity or color_bleeding only
+  m.color_needed_by = [](const SettingValues& values) -> std::string {
+    auto on = [&](const char* name) {
+      const auto it = values.find(name);
+      return it != values.end() && it->second != 0.0;
+    };
+    if (on("color_bleeding")) return "color_bleeding";
+    if (on("luminance_sensitivity")) return "luminance_sensitivity";
+    return "";
+  };
+  m.settings = describe_settings(kVaoPpFields);
+  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
+    return vao_pp(g, settings_from_values(values, kVaoPpFields, "vao_pp"), options);
+  };
+  return m;
+}
+
+}  // namespace aolab

@@ -1,0 +1,37 @@
+// Shared pieces of the bindings: numpy <-> ImageView without copies, the Python G-buffer.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+#include "core/base/gbuffer.h"
+#include "core/base/image.h"
+
+namespace aolab::python {
+
+namespace py = pybind11;
+
+/// float32, C-contiguous; other dtypes and layouts are converted (copied) once at the boundary,
+/// float32 C-contiguous arrays pass through untouched.
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+/// Checks ndim/shape and returns a view. `channels` = 0 means a 2-D (H, W) array; otherwise
+/// (H, W, channels) — or any of `channels` and `alt_channels` when alt_channels > 0.
+ConstImageView view_of(const FloatArray& a, const std::string& name, int channels,
+                       int alt_channels = 0);
+
+/// Moves an Image into a numpy array (no copy): (H, W) for 1 channel, else (H, W, C).
+py::array_t<float> to_numpy(Image&& image);
+
+/// The G-buffer as Python sees it: keeps its arrays alive and hands out a core view.
+struct PyGBuffer {
+  FloatArray depth;
+  py::object normal = py::none();    // FloatArray or None
+  py::object color = py::none();     // FloatArray or None
+  py::object emission = py::none();  // FloatArray or None
+  GBuffer view;                      // points into the arrays above
+};
+
+}  // namespace aolab::python

@@ -1,0 +1,125 @@
+// Method registry and compute(): settings dicts become SettingValues before the GIL is
+// released for the computation.
+#include "core/methods/registry.h"
+
+#include <pybind11/stl.h>
+
+#include "core/methods/vao_pp/vao_pp.h"
+#include "core/python/bindings/numpy_support.h"
+
+namespace aolab::python {
+
+namespace {
+
+const char* type_name(SettingType t) {
+  switch (t) {
+    case SettingType::Bool:
+      return "bool";
+    case SettingType::Int:
+      return "int";
+    default:
+      return "float";
+  }
+}
+
+py::dict describe(const Method& m) {
+  py::list settings;
+  for (const auto& s : m.settings) {
+    py::dict d;
+    d["name"] = s.name;
+    d["type"] = type_name(s.type);
+    if (s.type == SettingType::Bool)
+      d["default"] = s.default_value != 0.0;
+    else if (s.type == SettingType::Int)
+      d["default"] = int(s.default_value);
+    else
+      d["default"] = s.default_value;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["unit"] = s.unit;
+    d["description"] = s.description;
+    settings.append(d);
+  }
+  py::dict out;
+  out["name"] = m.name;
+  out["title"] = m.title;
+  out["paper"] = m.paper;
+  out["needs_normal"] = m.needs_normal;
+  out["needs_color"] = m.needs_color;
+  out["settings"] = settings;
+  return out;
+}
+
+}  // namespace
+
+SettingValues to_setting_values(const py::dict& d) {
+  SettingValues values;
+  for (const auto& [key, value] : d) {
+    const std::string name = py::str(key);
+    if (py::isinstance<py::bool_>(value) || py::isinstance<py::int_>(value) ||
+        py::isinstance<py::float_>(value) || py::hasattr(value, "__float__")) {
+      try {
+        values[name] = value.cast<double>();
+        continue;
+      } catch (const py::cast_error&) {
+      }
+    }
+    throw_invalid(name, "must be a number or a bool", py::repr(value).cast<std::string>());
+  }
+  return values;
+}
+
+void bind_methods(py::module_& m) {
+  m.def("methods", [] {
+    std::vector<std::string> names;
+    for (const auto& method : methods()) names.push_back(method.name);
+    return names;
+  });
+  m.def(
+      "method_info", [](const std::string& name) { return describe(find_method(name)); },
+      py::arg("method"));
+  m.def(
+      "compute",
+      [](const std::string& method, const PyGBuffer& g, const py::dict& settings, int threads,
+         Progress* progress) {
+        const SettingValues values = to_setting_values(settings);
+        RunOptions options{threads, progress};
+        Image ao;
+        {
+          py::gil_scoped_release release;
+          ao = compute(method, g.view, values, options);
+        }
+        return to_numpy(std::move(ao));
+      },
+      py::arg("method"), py::arg("gbuffer"), py::arg("settings"), py::kw_only(),
+      py::arg("threads") = 0, py::arg("progress") = nullptr);
+
+  // VAO++ with what the run did (core/methods/vao_pp/vao_pp.h VaoPpStats): the culled share of §4.2
+  // and the mean sample count of §4.1.
+  m.def(
+      "vao_pp_with_stats",
+      [](const PyGBuffer& g, const py::dict& settings, int threads, Progress* progress) {
+        const SettingValues values = to_setting_values(settings);
+        if (!values.count("radius")) throw_invalid("radius", "is required", "nothing");
+        const VaoPpSettings s = settings_from_values(values, kVaoPpFields, "vao_pp");
+        RunOptions options{threads, progress};
+        VaoPpStats stats;
+        Image ao;
+        {
+          py::gil_scoped_release release;
+          ao = vao_pp(g.view, s, options, &stats);
+        }
+        py::dict d;
+        d["pixels"] = stats.pixels;
+        d["culled"] = stats.culled;
+        d["culled_share"] = stats.culled_share();
+        d["samples"] = stats.samples;
+        d["mean_samples"] = stats.mean_samples();
+        d["prepass_pixels"] = stats.prepass_pixels;
+        return py::make_tuple(to_numpy(std::move(ao)), d);
+      },
+      py::arg("gbuffer"), py::arg("settings"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("progress") = nullptr);
+}
+
+}  // namespace aolab::python

@@ -1,0 +1,259 @@
+// SSIM as in Wang et al. 2004 and scikit-image's structural_similarity with gaussian_weights:
+// five Gaussian-filtered planes (a, b, a², b², ab; scipy.ndimage.gaussian_filter with mode
+// 'reflect'), population moments from them, eq. (13) per pixel, eq. (17) mean over the interior.
+//
+// The filter is separable. Rows are processed in blocks: a block first filters horizontally the
+// rows it needs (its own rows and `radius` reflected rows above and below), then vertically,
+// and hands each finished row of S to the caller. Every S value is computed by the same
+// arithmetic whichever block computes it, so the result does not depend on the thread count.
+#include "core/scoring/ssim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/base/check.h"
+#include "core/base/parallel.h"
+#include "core/scoring/metrics.h"
+
+namespace aolab {
+
+namespace {
+
+// Rows per work unit. parallel_for_rows hands out a few units at a time and each call filters
+// its rows as one block, so a block recomputes 2·radius rows of horizontal filtering; with
+// units of 8 rows (blocks of a few dozen) that overhead stays small while 1080p still splits
+// into more blocks than there are cores.
+constexpr int kRowsPerUnit = 8;
+
+// A window wider than this is surely a mistake (sigma in the wrong unit), and would only
+// allocate huge scratch rows.
+constexpr double kMaxRadius = 1024;
+
+// Number of filtered planes: a, b, a², b², a·b.
+constexpr int kPlanes = 5;
+
+void require_one_channel(const std::string& name, const ConstImageView& image) {
+  if (image.channels != 1) throw_invalid(name, "must have 1 channel", image.channels);
+}
+
+void require_positive_finite(const std::string& name, double value) {
+  if (!(std::isfinite(value) && value > 0)) throw_invalid(name, "must be finite and > 0", value);
+}
+
+// scipy.ndimage's 'reflect' extension (half-sample symmetric, d c b a | a b c d | d c b a):
+// periodic with period 2n, mirrored in the second half. Valid for any i, also when |i| > n,
+// which happens for images narrower than the window.
+int reflect(int i, int n) {
+  const int period = 2 * n;
+  int m = i % period;
+  if (m < 0) m += period;
+  return m < n ? m : period - 1 - m;
+}
+
+// The normalised Gaussian taps of scipy's _gaussian_kernel1d: exp(−x² / 2σ²), x in [−r, r],
+// divided by their sum.
+std::vector<double> gaussian_weights(double sigma, int radius) {
+  std::vector<double> w(std::size_t(2 * radius + 1));
+  const double scale = -0.5 / (sigma * sigma);
+  double sum = 0;
+  for (int x = -radius; x <= radius; ++x) {
+    const double v = std::exp(scale * double(x) * double(x));
+    w[std::size_t(x + radius)] = v;
+    sum += v;
+  }
+  for (double& v : w) v /= sum;
+  return w;
+}
+
+// Computes S row by row and calls row_done(y, s) with the W values of row y (from worker
+// threads, each row once). Inputs are assumed validated. Where `mask` is non-empty and zero,
+// both images read as 1 (see mean_ssim).
+template <class RowDone>
+void compute_ssim_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
+                       const SsimConstants& k, const std::vector<double>& w, int threads,
+                       const RowDone& row_done) {
+  const int width = a.width, height = a.height, r = k.radius;
+  const int taps = 2 * r + 1;
+  const std::size_t padded = std::size_t(width + 2 * r);
+  const bool masked = !mask.empty();
+
+  // Source column of every padded position, the same for every row.
+  std::vector<int> column(padded);
+  for (int i = 0; i < width + 2 * r; ++i) column[std::size_t(i)] = reflect(i - r, width);
+
+  const int units = (height + kRowsPerUnit - 1) / kRowsPerUnit;
+  parallel_for_rows(units, threads, [&](int u0, int u1) {
+    const int y0 = u0 * kRowsPerUnit;
+    const int y1 = std::min(height, u1 * kRowsPerUnit);
+    const int rows = y1 - y0 + 2 * r;  // horizontally filtered rows y0 − r .. y1 + r − 1
+    const std::size_t plane = std::size_t(rows) * std::size_t(width);
+    std::vector<double> h(plane * kPlanes);
+    std::vector<double> pa(padded), pb(padded);
+
+    // Horizontal pass over the (reflected) source rows this block needs.
+    for (int e = 0; e < rows; ++e) {
+      const int sy = reflect(y0 - r + e, height);
+      const float* ra = a.row(sy);
+      const float* rb = b.row(sy);
+      const float* rm = masked ? mask.row(sy) : nullptr;
+      for (std::size_t i = 0; i < padded; ++i) {
+        const int sx = column[i];
+        const bool background = rm && rm[sx] == 0.0f;
+        pa[i] = background ? 1.0 : double(ra[sx]);
+        pb[i] = background ? 1.0 : double(rb[sx]);
+      }
+      double* out = h.data() + std::size_t(e) * std::size_t(width);
+      for (int x = 0; x < width; ++x) {
+        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+        for (int t = 0; t < taps; ++t) {
+          const double wt = w[std::size_t(t)];
+          const double va = pa[std::size_t(x + t)], vb = pb[std::size_t(x + t)];
+          sa += wt * va;
+          sb += wt * vb;
+          saa += wt * (va * va);
+          sbb += wt * (vb * vb);
+          sab += wt * (va * vb);
+        }
+        out[x] = sa;
+        out[plane + std::size_t(x)] = sb;
+        out[2 * plane + std::size_t(x)] = saa;
+        out[3 * plane + std::size_t(x)] = sbb;
+        out[4 * plane + std::size_t(x)] = sab;
+      }
+    }
+
+    // Vertical pass, then eq. (13) per pixel, in skimage's order of operations.
+    std::vector<double> acc(std::size_t(width) * kPlanes);
+    std::vector<double> s(static_cast<std::size_t>(width));
+    for (int y = y0; y < y1; ++y) {
+      std::fill(acc.begin(), acc.end(), 0.0);
+      for (int t = 0; t < taps; ++t) {
+        const double wt = w[std::size_t(t)];
+        const std::size_t row_offset = std::size_t(y - y0 + t) * std::size_t(width);
+        for (int q = 0; q < kPlanes; ++q) {
+          const double* src = h.data() + std::size_t(q) * plane + row_offset;
+          double* dst = acc.data() + std::size_t(q) * std::size_t(width);
+          for (int x = 0; x < width; ++x) dst[x] += wt * src[x];
+        }
+      }
+      const double* ua = acc.data();
+      const double* ub = ua + width;
+      const double* uaa = ub + width;
+      const double* ubb = uaa + width;
+      const double* uab = ubb + width;
+      for (int x = 0; x < width; ++x) {
+        // Population (not sample) moments, eqs. (14)–(16): the Gaussian weights sum to 1.
+        const double va = uaa[x] - ua[x] * ua[x];
+        const double vb = ubb[x] - ub[x] * ub[x];
+        const double vab = uab[x] - ua[x] * ub[x];
+        const double a1 = 2 * ua[x] * ub[x] + k.c1;
+        const double a2 = 2 * vab + k.c2;
+        const double b1 = ua[x] * ua[x] + ub[x] * ub[x] + k.c1;
+        const double b2 = va + vb + k.c2;
+        s[std::size_t(x)] = (a1 * a2) / (b1 * b2);
+      }
+      row_done(y, s.data());
+    }
+  });
+}
+
+void validate_pair(ConstImageView a, ConstImageView b) {
+  require_one_channel("a", a);
+  if (a.empty())
+    throw_invalid("a", "must not be empty",
+                  std::to_string(a.width) + "x" + std::to_string(a.height));
+  require_same_size("a", a, "b", b);
+  require_one_channel("b", b);
+}
+
+}  // namespace
+
+SsimConstants ssim_constants(const SsimSettings& settings) {
+  require_positive_finite("settings.sigma", settings.sigma);
+  require_positive_finite("settings.truncate", settings.truncate);
+  require_positive_finite("settings.k1", settings.k1);
+  require_positive_finite("settings.k2", settings.k2);
+  require_positive_finite("settings.data_range", settings.data_range);
+  // scipy's radius: int(truncate · sigma + 0.5).
+  const double radius = settings.truncate * settings.sigma + 0.5;
+  if (radius > kMaxRadius)
+    throw_invalid("settings.sigma",
+                  "times settings.truncate must give a window radius <= " +
+                      std::to_string(int(kMaxRadius)) + " px",
+                  radius);
+  SsimConstants k;
+  k.radius = int(radius);
+  // Wang et al. 2004: C1 = (K1 L)², C2 = (K2 L)².
+  k.c1 = (settings.k1 * settings.data_range) * (settings.k1 * settings.data_range);
+  k.c2 = (settings.k2 * settings.data_range) * (settings.k2 * settings.data_range);
+  return k;
+}
+
+Image ssim_map(ConstImageView a, ConstImageView b, const SsimSettings& settings, int threads) {
+  const SsimConstants k = ssim_constants(settings);
+  validate_pair(a, b);
+  require_finite("a", a, {}, threads);
+  require_finite("b", b, {}, threads);
+  const std::vector<double> w = gaussian_weights(settings.sigma, k.radius);
+  Image out(a.width, a.height, 1);
+  compute_ssim_rows(a, b, {}, k, w, threads, [&](int y, const double* s) {
+    float* dst = out.data() + std::size_t(y) * std::size_t(a.width);
+    for (int x = 0; x < a.width; ++x) dst[x] = float(s[x]);
+  });
+  return out;
+}
+
+double mean_ssim(ConstImageView a, ConstImageView b, ConstImageView mask,
+                 const SsimSettings& settings, int threads) {
+  const SsimConstants k = ssim_constants(settings);
+  validate_pair(a, b);
+  const bool masked = !mask.empty();
+  if (masked) {
+    require_same_size("a", a, "mask", mask);
+    require_one_channel("mask", mask);
+  }
+  require_finite("a", a, mask, threads);
+  require_finite("b", b, mask, threads);
+  const std::vector<double> w = gaussian_weights(settings.sigma, k.radius);
+
+  // skimage's crop(S, radius): the interior, where the window reads no reflected pixel.
+  const int r = k.radius;
+  const int x_begin = r, x_end = a.width - r, y_begin = r, y_end = a.height - r;
+
+  struct RowSums {
+    double interior = 0, all = 0;
+    std::int64_t interior_count = 0, all_count = 0;
+  };
+  std::vector<RowSums> rows(std::size_t(a.height));
+  compute_ssim_rows(a, b, mask, k, w, threads, [&](int y, const double* s) {
+    RowSums sums;
+    const float* m = masked ? mask.row(y) : nullptr;
+    const bool interior_row = y >= y_begin && y < y_end;
+    for (int x = 0; x < a.width; ++x) {
+      if (m && m[x] == 0.0f) continue;
+      sums.all += s[x];
+      ++sums.all_count;
+      if (interior_row && x >= x_begin && x < x_end) {
+        sums.interior += s[x];
+        ++sums.interior_count;
+      }
+    }
+    rows[std::size_t(y)] = sums;
+  });
+  RowSums total;
+  for (const RowSums& s : rows) {  // rows in order: the same bits for any thread count
+    total.interior += s.interior;
+    total.all += s.all;
+    total.interior_count += s.interior_count;
+    total.all_count += s.all_count;
+  }
+  if (total.all_count == 0) throw_invalid("mask", "must select at least one pixel", 0);
+  // No scored pixel in the interior (an image under 2·radius + 1 px, or a mask hugging the
+  // border): the border pixels are all there is, so score them rather than refuse.
+  if (total.interior_count == 0) return total.all / double(total.all_count);
+  return total.interior / double(total.interior_count);
+}
+
+}  // namespace aolab

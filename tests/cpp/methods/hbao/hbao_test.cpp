@@ -1,0 +1,173 @@
+// Known answers for HBAO (Bavoil et al. 2008) on analytic scenes, agreement with the
+// double-precision oracle, and determinism.
+#include "core/methods/hbao/hbao.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tests/cpp/test_support.h"
+#include "tests/oracles/hbao_oracle.h"
+
+namespace aolab {
+namespace {
+
+using testing::min_valid;
+using testing::SceneFixture;
+
+using testing::PlaneCase;
+class HbaoOpenPlane : public ::testing::TestWithParam<PlaneCase> {};
+
+// An unoccluded plane has h(θ) = t(θ) in every direction: A = 1 exactly, whatever the tilt,
+// the random rotation and jitter, the radius or the step count.
+TEST_P(HbaoOpenPlane, IsExactlyOne) {
+  const SceneFixture f = testing::open_plane(GetParam());
+  for (float radius : {0.3f, 1.0f, 5.0f})
+    for (int steps : {4, 16}) {
+      HbaoSettings s;
+      s.radius = radius;
+      s.steps = steps;
+      const Image ao = hbao(f.g, s);
+      EXPECT_EQ(min_valid(ao, f.g), 1.0f) << "radius " << radius << " steps " << steps;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Tilts, HbaoOpenPlane, ::testing::ValuesIn(testing::kOpenPlaneCases));
+
+// The paper's per-direction tangent with texel snapping occludes a tilted plane slightly
+// (the reason per_sample_tangent exists); a plane facing the camera stays exactly 1.
+TEST(Hbao, PerDirectionTangentShowsSnappingBiasOnTiltedPlane) {
+  HbaoSettings s;
+  s.per_sample_tangent = false;
+  SceneFixture facing("plane");
+  EXPECT_EQ(min_valid(hbao(facing.g, s), facing.g), 1.0f);
+  SceneFixture tilted("plane", 160, 90, {{"tilt", 60}});
+  EXPECT_LT(min_valid(hbao(tilted.g, s), tilted.g), 0.99f);
+}
+
+TEST(Hbao, MatchesOracle) {
+  for (const char* scene : {"blocks", "crease", "wall", "step"})
+    for (int mode = 0; mode < 3; ++mode) {
+      const bool per_sample = mode != 1;
+      SceneFixture f(scene, 128, 72);
+      HbaoSettings s;
+      s.radius = std::string(scene) == "blocks" ? 0.5f : 1.0f;
+      s.per_sample_tangent = per_sample;
+      s.incremental_attenuation = mode == 2;
+      const Image fast = hbao(f.g, s), oracle = hbao_oracle(f.g, s);
+      float worst = 0;
+      for (std::size_t i = 0; i < fast.pixels().size(); ++i)
+        worst = std::max(worst, std::abs(fast.pixels()[i] - oracle.pixels()[i]));
+      EXPECT_LT(worst, 1e-4f) << scene << " mode " << mode;
+    }
+}
+
+// Eq. 2's per-rise weighting darkens creases: a wall's horizon keeps rising towards R, so
+// eq. 3 weights it by the W of its farthest sample, eq. 2 by the W of each rise. (Not a
+// per-pixel inequality: 3-D distance need not grow along an image-space march.)
+TEST(Hbao, IncrementalAttenuationDarkensCreases) {
+  SceneFixture f("wall", 160, 90);
+  HbaoSettings eq3, eq2;
+  eq2.incremental_attenuation = true;
+  const Image a = hbao(f.g, eq3), b = hbao(f.g, eq2);
+  double mean_a = 0, mean_b = 0, crease_a = 0, crease_b = 0;
+  int crease = 0;
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 160; ++x) {
+      mean_a += a(x, y), mean_b += b(x, y);
+      if (f.scene.reference(x, y) < 0.6f) crease_a += a(x, y), crease_b += b(x, y), ++crease;
+    }
+  ASSERT_GT(crease, 50);
+  EXPECT_LT(mean_b, mean_a);
+  EXPECT_LT(crease_b / crease, crease_a / crease - 0.05);
+}
+
+TEST(Hbao, BitIdenticalAcrossThreadCounts) {
+  SceneFixture f("blocks", 200, 120);
+  HbaoSettings s;
+  s.radius = 0.5f;
+  RunOptions one, two, eight;
+  one.threads = 1;
+  two.threads = 2;
+  eight.threads = 8;
+  const Image a = hbao(f.g, s, one), b = hbao(f.g, s, two), c = hbao(f.g, s, eight);
+  EXPECT_EQ(a.pixels(), b.pixels());
+  EXPECT_EQ(a.pixels(), c.pixels());
+}
+
+TEST(Hbao, SeedChangesNoiseButNotMean) {
+  SceneFixture f("blocks", 200, 120);
+  HbaoSettings s0, s1;
+  s0.radius = s1.radius = 0.5f;
+  s1.seed = 7;
+  const Image a = hbao(f.g, s0), b = hbao(f.g, s1);
+  EXPECT_NE(a.pixels(), b.pixels());
+  double ma = 0, mb = 0;
+  for (std::size_t i = 0; i < a.pixels().size(); ++i) ma += a.pixels()[i], mb += b.pixels()[i];
+  EXPECT_NEAR(ma / a.pixels().size(), mb / b.pixels().size(), 2e-3);
+}
+
+TEST(Hbao, OcclusionGrowsWithRadiusAndStaysInRange) {
+  SceneFixture f("crease", 160, 90);
+  double previous = 1.0;
+  for (float radius : {0.25f, 0.5f, 1.0f, 2.0f}) {
+    HbaoSettings s;
+    s.radius = radius;
+    s.random_rotation = s.jitter = false;
+    const Image ao = hbao(f.g, s);
+    double mean = 0;
+    for (float v : ao.pixels()) {
+      ASSERT_GE(v, 0.0f);
+      ASSERT_LE(v, 1.0f);
+      mean += v;
+    }
+    mean /= double(ao.pixels().size());
+    EXPECT_LT(mean, previous) << "radius " << radius;
+    previous = mean;
+  }
+}
+
+TEST(Hbao, BackgroundIsOneAndNeverOccludes) {
+  // A step scene whose raised half is replaced by background: the floor beside it must be
+  // as unoccluded as an open floor.
+  const testing::StepBesideBackground scene;
+  const GBuffer& g = scene.g;
+  const Image ao = hbao(g, HbaoSettings{});
+  for (float v : ao.pixels()) EXPECT_EQ(v, 1.0f);
+}
+
+TEST(Hbao, RejectsBadSettings) {
+  SceneFixture f("plane", 8, 8);
+  HbaoSettings s;
+  s.radius = 0.0f;
+  EXPECT_THROW(hbao(f.g, s), std::invalid_argument);
+  s.radius = NAN;
+  EXPECT_THROW(hbao(f.g, s), std::invalid_argument);
+  s = {};
+  s.directions = 0;
+  try {
+    hbao(f.g, s);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("directions"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Hbao, ComputeThroughRegistryNamesMissingNormals) {
+  SceneFixture f("plane", 8, 8);
+  GBuffer g = f.g;
+  g.normal = {};
+  try {
+    compute("hbao", g, {{"radius", 1.0}});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("normal"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(compute("hbao", f.g, {}), std::invalid_argument);                 // no radius
+  EXPECT_THROW(compute("nope", f.g, {{"radius", 1.0}}), std::invalid_argument);  // no method
+  EXPECT_THROW(compute("hbao", f.g, {{"radius", 1.0}, {"bogus", 1}}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace aolab
