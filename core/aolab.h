@@ -1,4 +1,22 @@
 // AO Lab core: screen-space ambient occlusion methods, scored against ray-traced AO.
+// Including this header gives the whole public C++ API.
+//
+// Layers (docs/architecture.md); each uses only the layers above it in this list:
+// - core/base/      checks that throw (check.h), images and strided views (image.h), setting
+//                   tables (settings.h), row-parallel loops with progress and cancellation
+//                   (parallel.h), pinhole intrinsics (camera.h), the G-buffer and the
+//                   background rule (gbuffer.h).
+// - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
+//                   rotation-aware Poisson-disk sets (poisson_disk.h).
+// - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
+//                   sidecar JSON (sidecar.h).
+// - core/scoring/   MAE, RMSE, PSNR, bias and SSIM against a reference (metrics.h, ssim.h).
+// - core/filters/   the separable Gaussian applied after a method (blur.h).
+// - core/scenes/    analytic scenes with closed-form Cycles AO (analytic_scenes.h).
+// - core/methods/   the registry (registry.h: every method by name, with its settings table)
+//                   and one folder per method; a method's helpers in its folder are private.
+// The Python bindings (core/python/) and the Blender add-on sit on top; nothing here knows
+// of Python or Blender.
 //
 // Principles (docs/conventions.md has the details):
 // - Units. AO is ambient accessibility in [0, 1] (1 = unoccluded). View space is Blender's
@@ -9,8 +27,8 @@
 //   never an occluder, excluded from metrics.
 // - Errors. Input is validated at the API boundary; invalid input throws
 //   std::invalid_argument whose message starts with the parameter's name and ends with the
-//   offending value. Internal invariants throw std::logic_error (core/base/check.h). Nothing here
-//   calls exit or abort: the library runs inside Blender.
+//   offending value. Internal invariants throw std::logic_error (core/base/check.h). Nothing
+//   here calls exit or abort: the library runs inside Blender.
 // - Threads. Heavy calls take a thread count (0 = all cores) and an optional Progress with
 //   a cancel flag. Randomness is a pure function of (seed, pixel, stream), so results are
 //   bit-identical for any thread count. No global mutable state: two computations can run
@@ -19,15 +37,38 @@
 //   used without copies; results are owning Images.
 #pragma once
 
+// core/base
 #include "core/base/camera.h"
+#include "core/base/check.h"
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
-#include "core/filters/blur.h"
+#include "core/base/settings.h"
+
+// core/sampling
+#include "core/sampling/blue_noise.h"
+#include "core/sampling/poisson_disk.h"
+#include "core/sampling/random.h"
+
+// core/io
 #include "core/io/image_io.h"
 #include "core/io/sidecar.h"
-#include "core/methods/hbao/hbao.h"
-#include "core/methods/registry.h"
-#include "core/scenes/analytic_scenes.h"
+
+// core/scoring
 #include "core/scoring/metrics.h"
 #include "core/scoring/ssim.h"
+
+// core/filters
+#include "core/filters/blur.h"
+
+// core/scenes
+#include "core/scenes/analytic_scenes.h"
+
+// core/methods: the registry and every method
+#include "core/methods/chebyshev/chebyshev.h"
+#include "core/methods/hbao/hbao.h"
+#include "core/methods/lsao/lsao.h"
+#include "core/methods/pyramid_hbao/pyramid_hbao.h"
+#include "core/methods/registry.h"
+#include "core/methods/vao/vao.h"
+#include "core/methods/vao_pp/vao_pp.h"

@@ -3,10 +3,10 @@
     blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE OUT.png
 
 Builds a reference scene, enables the AO Lab add-on, opens the 3D viewport's sidebar on the
-AO Lab tab, with an Image Editor beside it, then clicks through Preview, Render Reference (64 samples, cached) and Compare
-with their real modal operators (INVOKE_DEFAULT, driven by the event loop), shows the
-lowest-MAE method's error map in the Image Editor, saves a screenshot and quits. Exits with
-code 1 (and no screenshot) if a step fails.
+AO Lab tab, with an Image Editor beside it, then clicks through Preview, Render Reference
+(64 samples, cached) and Compare with their real modal operators (INVOKE_DEFAULT, driven by
+the event loop), shows the lowest-MAE method's error map in the Image Editor, saves a
+screenshot and quits. Exits with code 1 (and no screenshot) if a step fails.
 """
 import runpy
 import sys
@@ -18,7 +18,7 @@ import bpy
 BUILD, CACHE, OUT = sys.argv[sys.argv.index("--") + 1:][:3]
 SCALE = 25           # % of the scene's 1280x720: 320x180
 SAMPLES = 64         # a quick reference; the panel's default is 1024
-PRESET = "medium"    # each method's preset, where this build has the comparison study
+PRESET = "medium"    # each method's preset, where it has one
 UI_SCALE = 1.0       # Blender's default text size
 SIDEBAR_EXTRA = 200  # px added to the sidebar's width
 EDGE = 1             # px inside the sidebar's left edge: where dragging resizes it
@@ -30,11 +30,10 @@ def build_scene():
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     runpy.run_path(BUILD, run_name="__main__")
-    addon_utils.enable("aolab_addon", default_set=True)
-    global study
-    from aolab_addon import study
+    addon_utils.enable("aolab_blender", default_set=True)
+    from aolab.presets import preset_names
     prefs = bpy.context.preferences
-    prefs.addons["aolab_addon"].preferences.cache_dir = CACHE
+    prefs.addons["aolab_blender"].preferences.cache_dir = CACHE
     prefs.view.show_splash = False
     scene = bpy.context.scene
     scene.aolab.preview_scale = SCALE
@@ -42,7 +41,7 @@ def build_scene():
     for method in scene.aolab.methods:
         group = getattr(scene.aolab, "m_" + method)
         group.use_method = True
-        if PRESET in study.preset_names(method):
+        if PRESET in preset_names(method):
             group.preset = PRESET
 
 

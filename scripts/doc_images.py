@@ -13,10 +13,14 @@ from pathlib import Path
 import numpy as np
 
 import aolab
-from aolab.report import signed_error_rgb
+from aolab.scoring import signed_error_rgb
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "images"
+
+
+def grey(a):
+    return np.repeat(a[..., None], 3, axis=2)
 
 
 def main(scenes):
@@ -35,8 +39,8 @@ def main(scenes):
             ms = (time.perf_counter() - t0) * 1000
             m = aolab.metrics(ao, g.reference, mask)
             err = np.where(mask, ao - g.reference, 0.0)
-            grey = lambda a: np.repeat(a[..., None], 3, axis=2)
-            strip = np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err, 0.5)], axis=1)
+            strip = np.concatenate([grey(g.reference), grey(ao), signed_error_rgb(err, 0.5)],
+                                   axis=1)
             aolab.write_image(OUT / f"{scene}_{method}.png",
                               np.ascontiguousarray(strip[::2, ::2], dtype=np.float32))
             print(f"| {scene} | {method} | {m['mae']:.4f} | {m['ssim']:.4f} | "

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Algorithm 1 of Timonen 2013 (the obscure hull), transcribed separately from core/methods/lsao/lsao.cpp,
-against brute force on rows of a reference depth buffer.
+"""Algorithm 1 of Timonen 2013 (the obscure hull), transcribed separately from
+core/methods/lsao/lsao.cpp, against brute force on rows of a reference depth buffer.
 
 Sweeps every third row of a 320x180 tile in both horizontal directions, with the paper's
 2-D coordinates p_k = (p.xy . D, p.z), fixed sin t = -0.85 and eq. 2, and reports:

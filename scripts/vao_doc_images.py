@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import aolab
-from aolab.report import signed_error_rgb
+from aolab.scoring import signed_error_rgb
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "images"
@@ -25,8 +25,8 @@ VARIANTS = [
     ("vao", dict(view_ray_pipes=False), "VAO, pipes parallel to the view axis (paper)"),
     ("vao_pp", {}, "VAO++, defaults"),
     ("vao_pp", dict(adaptive_sampling=False), "VAO++ without adaptive sampling"),
-    ("vao_pp", dict(culling=0), "VAO++ without culling"),
-    ("vao_pp", dict(culling=1), "VAO++ with greedy culling"),
+    ("vao_pp", dict(culling="off"), "VAO++ without culling"),
+    ("vao_pp", dict(culling="greedy"), "VAO++ with greedy culling"),
     ("vao_pp", dict(range_check=False), "VAO++ without range check"),
     ("vao_pp", dict(poisson_samples=False), "VAO++ with the spiral set instead of Poisson"),
     ("vao_pp", dict(filter=False), "VAO++ without the low-pass filter"),
@@ -89,7 +89,8 @@ def coloured_blocks():
     save("blocks_vao_pp_luminance.png",
          np.concatenate([grey(ao), grey(lum), np.clip(colour + emission, 0, 1)], axis=1), step=1)
     diff = np.abs(rgb - ao[..., None])
-    print(f"\nblocks 640x360 R 0.5: bleeding |A·B - A| mean {diff.mean():.4f} max {diff.max():.4f}; "
+    print(f"\nblocks 640x360 R 0.5: bleeding |A·B - A| mean {diff.mean():.4f} "
+          f"max {diff.max():.4f}; "
           f"luminance: AO mean {ao[side].mean():.4f} -> {lum[side].mean():.4f} on glowing faces, "
           f"{ao[~side].mean():.4f} -> {lum[~side].mean():.4f} elsewhere")
 

@@ -16,6 +16,10 @@
 
 Prints `AOLAB_STAGE <stage>` lines, `AOLAB_ERROR <message>` on a problem the user can act
 on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
+
+Run as a file, not imported: it puts its own parent folder (blender_addon/, which holds this
+package) first on sys.path, and before it the folder of the aolab package that started
+Blender ($AOLAB_PACKAGE_PATH, set by aolab.reference), so that Blender uses that same build.
 """
 
 import argparse
@@ -26,11 +30,14 @@ import sys
 import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+if os.environ.get("AOLAB_PACKAGE_PATH"):
+    sys.path.insert(0, os.environ["AOLAB_PACKAGE_PATH"])
 
 import bpy  # noqa: E402
+from aolab.bridge.constants import LADDER_SPP  # noqa: E402
+from aolab.bridge.passes import parse_passes  # noqa: E402
 
 from aolab_blender import export, peers  # noqa: E402
-from aolab_blender.passes import parse_passes  # noqa: E402
 
 
 def parse(argv):
@@ -46,7 +53,7 @@ def parse(argv):
     p.add_argument("--camera")
     p.add_argument("--extra", default="{}")
     p.add_argument("--peers", action="store_true")
-    p.add_argument("--ladder", default=",".join(str(s) for s in peers.LADDER_SPP))
+    p.add_argument("--ladder", default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
     return p.parse_args(argv)
 
@@ -66,6 +73,7 @@ def main(argv):
         if scene.world is None:
             raise export.BridgeError("the scene has no world, so no AO distance: pass --radius")
         radius = scene.world.light_settings.distance
+
     def stage(name: str) -> None:
         print(f"AOLAB_STAGE {name}", flush=True)
 

@@ -1,7 +1,7 @@
 """Exporting a G-buffer and rendering the Cycles AO reference of a scene's camera (bpy).
 
 One call, export_reference(), makes two Cycles CPU renders at filter_width 0.01 (pixel-centre
-values, BLENDER_FACTS.md "Pixel filter"):
+values: one ray position per pixel; docs/blender_facts.md, "Pixel filter"):
 1. the G-buffer: only the passes asked for (Depth always; Normal, DiffCol, Emit as needed),
    gbuffer_samples samples (depth comes from sample 0; at this filter width normals and
    colours are the pixel-centre values, so 1 sample is exact);
@@ -24,14 +24,14 @@ import time
 import bpy
 import numpy as np
 
-from . import exr
-from .intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
-from .passes import PASSES
+from aolab.bridge import exr
+from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
+from aolab.bridge.intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
+from aolab.bridge.passes import PASSES
+
 from .state import SettingsRestorer
 
-BRIDGE_VERSION = 1
 FILTER_WIDTH = 0.01        # the minimum: one ray position per pixel, no mixing across edges
-BACKGROUND_DEPTH = 1e9     # Cycles writes 1e10 where nothing is hit (aolab's default rule)
 CAMERA_TYPE_NAMES = {"ORTHO": "orthographic", "PANO": "panoramic"}
 
 
@@ -247,7 +247,8 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
         layers = [("Depth", exr.find_pass(g, "Depth", ("Z",)), "float")]
         if "normal" in passes:
             n = exr.find_pass(g, "Normal", ("X", "Y", "Z"))
-            layers.append(("Normal", exr.world_to_view_normals(n, record["camera_to_world"]), "half"))
+            normal = exr.world_to_view_normals(n, record["camera_to_world"])
+            layers.append(("Normal", normal, "half"))
         ao = exr.find_pass(a, "AO", ("R", "G", "B"))
         depth = layers[0][1]
         if ao is not None and depth is not None:
@@ -261,7 +262,8 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
             layers.append(("Emit", exr.find_pass(g, "Emit", ("R", "G", "B")), "half"))
         missing = [name for name, data, _ in layers if data is None]
         if missing:
-            raise BridgeError(f"the render lacks the passes {missing}; channels: {sorted(g) + sorted(a)}")
+            raise BridgeError(f"the render lacks the passes {missing}; channels: "
+                              f"{sorted(g) + sorted(a)}")
 
         sidecar = {
             **record,

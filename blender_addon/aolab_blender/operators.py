@@ -2,9 +2,9 @@
 
 Preview, Render Reference, Compare and Write Report share one pattern (_JobOperator):
 `prepare()` reads everything it needs from Blender on the main thread and checks what the
-user can fix (UserError); a work.Job runs the heavy part in a thread (aolab's C++ with the
-GIL released, or a child process rendering the reference); `finish()` writes images and the
-results table on the main thread.
+user can fix (UserError); an aolab.bridge.jobs.Job runs the heavy part in a thread (aolab's
+C++ with the GIL released, or a child process rendering the reference); `finish()` writes
+images and the results table on the main thread.
 
 - invoke() (a click in the panel) is modal: an event timer polls the job, the panel and the
   window's progress indicator follow it, Esc or the panel's Cancel button stop it.
@@ -20,12 +20,10 @@ from pathlib import Path
 
 import bpy
 
-from . import images, lab, preferences, properties, study, work
-from .intrinsics import image_size
-from .passes import required_passes
+from . import images, preferences, properties
 
 TIMER_S = 0.1
-ACTIVE = {}   # the running job's operator class name -> work.Job (tests use it)
+ACTIVE = {}   # the running job's operator class name -> its Job (tests use it)
 
 
 class UserError(Exception):
@@ -47,20 +45,22 @@ def camera_problem(scene) -> str | None:
 def compare_size(scene) -> tuple[int, int]:
     """The output size scaled by the panel's resolution percentage."""
     r = scene.render
-    w, h = image_size(r.resolution_x, r.resolution_y, r.resolution_percentage)
+    w, h = properties.intrinsics.image_size(r.resolution_x, r.resolution_y,
+                                            r.resolution_percentage)
     pct = scene.aolab.preview_scale
     return max(1, w * pct // 100), max(1, h * pct // 100)
 
 
 def render_passes() -> list[str]:
     """The G-buffer passes every registered method needs (one cached render serves all)."""
-    return required_passes([lab.aolab.method_info(m) for m in lab.methods()], [])
+    infos = [properties.aolab.method_info(m) for m in properties.methods()]
+    return properties.passes.required_passes(infos, [])
 
 
 def scene_inputs(context, *, need_runs: bool = True) -> dict:
     scene = context.scene
-    if not lab.available():
-        raise UserError(f"{lab.NOT_BUILT} ({lab.IMPORT_ERROR})")
+    if not properties.available():
+        raise UserError(f"{properties.NOT_BUILT} ({properties.IMPORT_ERROR})")
     problem = camera_problem(scene)
     if problem:
         raise UserError(problem)
@@ -80,15 +80,27 @@ def scene_inputs(context, *, need_runs: bool = True) -> dict:
 
 
 def find_reference(inputs: dict, spp: int | None) -> Path | None:
-    return work.find_reference(inputs["cache"], scene_hash=inputs["scene_hash"],
-                               size=inputs["size"], radius=None if spp is None else inputs["radius"],
-                               spp=spp, passes=tuple(inputs["passes"]))
+    return properties.jobs.find_reference(
+        inputs["cache"], scene_hash=inputs["scene_hash"], size=inputs["size"],
+        radius=None if spp is None else inputs["radius"], spp=spp,
+        passes=tuple(inputs["passes"]))
 
 
 def missing_reference(inputs: dict, spp: int) -> str:
     w, h = inputs["size"]
     return (f"reference missing: no {spp}-sample reference of this scene at R = "
             f"{inputs['radius']:g}, {w}x{h}; click Render Reference first")
+
+
+def reference_inputs(context) -> dict:
+    """scene_inputs and the folder of the cached reference at the panel's samples; a
+    UserError saying what was looked for when there is none."""
+    inputs = scene_inputs(context)
+    spp = context.scene.aolab.reference_samples
+    folder = find_reference(inputs, spp=spp)
+    if folder is None:
+        raise UserError(missing_reference(inputs, spp))
+    return {**inputs, "folder": str(folder)}
 
 
 def save_copy(context) -> tuple[str, str]:
@@ -112,7 +124,7 @@ def _redraw(context) -> None:
 
 class _JobOperator:
     bl_options = {"REGISTER"}
-    task = None   # work.*_task
+    task = ""   # the name of an aolab.bridge.jobs.*_task
 
     @classmethod
     def poll(cls, context):
@@ -139,7 +151,8 @@ class _JobOperator:
         session.busy, session.cancel_requested = True, False
         session.job_name, session.progress, session.stage = self.bl_label, 0.0, "starting"
         session.message = ""
-        self._job = work.Job(type(self).task, self._plan)
+        jobs = properties.jobs
+        self._job = jobs.Job(getattr(jobs, self.task), self._plan)
         ACTIVE[type(self).__name__] = self._job
         return None
 
@@ -158,14 +171,14 @@ class _JobOperator:
         folder = self._plan.get("tmpdir")
         if folder:
             shutil.rmtree(folder, ignore_errors=True)
-        job = self._job
-        if isinstance(job.error, work.Cancelled) or (job.cancelled and job.error is not None):
+        job, jobs = self._job, properties.jobs
+        if isinstance(job.error, jobs.Cancelled) or (job.cancelled and job.error is not None):
             session.message, session.message_is_error = f"{self.bl_label}: cancelled", False
             self.report({"WARNING"}, session.message)
             _redraw(context)
             return {"CANCELLED"}
         if job.error is not None:
-            kind = "" if isinstance(job.error, (work.JobError, ValueError)) else \
+            kind = "" if isinstance(job.error, (jobs.JobError, ValueError)) else \
                 f"{type(job.error).__name__}: "
             return self._fail(context, f"{kind}{job.error}")
         return self._succeed(context, job.result)
@@ -251,7 +264,7 @@ class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):
     each result as an image with its time"""
     bl_idname = "aolab.preview"
     bl_label = "Preview"
-    task = staticmethod(work.preview_task)
+    task = "preview_task"
 
     def prepare(self, context):
         inputs = scene_inputs(context)
@@ -271,7 +284,7 @@ class AOLAB_OT_render_reference(_JobOperator, bpy.types.Operator):
     copy of this file in the background; cached. Esc cancels"""
     bl_idname = "aolab.render_reference"
     bl_label = "Render Reference"
-    task = staticmethod(work.reference_task)
+    task = "reference_task"
 
     def prepare(self, context):
         inputs = scene_inputs(context, need_runs=False)
@@ -294,15 +307,10 @@ class AOLAB_OT_compare(_JobOperator, bpy.types.Operator):
     panel, signed error maps as images"""
     bl_idname = "aolab.compare"
     bl_label = "Compare"
-    task = staticmethod(work.compare_task)
+    task = "compare_task"
 
     def prepare(self, context):
-        inputs = scene_inputs(context)
-        spp = context.scene.aolab.reference_samples
-        folder = find_reference(inputs, spp=spp)
-        if folder is None:
-            raise UserError(missing_reference(inputs, spp))
-        return {**inputs, "folder": str(folder)}
+        return reference_inputs(context)
 
     def finish(self, context, result):
         _store_results(context, result, "Compare", self._plan["size"])
@@ -315,20 +323,15 @@ class AOLAB_OT_write_report(_JobOperator, bpy.types.Operator):
     """Run the comparison study on this scene's reference and write its HTML report"""
     bl_idname = "aolab.write_report"
     bl_label = "Write HTML Report"
-    task = staticmethod(work.report_task)
+    task = "report_task"
 
     def prepare(self, context):
-        if not study.report_available():
-            raise UserError(study.UNAVAILABLE)
-        inputs = scene_inputs(context)
-        spp = context.scene.aolab.reference_samples
-        folder = find_reference(inputs, spp=spp)
-        if folder is None:
-            raise UserError(missing_reference(inputs, spp))
+        inputs = reference_inputs(context)
         out = context.scene.aolab.report_dir
         if out.startswith("//") and not bpy.data.filepath:
-            out = os.path.join(tempfile.gettempdir(), "aolab_report", bpy.path.clean_name(context.scene.name))
-        return {**inputs, "folder": str(folder), "out": bpy.path.abspath(out),
+            out = os.path.join(tempfile.gettempdir(), "aolab_report",
+                               bpy.path.clean_name(context.scene.name))
+        return {**inputs, "out": bpy.path.abspath(out),
                 "methods": [r["method"] for r in inputs["runs"]]}
 
     def finish(self, context, result):
@@ -357,7 +360,8 @@ class AOLAB_OT_show_image(bpy.types.Operator):
     bl_label = "Show Image"
     bl_options = {"INTERNAL"}
 
-    image: bpy.props.StringProperty(name="Image")
+    # F821 below: pyflakes reads the annotation's string as a forward reference to a type.
+    image: bpy.props.StringProperty(name="Image")  # noqa: F821
 
     def execute(self, context):
         problem = images.show(context, self.image)

@@ -1,11 +1,11 @@
 """The comparison study's peers of a scene (bpy): what the reference costs, and Blender's own
-screen-space AO (issue 6, items 4–6).
+screen-space AO.
 
 render_peers() renders, from the same camera, at the same AO distance and resolution:
 - the Cycles ladder: the AO pass at 1, 4, 16, 64, 256 spp with the reference's settings
   (export._common_settings) but seed 1, so that no rung shares samples with the seed-0
   1024-spp reference — each is an independent estimate, scored against it like a method;
-- the noise floor: the study derives it from the 256-spp rung ("256 vs 1024", issue 6;
+- the noise floor: the study derives it from the 256-spp rung (256 against 1024 spp;
   docs/comparison.md), so no second 1024-spp render is needed;
 - EEVEE's GTAO: the AO pass of Blender's rasteriser with ambient occlusion on, its distance
   R, factor 1, bounce approximation off (it brightens AO, which the Cycles pass does not).
@@ -24,16 +24,15 @@ import platform
 
 import bpy
 
-from . import exr
-from .export import (BACKGROUND_DEPTH, BridgeError, Cancelled, _enable_only, _render,
-                     camera_record, content_hash, render_session, scene_camera)
+from aolab.bridge import exr
+from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
+
+from .export import (BridgeError, Cancelled, _enable_only, _render, camera_record, content_hash,
+                     render_session, scene_camera)
 from .state import SettingsRestorer
 
-LADDER_SPP = (1, 4, 16, 64, 256)
-LADDER_SEED = 1            # the reference uses seed 0: independent samples
-EEVEE_SAMPLES = 16         # TAA samples; GTAO converges in a few (BLENDER_FACTS: 9.6 s at 16)
+EEVEE_SAMPLES = 16         # TAA samples; GTAO converges in a few (docs/blender_facts.md)
 EEVEE_BACKGROUND = 65504.0  # EEVEE's depth where nothing is drawn (half max)
-PEERS_JSON = "peers.json"
 
 
 def _ao_and_background(path: str, background_depth: float):

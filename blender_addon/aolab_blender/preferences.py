@@ -4,18 +4,21 @@ from pathlib import Path
 
 import bpy
 
+# `# noqa: F722` / `F821` below: pyflakes reads the strings in bpy property annotations
+# (`name: bpy.props.StringProperty(name="Cache Folder")`) as forward references to types.
+
 
 class AOLAB_AddonPreferences(bpy.types.AddonPreferences):
     bl_idname = __package__
 
     cache_dir: bpy.props.StringProperty(
-        name="Cache Folder", subtype="DIR_PATH", default="",
-        description="Where rendered references are kept (empty: $AOLAB_CACHE, else "
+        name="Cache Folder", subtype="DIR_PATH", default="",  # noqa: F722,F821
+        description="Where rendered references are kept (empty: $AOLAB_CACHE, else "  # noqa: F722
                     "~/.cache/aolab/references, as the aolab command)")
     threads: bpy.props.IntProperty(
-        name="Threads", default=0, min=0, max=1024,
-        description="Worker threads for the AO methods (0 = all cores; results do not "
-                    "depend on it)")
+        name="Threads", default=0, min=0, max=1024,  # noqa: F821
+        description="Worker threads for the AO methods (0 = all cores; results do "  # noqa: F722
+                    "not depend on it)")
 
     def draw(self, context):
         layout = self.layout
@@ -37,9 +40,9 @@ def cache_dir(context) -> Path:
         return Path(bpy.path.abspath(prefs.cache_dir))
     try:
         from aolab.reference import default_cache
-        return default_cache()
-    except ImportError:
+    except ImportError:  # not built: the panel says so; the default folder, as aolab's
         return Path("~/.cache/aolab/references").expanduser()
+    return default_cache()
 
 
 def threads(context) -> int:

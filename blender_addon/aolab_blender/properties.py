@@ -1,17 +1,35 @@
-"""The add-on's properties (bpy).
+"""The add-on's properties (bpy), and its one door to the `aolab` package.
 
+- `aolab` is found through the .pth that scripts/setup.sh writes into Debian's site folder
+  (Blender's Python reads it too), so the user never touches sys.path. If it does not import
+  (not built, or built for another Python), `available()` is False, IMPORT_ERROR says why,
+  the method groups are empty and the panel and the operators say NOT_BUILT.
 - `scene.aolab` (saved with the file): R, preview scale, reference samples, report folder,
   and one group per method (`scene.aolab.m_<method>`) with its checkbox, preset, shared
   blur and every setting of aolab.method_info as a Blender property (default, range and
-  description from the C++ field table). The method groups are built when the add-on is
-  registered, from aolab.methods() at that time.
+  description from the C++ field table; a choice setting as an enum of its names). The
+  method groups are built when the add-on is registered, from aolab.methods() at that time.
 - `window_manager.aolab` (this session only): the running job's progress, the last message,
   and the results table (AOLAB_PG_result rows) of the last Preview or Compare.
 """
 
 import bpy
 
-from . import lab, study
+# `# noqa: F722` / `F821` below: pyflakes reads the strings in bpy property annotations
+# (`mae: bpy.props.FloatProperty(name="MAE")`) as forward references to types.
+
+try:
+    import aolab
+    from aolab import presets
+    from aolab import settings as method_settings
+    from aolab.bridge import intrinsics, jobs, passes
+except ImportError as e:  # not built, or built for another Python
+    aolab = presets = method_settings = intrinsics = jobs = passes = None
+    IMPORT_ERROR = str(e)
+else:
+    IMPORT_ERROR = None
+
+NOT_BUILT = "module not built: run scripts/setup.sh"
 
 METHOD_PREFIX = "m_"
 UI_FIELDS = ("use_method", "show_expanded", "preset", "use_blur")
@@ -20,27 +38,30 @@ FLOAT_LIMIT = 3.0e38
 
 
 class AOLAB_PG_result(bpy.types.PropertyGroup):
-    method: bpy.props.StringProperty(name="Method")
-    label: bpy.props.StringProperty(name="Settings", description="Preset or changed settings")
-    ms: bpy.props.FloatProperty(name="ms", description="Compute time in milliseconds")
+    method: bpy.props.StringProperty(name="Method")  # noqa: F821
+    label: bpy.props.StringProperty(
+        name="Settings",  # noqa: F821
+        description="Preset or changed settings")  # noqa: F722
+    ms: bpy.props.FloatProperty(name="ms", description="Compute time in milliseconds")  # noqa: F722
     has_metrics: bpy.props.BoolProperty()
-    mae: bpy.props.FloatProperty(name="MAE", precision=4)
-    ssim: bpy.props.FloatProperty(name="SSIM", precision=4)
-    rmse: bpy.props.FloatProperty(name="RMSE", precision=4)
-    bias: bpy.props.FloatProperty(name="Bias", precision=4)
+    mae: bpy.props.FloatProperty(name="MAE", precision=4)  # noqa: F821
+    ssim: bpy.props.FloatProperty(name="SSIM", precision=4)  # noqa: F821
+    rmse: bpy.props.FloatProperty(name="RMSE", precision=4)  # noqa: F821
+    bias: bpy.props.FloatProperty(name="Bias", precision=4)  # noqa: F821
     metrics_json: bpy.props.StringProperty(
-        description="aolab.metrics' dict in full (double) precision; the float properties "
-                    "above are single precision, for display")
-    image: bpy.props.StringProperty(name="Image")
-    error_image: bpy.props.StringProperty(name="Error Image")
+        description="aolab.metrics' dict in full (double) precision; the float "  # noqa: F722
+                    "properties above are single precision, for display")
+    image: bpy.props.StringProperty(name="Image")  # noqa: F821
+    error_image: bpy.props.StringProperty(name="Error Image")  # noqa: F722
 
 
 class AOLAB_PG_session(bpy.types.PropertyGroup):
     busy: bpy.props.BoolProperty()
     cancel_requested: bpy.props.BoolProperty()
     job_name: bpy.props.StringProperty()
-    progress: bpy.props.FloatProperty(name="Progress", subtype="PERCENTAGE", min=0, max=100,
-                                      precision=0)
+    progress: bpy.props.FloatProperty(
+        name="Progress", subtype="PERCENTAGE", min=0, max=100,  # noqa: F821
+        precision=0)
     stage: bpy.props.StringProperty()
     message: bpy.props.StringProperty()
     message_is_error: bpy.props.BoolProperty()
@@ -53,9 +74,22 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     report_path: bpy.props.StringProperty()
 
 
+def available() -> bool:
+    """Whether the aolab package imported."""
+    return aolab is not None
+
+
+def methods() -> list[str]:
+    return list(aolab.methods()) if available() else []
+
+
 def _setting_property(s: dict):
     desc = s["description"] + (f" ({s['unit']})" if s["unit"] else "")
     name = s["name"].replace("_", " ").title()
+    if method_settings.is_choice(s):
+        items = [(c, c.replace("_", " ").title(), f"{s['name']} = {c}") for c in s["choices"]]
+        return bpy.props.EnumProperty(name=name, description=desc, items=items,
+                                      default=s["default"])
     if s["type"] == "bool":
         return bpy.props.BoolProperty(name=name, description=desc, default=bool(s["default"]))
     if s["type"] == "int":
@@ -63,12 +97,12 @@ def _setting_property(s: dict):
                                      min=int(max(s["min"], -INT_LIMIT)),
                                      max=int(min(s["max"], INT_LIMIT)))
     return bpy.props.FloatProperty(name=name, description=desc, default=float(s["default"]),
-                                   min=max(s["min"], -FLOAT_LIMIT), max=min(s["max"], FLOAT_LIMIT),
-                                   precision=4)
+                                   min=max(s["min"], -FLOAT_LIMIT),
+                                   max=min(s["max"], FLOAT_LIMIT), precision=4)
 
 
 def _preset_items(self, context):
-    names = [study.DEFAULT_PRESET] + study.preset_names(self.method_name)
+    names = [presets.DEFAULT_PRESET] + presets.preset_names(self.method_name)
     items = [(n, n.title(), f"{self.method_name} at its {n} preset") for n in names]
     # The enum keeps the returned strings alive only while they are referenced.
     _preset_items.cache[self.method_name] = items
@@ -80,14 +114,14 @@ _preset_items.cache = {}
 
 def _apply_preset(self, context):
     """Puts the preset's values into the settings (default: every setting's default)."""
-    values, blur = study.preset_values(self.method_name, self.preset)
-    for s in lab.method_settings(self.method_name):
+    values, blur = presets.preset_values(self.method_name, self.preset)
+    for s in method_settings.described(self.method_name):
         setattr(self, s["name"], values.get(s["name"], s["default"]))
     self.use_blur = blur
 
 
 def _method_group(method: str, index: int):
-    settings = lab.method_settings(method)
+    settings = method_settings.described(method)
     clash = [s["name"] for s in settings if s["name"] in UI_FIELDS]
     if clash:
         raise RuntimeError(f"{method}: settings {clash} clash with the panel's own fields")
@@ -95,8 +129,9 @@ def _method_group(method: str, index: int):
         "use_method": bpy.props.BoolProperty(name=method, default=index == 0,
                                              description=f"Compare {method}"),
         "show_expanded": bpy.props.BoolProperty(name="Show settings", default=False),
-        "preset": bpy.props.EnumProperty(name="Preset", items=_preset_items, update=_apply_preset,
-                                         description="Quality preset of the comparison study"),
+        "preset": bpy.props.EnumProperty(
+            name="Preset", items=_preset_items, update=_apply_preset,
+            description="Quality preset of the comparison study"),
         "use_blur": bpy.props.BoolProperty(
             name="Blur", default=False,
             description="The shared separable Gaussian after the method (sigma 1.5 px, 5 taps)"),
@@ -139,7 +174,7 @@ _dynamic = []
 def register():
     """Registers the result and session groups, one group per method (when aolab imports)
     and the scene group, then hooks them onto Scene and WindowManager."""
-    groups = {m: _method_group(m, i) for i, m in enumerate(lab.methods())}
+    groups = {m: _method_group(m, i) for i, m in enumerate(methods())}
     _dynamic[:] = list(STATIC) + list(groups.values()) + [_scene_group(groups)]
     for cls in _dynamic:
         bpy.utils.register_class(cls)
@@ -176,8 +211,8 @@ def chosen_runs(scene) -> list[dict]:
         if not g.use_method:
             continue
         values = {name: getattr(g, name) for name in g.setting_names}
-        changed = lab.changed_settings(method, values)
-        label = g.preset if g.preset != study.DEFAULT_PRESET else \
+        changed = method_settings.changed_settings(method, values)
+        label = g.preset if g.preset != presets.DEFAULT_PRESET else \
             (",".join(f"{k}={v}" for k, v in changed.items()) or "defaults")
         runs.append({"method": method, "settings": changed, "blur": bool(g.use_blur),
                      "label": label + (" +blur" if g.use_blur else "")})

@@ -3,7 +3,7 @@ show the same content (draw_panel)."""
 
 import bpy
 
-from . import lab, operators, properties, study
+from . import operators, properties
 
 RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
 WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
@@ -11,8 +11,8 @@ WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per
 
 def _problems(context) -> list[str]:
     scene = context.scene
-    if not lab.available():
-        return [lab.NOT_BUILT]
+    if not properties.available():
+        return [properties.NOT_BUILT]
     out = []
     problem = operators.camera_problem(scene)
     if problem:
@@ -124,7 +124,7 @@ def draw_panel(layout, context) -> None:
     width = _chars(context)
     for problem in _problems(context):
         _wrapped(layout.box(), problem, icon="ERROR", width=width)
-    if not lab.available():
+    if not properties.available():
         return
     s = scene.aolab
     col = layout.column(align=True)
@@ -150,8 +150,6 @@ def draw_panel(layout, context) -> None:
     row.operator("aolab.write_report", icon="FILE_TEXT")
     if session.report_path:
         row.operator("aolab.open_report", text="", icon="URL")
-    if not study.report_available():  # presets and the report come with it
-        _wrapped(col, study.UNAVAILABLE.split(" (")[0], icon="INFO", width=width)
 
     if session.busy:
         box = layout.box()

@@ -33,6 +33,22 @@ void GBuffer::validate() const {
     throw_invalid("background_depth", "must be > 0", background_depth);
 }
 
+void require_normal(const GBuffer& g, const std::string& method) {
+  if (!g.has_normal())
+    throw_invalid("normal",
+                  "is required by " + method +
+                      ", which reads view-space normals "
+                      "(estimate them from depth with GBuffer.prepared_normals())",
+                  "none");
+}
+
+void require_color(const GBuffer& g, const std::string& method, const std::string& setting) {
+  if (!g.has_color())
+    throw_invalid("color",
+                  "is required by " + method + (setting.empty() ? "" : " with " + setting + " on"),
+                  "none");
+}
+
 Image validity_mask(const GBuffer& g) {
   Image mask(g.width(), g.height(), 1);
   for (int y = 0; y < g.height(); ++y)
@@ -53,6 +69,18 @@ Image view_positions(const GBuffer& g, int threads) {
       }
   });
   return p;
+}
+
+std::vector<float> depth_with_background_as_nan(const GBuffer& g, int threads) {
+  const int w = g.width();
+  std::vector<float> depth(std::size_t(w) * std::size_t(g.height()));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  parallel_for_rows(g.height(), threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x)
+        depth[std::size_t(y) * w + x] = g.valid(x, y) ? g.depth(x, y) : nan;
+  });
+  return depth;
 }
 
 namespace {

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <glm/vec3.hpp>
+#include <string>
+#include <vector>
 
 #include "core/base/camera.h"
 #include "core/base/image.h"
@@ -45,8 +47,21 @@ struct GBuffer {
   void validate() const;
 };
 
+/// Throws std::invalid_argument naming "normal" unless `g` has normals: `method` reads them.
+/// The one check behind the registry's compute() and each such method's own entry point.
+void require_normal(const GBuffer& g, const std::string& method);
+
+/// Throws std::invalid_argument naming "color" unless `g` has colour: `method` reads it,
+/// always or, when `setting` is given, because that setting is on.
+void require_color(const GBuffer& g, const std::string& method, const std::string& setting = "");
+
 /// 1 where the pixel holds geometry, 0 for background (float so it can be a numpy mask).
 Image validity_mask(const GBuffer& g);
+
+/// The depth buffer as W·H floats, row-major, with every background pixel (is_geometry
+/// false) replaced by NaN: the working copy the methods march over, where any comparison
+/// with a background depth fails and so background never occludes.
+std::vector<float> depth_with_background_as_nan(const GBuffer& g, int threads = 0);
 
 /// Per-pixel view-space positions (3 channels); background pixels get NaN.
 Image view_positions(const GBuffer& g, int threads = 0);

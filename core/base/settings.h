@@ -2,6 +2,9 @@
 // of its fields (name, unit, range, description). The table validates user input with
 // messages that name the parameter and value, fills settings from key/value pairs
 // (Python keyword arguments, command-line options), and lists defaults for docs and the UI.
+// A setting that is a choice among named alternatives is an int field whose table entry
+// names them ("fixed|adaptive"): the names are what Python, the command line and the add-on
+// use; the int is the first name's value (the field's minimum) plus the name's position.
 #pragma once
 
 #include <cmath>
@@ -15,7 +18,7 @@
 
 namespace aolab {
 
-enum class SettingType { Float, Int, Bool };
+enum class SettingType { Float, Int, Bool, Choice };
 
 /// Type-erased description of one setting, for the registry, Python and the add-on.
 struct SettingDescription {
@@ -26,6 +29,7 @@ struct SettingDescription {
   double max = 0;  ///< inclusive
   std::string unit;
   std::string description;
+  std::vector<std::string> choices;  ///< Choice: the names of values min, min + 1, ..., max
 };
 
 /// One field of settings struct S.
@@ -36,6 +40,9 @@ struct SettingField {
   double min, max;  ///< inclusive range; ignored for bools
   const char* unit;
   const char* description;
+  /// Only for int fields that are choices: the names of min, min + 1, ..., max, separated by
+  /// '|' (e.g. "off|greedy|careful" for the range [0, 2]); nullptr for a number.
+  const char* choices = nullptr;
 };
 
 /// Key/value settings as they arrive from Python or the command line.
@@ -47,7 +54,42 @@ inline std::string format_range(double lo, double hi) {
   s << '[' << lo << ", " << hi << ']';
   return s.str();
 }
+
+inline std::vector<std::string> split_choices(const char* list) {
+  std::vector<std::string> names(1);
+  for (const char* c = list; *c; ++c) {
+    if (*c == '|')
+      names.emplace_back();
+    else
+      names.back() += *c;
+  }
+  return names;
+}
+
+/// "one of a, b, c" for a choice field, "in [lo, hi] unit" for a number.
+template <class S>
+std::string requirement(const SettingField<S>& f) {
+  if (f.choices) {
+    std::string names;
+    for (const auto& n : split_choices(f.choices)) names += (names.empty() ? "" : ", ") + n;
+    return "must be one of " + names;
+  }
+  return std::string("must be in ") + format_range(f.min, f.max) +
+         (f.unit[0] ? std::string(" ") + f.unit : "");
+}
 }  // namespace detail
+
+/// The value that names `choice` of a Choice setting; throws std::invalid_argument naming
+/// the setting and listing its choices otherwise.
+inline double choice_value(const SettingDescription& d, const std::string& choice) {
+  CHECK_EQ(int(d.type), int(SettingType::Choice));
+  std::string names;
+  for (std::size_t i = 0; i < d.choices.size(); ++i) {
+    if (d.choices[i] == choice) return d.min + double(i);
+    names += (names.empty() ? "" : ", ") + d.choices[i];
+  }
+  throw_invalid(d.name, "must be one of " + names, "'" + choice + "'");
+}
 
 /// Throws std::invalid_argument unless every field of `s` is in its range.
 template <class S, std::size_t N>
@@ -61,10 +103,7 @@ void validate_settings(const S& s, const SettingField<S> (&fields)[N]) {
           // A float field holds its bounds rounded to float (1e30 becomes 1.0000000150e30).
           const double lo = double(T(f.min)), hi = double(T(f.max));
           if (!std::isfinite(v) || v < lo || v > hi)
-            throw_invalid(f.name,
-                          std::string("must be in ") + detail::format_range(f.min, f.max) +
-                              (f.unit[0] ? std::string(" ") + f.unit : ""),
-                          s.*member);
+            throw_invalid(f.name, detail::requirement(f), s.*member);
         },
         f.member);
   }
@@ -84,10 +123,7 @@ bool set_setting(S& s, const SettingField<S> (&fields)[N], const std::string& na
             s.*member = value != 0.0;
           } else {
             if (!std::isfinite(value) || value < f.min || value > f.max)
-              throw_invalid(name,
-                            std::string("must be in ") + detail::format_range(f.min, f.max) +
-                                (f.unit[0] ? std::string(" ") + f.unit : ""),
-                            value);
+              throw_invalid(name, detail::requirement(f), value);
             if constexpr (std::is_same_v<T, int>) {
               if (value != std::floor(value)) throw_invalid(name, "must be an integer", value);
               s.*member = int(value);
@@ -139,6 +175,13 @@ std::vector<SettingDescription> describe_settings(const SettingField<S> (&fields
           d.default_value = double(defaults.*member);
           d.min = std::is_same_v<T, bool> ? 0.0 : f.min;
           d.max = std::is_same_v<T, bool> ? 1.0 : f.max;
+          if constexpr (std::is_same_v<T, int>) {
+            if (f.choices) {
+              d.type = SettingType::Choice;
+              d.choices = detail::split_choices(f.choices);
+              CHECK_EQ(double(d.choices.size()), f.max - f.min + 1);
+            }
+          }
         },
         f.member);
     out.push_back(d);

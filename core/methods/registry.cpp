@@ -32,17 +32,8 @@ Image compute(const std::string& method, const GBuffer& g, const SettingValues& 
               const RunOptions& options) {
   const Method& m = find_method(method);
   g.validate();
-  if (m.needs_normal && !g.has_normal())
-    throw_invalid("normal",
-                  "is required by " + m.name +
-                      ", which reads view-space normals "
-                      "(estimate them from depth with GBuffer.prepared_normals())",
-                  "none");
-  if (m.needs_color && !g.has_color()) {
-    if (!m.color_needed_by) throw_invalid("color", "is required by " + m.name, "none");
-    if (const std::string reason = m.color_needed_by(settings); !reason.empty())
-      throw_invalid("color", "is required by " + m.name + " with " + reason + " on", "none");
-  }
+  if (m.needs_normal) require_normal(g, m.name);
+  if (m.needs_color && !m.color_depends_on_settings) require_color(g, m.name);
   if (!settings.count("radius")) throw_invalid("radius", "is required", "nothing");
   return m.run(g, settings, options);
 }

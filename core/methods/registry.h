@@ -1,8 +1,10 @@
 // The method registry: every AO method, by name, with its settings table, behind one call.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -25,16 +27,35 @@ struct Method {
   std::string paper;  ///< citation
   bool needs_normal = false;
   bool needs_color = false;  ///< may read colour (the bridge renders the colour passes)
-  /// Optional, for methods whose colour need depends on settings: the reason these settings
-  /// need colour (e.g. "color_bleeding"), or "" when they do not. Unset: needs_color decides.
-  std::function<std::string(const SettingValues&)> color_needed_by;
+  /// True when colour is needed only with some settings (vao_pp's colour bleeding): `run`
+  /// then checks for it itself, after validating the settings, so that a bad setting is
+  /// reported as such rather than as missing colour. False: needs_color decides.
+  bool color_depends_on_settings = false;
   std::vector<SettingDescription> settings;  ///< including "radius"
   /// Computes AO (1 channel, in [0, 1], background = 1; a method may document an RGB
   /// result for some settings, like vao_pp's colour bleeding) from validated settings values.
   std::function<Image(const GBuffer&, const SettingValues&, const RunOptions&)> run;
 };
 
-/// All methods, in the order of DESIGN.md.
+/// A registry entry for a method whose settings struct S is described by `fields`: its run
+/// fills S from the values (unknown names and out-of-range values throw
+/// std::invalid_argument naming them) and returns run(g, settings, options).
+template <class S, std::size_t N, class Run>
+Method registered_method(std::string name, std::string title, std::string paper,
+                         const SettingField<S> (&fields)[N], Run run) {
+  Method m;
+  m.name = std::move(name);
+  m.title = std::move(title);
+  m.paper = std::move(paper);
+  m.settings = describe_settings(fields);
+  m.run = [&fields, run, what = m.name](const GBuffer& g, const SettingValues& values,
+                                        const RunOptions& options) {
+    return run(g, settings_from_values(values, fields, what), options);
+  };
+  return m;
+}
+
+/// All methods, in the order of docs/conventions.md, "The order of the methods".
 const std::vector<Method>& methods();
 
 /// The method called `name`; throws std::invalid_argument listing the available names.

@@ -1,8 +1,8 @@
-// Rotation-aware Poisson-disk sample sets in the unit disc (VAO++, Bokšanský et al. 2017,
-// §4.5; shared/papers/vao-plus-plus-boksansky-2017.md). A set of n points is generated so
-// that it stays a Poisson-disk distribution after being rotated by the nine angles
-// 2πk/9 of the 3×3 interleaving tile: every candidate keeps its distance to every stored
-// point *and to all their rotations* (and to its own rotations). Then, in groups of 8, each
+// Rotation-aware Poisson-disk sample sets in the unit disc (Bokšanský, Pospíšil, Bittner,
+// "VAO++: Practical Volumetric Ambient Occlusion for Games", EGSR 2017, §4.5). A set of n
+// points is generated so that it stays a Poisson-disk distribution after being rotated by the
+// nine angles 2πk/9 of the 3×3 interleaving tile: every candidate keeps its distance to every
+// stored point *and to all their rotations* (and to its own rotations). Then, in groups of 8, each
 // point is given the rotation (a partial permutation of the nine) that maximises the sum of
 // distances between the chosen points, and the set is sorted in z-order.
 // Everything is deterministic (a fixed counter-based random sequence), so the sets are the

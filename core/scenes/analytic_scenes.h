@@ -21,8 +21,8 @@ struct AnalyticFace {
   glm::dvec3 normal{0, 0, 1};
   double offset = 0;
   std::vector<glm::dvec4> clips;
-  /// Closed-form Cycles AO (cosine-weighted visibility, hard cut-off R; BLENDER_FACTS.md) at a
-  /// world point of this face, or empty when none is known.
+  /// Closed-form Cycles AO (cosine-weighted visibility, hard cut-off R: docs/blender_facts.md,
+  /// "The Cycles AO pass") at a world point of this face, or empty when none is known.
   std::function<double(const glm::dvec3& point, double radius)> cycles_ao;
 };
 

@@ -62,21 +62,26 @@ void require_finite(const std::string& name, ConstImageView image, ConstImageVie
   }
 }
 
-Metrics compute_metrics(ConstImageView ao, ConstImageView reference, ConstImageView mask,
-                        int threads) {
-  require_one_channel("ao", ao);
-  if (ao.empty())
-    throw_invalid("ao", "must not be empty",
-                  std::to_string(ao.width) + "x" + std::to_string(ao.height));
-  require_same_size("ao", ao, "reference", reference);
-  require_one_channel("reference", reference);
-  const bool masked = !mask.empty();
-  if (masked) {
-    require_same_size("ao", ao, "mask", mask);
+void require_comparable(const std::string& name_a, ConstImageView a, const std::string& name_b,
+                        ConstImageView b, ConstImageView mask, int threads) {
+  require_one_channel(name_a, a);
+  if (a.empty())
+    throw_invalid(name_a, "must not be empty",
+                  std::to_string(a.width) + "x" + std::to_string(a.height));
+  require_same_size(name_a, a, name_b, b);
+  require_one_channel(name_b, b);
+  if (!mask.empty()) {
+    require_same_size(name_a, a, "mask", mask);
     require_one_channel("mask", mask);
   }
-  require_finite("ao", ao, mask, threads);
-  require_finite("reference", reference, mask, threads);
+  require_finite(name_a, a, mask, threads);
+  require_finite(name_b, b, mask, threads);
+}
+
+Metrics compute_metrics(ConstImageView ao, ConstImageView reference, ConstImageView mask,
+                        int threads) {
+  require_comparable("ao", ao, "reference", reference, mask, threads);
+  const bool masked = !mask.empty();
 
   std::vector<RowSums> rows(std::size_t(ao.height));
   parallel_for_rows(ao.height, threads, [&](int y0, int y1) {

@@ -1,5 +1,6 @@
-// Accuracy of an AO image against a reference (DESIGN.md "Accuracy and its cost"; definitions
-// in docs/metrics.md): MAE, RMSE, PSNR, signed bias and mean SSIM over the scored pixels.
+// Accuracy of an AO image against a reference (docs/comparison.md, "Accuracy and its cost";
+// definitions in docs/metrics.md): MAE, RMSE, PSNR, signed bias and mean SSIM over the scored
+// pixels.
 //
 // Principles: AO is 1-channel accessibility in [0, 1], so every metric uses data range 1.
 // Background pixels are excluded by a mask (non-zero = scored). Sums are taken in double, one
@@ -43,5 +44,11 @@ Metrics compute_metrics(ConstImageView ao, ConstImageView reference, ConstImageV
 /// have the size of `image`.
 void require_finite(const std::string& name, ConstImageView image, ConstImageView mask = {},
                     int threads = 0);
+
+/// The inputs of a comparison: throws std::invalid_argument naming the offending image
+/// unless `a` and `b` are non-empty 1-channel images of one size, `mask` (if not empty) is a
+/// 1-channel image of that size, and both are finite on every pixel the mask selects.
+void require_comparable(const std::string& name_a, ConstImageView a, const std::string& name_b,
+                        ConstImageView b, ConstImageView mask = {}, int threads = 0);
 
 }  // namespace aolab

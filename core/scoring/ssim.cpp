@@ -34,10 +34,6 @@ constexpr double kMaxRadius = 1024;
 // Number of filtered planes: a, b, a², b², a·b.
 constexpr int kPlanes = 5;
 
-void require_one_channel(const std::string& name, const ConstImageView& image) {
-  if (image.channels != 1) throw_invalid(name, "must have 1 channel", image.channels);
-}
-
 void require_positive_finite(const std::string& name, double value) {
   if (!(std::isfinite(value) && value > 0)) throw_invalid(name, "must be finite and > 0", value);
 }
@@ -67,6 +63,81 @@ std::vector<double> gaussian_weights(double sigma, int radius) {
   return w;
 }
 
+// The horizontal pass of one block: the five planes (a, b, a², b², ab) of the reflected
+// source rows y0 − r … y0 − r + rows − 1, each plane rows × width in `h`. Where `mask` is
+// non-empty and zero, both images read as 1. pa, pb: scratch of the padded width.
+void filter_block_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
+                       const std::vector<double>& w, const std::vector<int>& column, int r, int y0,
+                       int rows, std::vector<double>& h, std::vector<double>& pa,
+                       std::vector<double>& pb) {
+  const int width = a.width, height = a.height, taps = 2 * r + 1;
+  const std::size_t plane = std::size_t(rows) * std::size_t(width);
+  for (int e = 0; e < rows; ++e) {
+    const int sy = reflect(y0 - r + e, height);
+    const float* ra = a.row(sy);
+    const float* rb = b.row(sy);
+    const float* rm = mask.empty() ? nullptr : mask.row(sy);
+    for (std::size_t i = 0; i < column.size(); ++i) {
+      const int sx = column[i];
+      const bool background = rm && rm[sx] == 0.0f;
+      pa[i] = background ? 1.0 : double(ra[sx]);
+      pb[i] = background ? 1.0 : double(rb[sx]);
+    }
+    double* out = h.data() + std::size_t(e) * std::size_t(width);
+    for (int x = 0; x < width; ++x) {
+      double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+      for (int t = 0; t < taps; ++t) {
+        const double wt = w[std::size_t(t)];
+        const double va = pa[std::size_t(x + t)], vb = pb[std::size_t(x + t)];
+        sa += wt * va;
+        sb += wt * vb;
+        saa += wt * (va * va);
+        sbb += wt * (vb * vb);
+        sab += wt * (va * vb);
+      }
+      out[x] = sa;
+      out[plane + std::size_t(x)] = sb;
+      out[2 * plane + std::size_t(x)] = saa;
+      out[3 * plane + std::size_t(x)] = sbb;
+      out[4 * plane + std::size_t(x)] = sab;
+    }
+  }
+}
+
+// One row of S from a block's horizontally filtered planes: the vertical pass over the taps
+// starting at block row `e0`, then eq. (13) per pixel, in skimage's order of operations.
+// acc: scratch of 5·width.
+void ssim_row(const std::vector<double>& h, std::size_t plane, int width, int e0,
+              const std::vector<double>& w, const SsimConstants& k, std::vector<double>& acc,
+              double* s) {
+  std::fill(acc.begin(), acc.end(), 0.0);
+  for (int t = 0; t < 2 * k.radius + 1; ++t) {
+    const double wt = w[std::size_t(t)];
+    const std::size_t row_offset = std::size_t(e0 + t) * std::size_t(width);
+    for (int q = 0; q < kPlanes; ++q) {
+      const double* src = h.data() + std::size_t(q) * plane + row_offset;
+      double* dst = acc.data() + std::size_t(q) * std::size_t(width);
+      for (int x = 0; x < width; ++x) dst[x] += wt * src[x];
+    }
+  }
+  const double* ua = acc.data();
+  const double* ub = ua + width;
+  const double* uaa = ub + width;
+  const double* ubb = uaa + width;
+  const double* uab = ubb + width;
+  for (int x = 0; x < width; ++x) {
+    // Population (not sample) moments, eqs. (14)–(16): the Gaussian weights sum to 1.
+    const double va = uaa[x] - ua[x] * ua[x];
+    const double vb = ubb[x] - ub[x] * ub[x];
+    const double vab = uab[x] - ua[x] * ub[x];
+    const double a1 = 2 * ua[x] * ub[x] + k.c1;
+    const double a2 = 2 * vab + k.c2;
+    const double b1 = ua[x] * ua[x] + ub[x] * ub[x] + k.c1;
+    const double b2 = va + vb + k.c2;
+    s[std::size_t(x)] = (a1 * a2) / (b1 * b2);
+  }
+}
+
 // Computes S row by row and calls row_done(y, s) with the W values of row y (from worker
 // threads, each row once). Inputs are assumed validated. Where `mask` is non-empty and zero,
 // both images read as 1 (see mean_ssim).
@@ -75,9 +146,7 @@ void compute_ssim_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
                        const SsimConstants& k, const std::vector<double>& w, int threads,
                        const RowDone& row_done) {
   const int width = a.width, height = a.height, r = k.radius;
-  const int taps = 2 * r + 1;
   const std::size_t padded = std::size_t(width + 2 * r);
-  const bool masked = !mask.empty();
 
   // Source column of every padded position, the same for every row.
   std::vector<int> column(padded);
@@ -91,81 +160,14 @@ void compute_ssim_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
     const std::size_t plane = std::size_t(rows) * std::size_t(width);
     std::vector<double> h(plane * kPlanes);
     std::vector<double> pa(padded), pb(padded);
-
-    // Horizontal pass over the (reflected) source rows this block needs.
-    for (int e = 0; e < rows; ++e) {
-      const int sy = reflect(y0 - r + e, height);
-      const float* ra = a.row(sy);
-      const float* rb = b.row(sy);
-      const float* rm = masked ? mask.row(sy) : nullptr;
-      for (std::size_t i = 0; i < padded; ++i) {
-        const int sx = column[i];
-        const bool background = rm && rm[sx] == 0.0f;
-        pa[i] = background ? 1.0 : double(ra[sx]);
-        pb[i] = background ? 1.0 : double(rb[sx]);
-      }
-      double* out = h.data() + std::size_t(e) * std::size_t(width);
-      for (int x = 0; x < width; ++x) {
-        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-        for (int t = 0; t < taps; ++t) {
-          const double wt = w[std::size_t(t)];
-          const double va = pa[std::size_t(x + t)], vb = pb[std::size_t(x + t)];
-          sa += wt * va;
-          sb += wt * vb;
-          saa += wt * (va * va);
-          sbb += wt * (vb * vb);
-          sab += wt * (va * vb);
-        }
-        out[x] = sa;
-        out[plane + std::size_t(x)] = sb;
-        out[2 * plane + std::size_t(x)] = saa;
-        out[3 * plane + std::size_t(x)] = sbb;
-        out[4 * plane + std::size_t(x)] = sab;
-      }
-    }
-
-    // Vertical pass, then eq. (13) per pixel, in skimage's order of operations.
+    filter_block_rows(a, b, mask, w, column, r, y0, rows, h, pa, pb);
     std::vector<double> acc(std::size_t(width) * kPlanes);
     std::vector<double> s(static_cast<std::size_t>(width));
     for (int y = y0; y < y1; ++y) {
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (int t = 0; t < taps; ++t) {
-        const double wt = w[std::size_t(t)];
-        const std::size_t row_offset = std::size_t(y - y0 + t) * std::size_t(width);
-        for (int q = 0; q < kPlanes; ++q) {
-          const double* src = h.data() + std::size_t(q) * plane + row_offset;
-          double* dst = acc.data() + std::size_t(q) * std::size_t(width);
-          for (int x = 0; x < width; ++x) dst[x] += wt * src[x];
-        }
-      }
-      const double* ua = acc.data();
-      const double* ub = ua + width;
-      const double* uaa = ub + width;
-      const double* ubb = uaa + width;
-      const double* uab = ubb + width;
-      for (int x = 0; x < width; ++x) {
-        // Population (not sample) moments, eqs. (14)–(16): the Gaussian weights sum to 1.
-        const double va = uaa[x] - ua[x] * ua[x];
-        const double vb = ubb[x] - ub[x] * ub[x];
-        const double vab = uab[x] - ua[x] * ub[x];
-        const double a1 = 2 * ua[x] * ub[x] + k.c1;
-        const double a2 = 2 * vab + k.c2;
-        const double b1 = ua[x] * ua[x] + ub[x] * ub[x] + k.c1;
-        const double b2 = va + vb + k.c2;
-        s[std::size_t(x)] = (a1 * a2) / (b1 * b2);
-      }
+      ssim_row(h, plane, width, y - y0, w, k, acc, s.data());
       row_done(y, s.data());
     }
   });
-}
-
-void validate_pair(ConstImageView a, ConstImageView b) {
-  require_one_channel("a", a);
-  if (a.empty())
-    throw_invalid("a", "must not be empty",
-                  std::to_string(a.width) + "x" + std::to_string(a.height));
-  require_same_size("a", a, "b", b);
-  require_one_channel("b", b);
 }
 
 }  // namespace
@@ -193,9 +195,7 @@ SsimConstants ssim_constants(const SsimSettings& settings) {
 
 Image ssim_map(ConstImageView a, ConstImageView b, const SsimSettings& settings, int threads) {
   const SsimConstants k = ssim_constants(settings);
-  validate_pair(a, b);
-  require_finite("a", a, {}, threads);
-  require_finite("b", b, {}, threads);
+  require_comparable("a", a, "b", b, {}, threads);
   const std::vector<double> w = gaussian_weights(settings.sigma, k.radius);
   Image out(a.width, a.height, 1);
   compute_ssim_rows(a, b, {}, k, w, threads, [&](int y, const double* s) {
@@ -208,14 +208,8 @@ Image ssim_map(ConstImageView a, ConstImageView b, const SsimSettings& settings,
 double mean_ssim(ConstImageView a, ConstImageView b, ConstImageView mask,
                  const SsimSettings& settings, int threads) {
   const SsimConstants k = ssim_constants(settings);
-  validate_pair(a, b);
+  require_comparable("a", a, "b", b, mask, threads);
   const bool masked = !mask.empty();
-  if (masked) {
-    require_same_size("a", a, "mask", mask);
-    require_one_channel("mask", mask);
-  }
-  require_finite("a", a, mask, threads);
-  require_finite("b", b, mask, threads);
   const std::vector<double> w = gaussian_weights(settings.sigma, k.radius);
 
   // skimage's crop(S, radius): the interior, where the window reads no reflected pixel.

@@ -1,5 +1,5 @@
-// VAO++ Table 1 on our CPU (not a test: run `aolab_bench --benchmark_filter=Vao`; the lead
-// records final numbers in docs/methods/vao_pp.md from a quiet machine).
+// VAO++ Table 1 on our CPU (not a test: run `aolab_bench --benchmark_filter=Vao`; the numbers
+// in docs/methods/vao_pp.md were measured this way on a quiet machine).
 //  - BM_VaoPpTable1/<res>/<samples>/<variant>: the `blocks` analytic scene rendered at
 //    1920x1080 (res 0) or 3840x2160 (res 1), R = 0.25 (bench_scene.h), 2 threads, for
 //    2/4/8/16/32 samples and the four columns of Table 1: variant 0 = VAO (adaptive sampling

@@ -24,7 +24,7 @@ import addon_utils  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-ADDON = "aolab_addon"
+ADDON = "aolab_blender"
 args = sys.argv[sys.argv.index("--") + 1:]
 mode = args[0]
 
@@ -85,7 +85,7 @@ tiny, cache, out_dir = args[1:4]
 run_build_script(tiny)
 addon_utils.enable(ADDON, default_set=True)
 mod = sys.modules[ADDON]
-from aolab_addon import images, lab, operators, properties  # noqa: E402
+from aolab_blender import images, operators, properties  # noqa: E402
 
 prefs = bpy.context.preferences.addons[ADDON].preferences
 prefs.cache_dir = cache
@@ -94,7 +94,7 @@ scene = bpy.context.scene
 s = scene.aolab
 s.preview_scale = 100
 s.reference_samples = 8
-methods = lab.methods()
+methods = properties.methods()
 for m in methods:
     getattr(s, "m_" + m).use_method = m in ("hbao", "lsao")
 getattr(s, "m_hbao").directions = 4  # a changed setting: passed to compute like --set
@@ -107,10 +107,10 @@ for m in methods:
 r["nothing_selected"] = call(bpy.ops.aolab.preview)
 for m in ("hbao", "lsao"):
     getattr(s, "m_" + m).use_method = True
-saved_lab = lab.aolab
-lab.aolab = None
+saved_aolab = properties.aolab
+properties.aolab = None  # as if `import aolab` had failed
 r["not_built"] = call(bpy.ops.aolab.preview)
-lab.aolab = saved_lab
+properties.aolab = saved_aolab
 cam = scene.camera
 cam.data.type = "ORTHO"
 r["orthographic"] = call(bpy.ops.aolab.render_reference)
@@ -169,7 +169,8 @@ s.reference_samples = 8
 r["compare"] = call(bpy.ops.aolab.compare)
 r["compare_table"] = results_table()
 r["compare_folder"] = bpy.context.window_manager.aolab.gbuffer_folder
-np.save(os.path.join(out_dir, "error_hbao.npy"), images.read_image(images.image_name("hbao", "error")))
+np.save(os.path.join(out_dir, "error_hbao.npy"),
+        images.read_image(images.image_name("hbao", "error")))
 for row in results_table():
     np.save(os.path.join(out_dir, f"compare_{row['method']}.npy"), images.read_image(row["image"]))
 r["compare_images"] = sorted(im.name for im in bpy.data.images if im.name.startswith("AO Lab"))
@@ -177,14 +178,16 @@ r["settings_passed"] = properties.chosen_runs(scene)
 s.report_dir = os.path.join(out_dir, "report")
 r["report"] = call(bpy.ops.aolab.write_report)
 r["report_path"] = bpy.context.window_manager.aolab.report_path
-r["presets"] = {m: [item[0] for item in properties._preset_items(getattr(s, "m_" + m), bpy.context)]
+r["presets"] = {m: [item[0] for item in
+                    properties._preset_items(getattr(s, "m_" + m), bpy.context)]
                 for m in methods}
 g = getattr(s, "m_hbao")
 if "low" in r["presets"]["hbao"]:
     g.preset = "low"
     r["hbao_low"] = {name: getattr(g, name) for name in g.setting_names} | {"blur": g.use_blur}
     g.preset = "default"
-    r["hbao_default_again"] = lab.changed_settings("hbao", {n: getattr(g, n) for n in g.setting_names})
+    r["hbao_default_again"] = properties.method_settings.changed_settings(
+        "hbao", {n: getattr(g, n) for n in g.setting_names})
 r["show_image_background"] = call(bpy.ops.aolab.show_image, image="AO Lab hbao")
 
 addon_utils.disable(ADDON, default_set=True)

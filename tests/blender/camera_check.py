@@ -7,16 +7,16 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import run_build_script  # noqa: E402
+from common import scene_from_argv, use_checkout  # noqa: E402
 
+use_checkout()
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
-from aolab_blender import exr  # noqa: E402
+from aolab.bridge import exr  # noqa: E402
+
 from aolab_blender.export import camera_record  # noqa: E402
 
-tiny = sys.argv[sys.argv.index("--") + 1]
-run_build_script(tiny)
-scene = bpy.context.scene
+scene = scene_from_argv()
 cam = scene.camera
 r, c = scene.render, scene.cycles
 r.engine = "CYCLES"
@@ -34,7 +34,8 @@ vl.use_pass_z = True
 configs = {
     "auto_wide": dict(res=(64, 36), fit="AUTO", shift=(0, 0), aspect=(1, 1)),
     "auto_tall_shift": dict(res=(36, 64), fit="AUTO", shift=(0.1, -0.05), aspect=(1, 1)),
-    "horizontal_shift_aspect": dict(res=(60, 40), fit="HORIZONTAL", shift=(-0.07, 0.12), aspect=(2, 1)),
+    "horizontal_shift_aspect": dict(res=(60, 40), fit="HORIZONTAL", shift=(-0.07, 0.12),
+                                    aspect=(2, 1)),
     "vertical_shift": dict(res=(64, 36), fit="VERTICAL", shift=(0.05, 0.08), aspect=(1, 1)),
     "vertical_aspect": dict(res=(48, 48), fit="VERTICAL", shift=(0.0, -0.1), aspect=(1, 1.5)),
     "auto_aspect_tall": dict(res=(40, 60), fit="AUTO", shift=(0.02, 0.03), aspect=(1, 2)),

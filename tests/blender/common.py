@@ -1,19 +1,37 @@
-"""Shared by the Blender-side check scripts: puts the bridge on sys.path, builds scenes,
-snapshots every RNA property the bridge might touch."""
+"""Shared by the Blender-side check scripts: puts the bridge on sys.path (use_checkout),
+builds scenes, snapshots every RNA property the bridge might touch."""
 import os
 import sys
 
+import bpy
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 
-import bpy  # noqa: E402
+
+def use_checkout():
+    """The checkout's bridge (blender_addon/aolab_blender) first on sys.path, and before it
+    the aolab package the test imports ($AOLAB_PACKAGE_PATH, as aolab.reference sets it for
+    batch.py). Not for the add-on's own check, which tests the installed add-on."""
+    sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+    if os.environ.get("AOLAB_PACKAGE_PATH"):
+        sys.path.insert(0, os.environ["AOLAB_PACKAGE_PATH"])
 
 
 def run_build_script(path):
     import runpy
     bpy.ops.wm.read_factory_settings(use_empty=True)
     runpy.run_path(path, run_name="__main__")
+
+
+def scene_from_argv(dressed: bool = False):
+    """Builds the scene of the build script that follows `--` on Blender's command line and
+    returns it; `dressed`: with a user's non-default settings (dress_as_user_scene)."""
+    run_build_script(sys.argv[sys.argv.index("--") + 1])
+    scene = bpy.context.scene
+    if dressed:
+        dress_as_user_scene(scene)
+    return scene
 
 
 def rna_values(owner, depth=1, seen=None):
@@ -41,7 +59,8 @@ def rna_values(owner, depth=1, seen=None):
                 out[name] = rna_values(value, depth - 1, seen)
             continue
         try:
-            out[name] = list(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
+            is_sequence = hasattr(value, "__len__") and not isinstance(value, str)
+            out[name] = list(value) if is_sequence else value
         except TypeError:
             out[name] = str(value)
     return out

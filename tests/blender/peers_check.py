@@ -1,22 +1,19 @@
 """Inside Blender (under xvfb-run, for EEVEE): the comparison peers of a user's scene — the
-Cycles ladder and EEVEE's GTAO (aolab_blender/peers.py) — leave every setting as it was,
-after a full render and after cancelling at each stage. Prints `RESULT {...}` with the
-outcomes, diffs, the files written and peers.json."""
+Cycles ladder and EEVEE's GTAO (blender_addon/aolab_blender/peers.py) — leave every setting
+as it was, after a full render and after cancelling at each stage. Prints `RESULT {...}`
+with the outcomes, diffs, the files written and peers.json."""
 import json
 import os
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import diff, dress_as_user_scene, run_build_script, scene_state  # noqa: E402
+from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E402
 
-import bpy  # noqa: E402
+use_checkout()
 from aolab_blender import export, peers  # noqa: E402
 
-tiny = sys.argv[sys.argv.index("--") + 1]
-run_build_script(tiny)
-scene = bpy.context.scene
-dress_as_user_scene(scene)
+scene = scene_from_argv(dressed=True)
 before = scene_state(scene)
 out_dir = tempfile.mkdtemp(prefix="aolab-peers-")
 results = {}

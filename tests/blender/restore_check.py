@@ -8,16 +8,14 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import diff, dress_as_user_scene, run_build_script, scene_state  # noqa: E402
+from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E402
 
+use_checkout()
 import bpy  # noqa: E402
+
 from aolab_blender import export  # noqa: E402
 
-tiny = sys.argv[sys.argv.index("--") + 1]
-run_build_script(tiny)
-scene = bpy.context.scene
-
-dress_as_user_scene(scene)
+scene = scene_from_argv(dressed=True)
 
 enabled_per_render = []
 

@@ -29,30 +29,6 @@ struct SceneFixture {
   }
 };
 
-/// An open plane seen at a tilt (degrees) towards an azimuth, with a field of view: the
-/// cases every method's "open plane is exactly 1" test runs through.
-struct PlaneCase {
-  double tilt, azimuth, fov;
-};
-inline const PlaneCase kOpenPlaneCases[] = {{0, 0, 60},   {30, 45, 60},    {60, 0, 90},
-                                            {85, 30, 60}, {-85, 200, 120}, {89, 90, 30}};
-inline SceneFixture open_plane(const PlaneCase& c) {
-  return SceneFixture("plane", 160, 90, {{"tilt", c.tilt}, {"azimuth", c.azimuth}, {"fov", c.fov}});
-}
-
-/// The `step` scene with its raised half replaced by background (1e10): a floor beside
-/// nothing, so every method must give exactly 1 there (background never occludes).
-struct StepBesideBackground {
-  SceneFixture f{"step", 120, 80};
-  Image depth = f.scene.depth;
-  GBuffer g = f.g;
-  StepBesideBackground() {
-    for (int y = 0; y < depth.height(); ++y)
-      for (int x = depth.width() / 2; x < depth.width(); ++x) depth(x, y) = 1e10f;
-    g.depth = depth.view();
-  }
-};
-
 /// A 1-channel image of deterministic values in [lo, hi) from a 64-bit LCG, so tests need
 /// no seeding policy.
 inline Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f,

@@ -21,7 +21,8 @@ scene.collection.objects.link(cam)
 cam.location = (2.2, -2.5, 1.8)
 cam.rotation_euler = (1.15, 0, 0.65)
 scene.camera = cam
-scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 96, 54, 100
+render = scene.render
+render.resolution_x, render.resolution_y, render.resolution_percentage = 96, 54, 100
 world = bpy.data.worlds.new("World")
 scene.world = world
 world.light_settings.distance = 0.75

@@ -20,7 +20,7 @@ CROP = "160x90"
 
 
 def write_y_exr(path: Path, image: np.ndarray, half: bool = True) -> None:
-    """A one-channel EXR named Y, as the lead's Blender renders are."""
+    """A one-channel EXR named Y, as `aolab reference --peers` writes the peers."""
     h, w = image.shape
     spec = oiio.ImageSpec(w, h, 1, oiio.HALF if half else oiio.FLOAT)
     spec.channelnames = ("Y",)

@@ -1,6 +1,11 @@
 """The check that a method's docs page copies its settings field table exactly: the rows of
-the `## Settings` table of docs/methods/<method>.md, `| `name` | type | default | [min, max] |
-unit | description |`, against aolab.method_info(method)["settings"]."""
+the `## Settings` table of docs/methods/<method>.md against
+aolab.method_info(method)["settings"]. A row is
+
+    | `name` | type | default | [min, max] | unit | description |     (float, int)
+    | `name` | bool | true | false, true | unit | description |
+    | `name` | choice | default-name | a, b, c | unit | description |
+"""
 from pathlib import Path
 
 import numpy as np
@@ -10,20 +15,30 @@ import aolab
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "methods"
 
 
-def assert_docs_settings_table(method):
-    section = (DOCS / f"{method}.md").read_text().split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
-    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+def docs_rows(method: str) -> list[list[str]]:
+    """The cells of every setting row of the docs page's `## Settings` table."""
+    text = (DOCS / f"{method}.md").read_text()
+    section = text.split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
+    return [[c.strip() for c in line.strip().strip("|").split("|")]
             for line in section.splitlines() if line.startswith("| `")]
+
+
+def assert_docs_settings_table(method):
+    rows = docs_rows(method)
     settings = aolab.method_info(method)["settings"]
     assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
     for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
         assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
         if kind == "bool":
             assert (default, rng) == ("true" if s["default"] else "false", "false, true"), name
-            continue
-        assert np.float32(float(default)) == np.float32(s["default"]), name
-        lo, hi = (float(v) for v in rng.strip("[]").split(","))
-        assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]), np.float32(s["max"])), name
+        elif kind == "choice":
+            assert default == s["default"], name
+            assert [c.strip() for c in rng.split(",")] == list(s["choices"]), name
+        else:
+            assert np.float32(float(default)) == np.float32(s["default"]), name
+            lo, hi = (float(v) for v in rng.strip("[]").split(","))
+            assert (np.float32(lo), np.float32(hi)) == (np.float32(s["min"]),
+                                                        np.float32(s["max"])), name
 
 
 def settings_table(method: str) -> str:
@@ -32,9 +47,11 @@ def settings_table(method: str) -> str:
     for s in aolab.method_info(method)["settings"]:
         if s["type"] == "bool":
             default, rng = ("true" if s["default"] else "false"), "false, true"
+        elif s["type"] == "choice":
+            default, rng = s["default"], ", ".join(s["choices"])
         else:
-            num = (lambda v: str(int(v))) if s["type"] == "int" else \
-                (lambda v: f"{v:.7g}".replace("e+", "e"))
+            def num(v):
+                return str(int(v)) if s["type"] == "int" else f"{v:.7g}".replace("e+", "e")
             default, rng = num(s["default"]), f"[{num(s['min'])}, {num(s['max'])}]"
         lines.append(f"| `{s['name']}` | {s['type']} | {default} | {rng} | {s['unit']} | "
                      f"{s['description']} |")

@@ -40,7 +40,7 @@ def run_blender(env, *args, factory=True) -> dict:
         ["-noaudio", "--python-use-system-env", "--python-exit-code", "1",
          "--python", str(CHECK), "--", *args]
     res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
-    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+    lines = [line for line in res.stdout.splitlines() if line.startswith("RESULT ")]
     assert res.returncode == 0 and lines, res.stdout[-4000:] + res.stderr[-3000:]
     return json.loads(lines[-1][len("RESULT "):])
 
@@ -49,7 +49,7 @@ def run_blender(env, *args, factory=True) -> dict:
 def installed(tmp_path_factory):
     base = tmp_path_factory.mktemp("blender_user")
     env = blender_env(base)
-    env["AOLAB_ADDON_ZIP"] = str(base / "aolab_addon.zip")
+    env["AOLAB_ADDON_ZIP"] = str(base / "aolab_blender.zip")
     res = subprocess.run([str(ROOT / "scripts" / "install_addon.sh")], capture_output=True,
                          text=True, env=env, timeout=120)
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
@@ -86,7 +86,7 @@ def test_installs_enables_and_unregisters_cleanly(installed):
     base, env = installed
     r = run_blender(env, "installed", factory=False)  # the saved preferences enable it
     assert r["enabled"]
-    assert r["file"].startswith(str(base / "scripts" / "addons" / "aolab_addon"))
+    assert r["file"].startswith(str(base / "scripts" / "addons" / "aolab_blender"))
     for name in ("AOLAB_PT_sidebar", "AOLAB_PT_view_layer", "AOLAB_OT_preview",
                  "AOLAB_OT_render_reference", "AOLAB_OT_compare",
                  "AOLAB_AddonPreferences (is_registered)",
@@ -105,18 +105,14 @@ def test_user_errors_are_reported(flow):
     for case, text in expected.items():
         assert r[case]["result"] == ["CANCELLED"], case
         assert text in r[case]["error"] and text in r[case]["message"], (case, r[case])
-    if r["report"]["result"] == ["FINISHED"]:  # a build with the comparison study
-        assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
-        assert r["presets"]["hbao"][:2] == ["default", "low"]
-        from aolab import presets
-        low, _ = presets.entry("hbao").presets["low"], None
-        for k, v in low.items():
-            if k != "blur":
-                assert r["hbao_low"][k] == pytest.approx(v), k
-        assert r["hbao_default_again"] == {}
-    else:
-        assert "comparison study not available in this build" in r["report"]["error"]
-        assert r["presets"]["hbao"] == ["default"]
+    assert r["report"]["result"] == ["FINISHED"], r["report"]
+    assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
+    from aolab import presets
+    assert r["presets"]["hbao"] == ["default"] + presets.preset_names("hbao")
+    values, blur = presets.preset_values("hbao", "low")
+    for k, v in {**values, "blur": blur}.items():  # the preset's values, the rest defaults
+        assert r["hbao_low"][k] == pytest.approx(v), k
+    assert r["hbao_default_again"] == {}
     assert "no window" in r["show_image_background"]["error"]
 
 
@@ -172,7 +168,8 @@ def test_compare_metrics_and_images_equal_the_command_line(flow):
         assert row["metrics"] == result["metrics"], method        # exact, every metric
         ours = np.load(work / "out" / f"compare_{method}.npy")[..., 0]
         assert np.array_equal(ours, cli), method
-    assert {"AO Lab hbao error", "AO Lab lsao error", "AO Lab reference"} <= set(r["compare_images"])
+    expected = {"AO Lab hbao error", "AO Lab lsao error", "AO Lab reference"}
+    assert expected <= set(r["compare_images"])
     # The error map is white where the method equals the reference, blue where lighter.
     g = aolab.load_gbuffer(reference)
     err = np.load(work / "out" / "error_hbao.npy")[..., :3]

@@ -32,6 +32,6 @@ def test_aolab_computes_inside_blender(tmp_path):
                           "--python", str(script)],
                          capture_output=True, text=True, env=env, timeout=120)
     assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
-    line = next(l for l in res.stdout.splitlines() if l.startswith("AOLAB_OK"))
+    line = next(out for out in res.stdout.splitlines() if out.startswith("AOLAB_OK"))
     assert line.startswith("AOLAB_OK " + package_root)
     assert line.endswith(" 1.0")

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab_blender.intrinsics import intrinsics
-from aolab_blender.passes import parse_passes, required_passes
+from aolab.bridge.intrinsics import intrinsics
+from aolab.bridge.passes import parse_passes, required_passes
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
@@ -55,7 +55,8 @@ COLOUR = {"needs_normal": True, "needs_color": True}
     ([NORMALS], ["color_bleeding"], ["depth", "normal"]),  # nobody reads colour
     ([COLOUR], [], ["depth", "normal"]),                    # the scene asks for no effect
     ([COLOUR], ["color_bleeding"], ["depth", "normal", "diffuse_color"]),
-    ([DEPTH_ONLY, COLOUR], ["luminance_sensitivity"], ["depth", "normal", "diffuse_color", "emission"]),
+    ([DEPTH_ONLY, COLOUR], ["luminance_sensitivity"],
+     ["depth", "normal", "diffuse_color", "emission"]),
     ([], [], ["depth"]),
 ])
 def test_only_needed_passes_are_selected(methods, effects, expected):
@@ -72,11 +73,17 @@ def test_pass_names_are_checked():
 
 # ---- inside Blender ----
 
+def checkout_env() -> dict:
+    """Blender's environment for tests/blender scripts: the aolab this test imports first on
+    its path (tests/blender/common.py use_checkout, as aolab.reference does for batch.py)."""
+    return dict(os.environ, AOLAB_PACKAGE_PATH=str(Path(aolab.__file__).resolve().parents[1]))
+
+
 def blender_check(script: str, *args: str) -> dict:
     res = subprocess.run([BLENDER, "-b", "--factory-startup", "-noaudio", "--python-exit-code",
                           "1", "--python", str(ROOT / "tests" / "blender" / script), "--", *args],
-                         capture_output=True, text=True, timeout=600)
-    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+                         capture_output=True, text=True, timeout=600, env=checkout_env())
+    lines = [line for line in res.stdout.splitlines() if line.startswith("RESULT ")]
     assert res.returncode == 0 and lines, res.stdout[-3000:] + res.stderr[-3000:]
     return json.loads(lines[-1][len("RESULT "):])
 
@@ -101,7 +108,8 @@ def test_scene_is_restored_after_export_failure_and_cancel():
     for case, v in r.items():
         if isinstance(v, dict):
             assert v["diff"] == [], (case, v["diff"][:10])
-    slots_before, slots_after = r["user_render_result"]["slots_before"], r["user_render_result"]["slots_after"]
+    slots_before = r["user_render_result"]["slots_before"]
+    slots_after = r["user_render_result"]["slots_after"]
     assert slots_after[1] == slots_before[1]                 # the user's active slot
     assert slots_after[0][:len(slots_before[0])] == slots_before[0]
     # The G-buffer render had the asked passes only; the reference render AO alone.
@@ -158,6 +166,7 @@ def test_reference_end_to_end_cached_and_scored(tmp_path):
 @needs_blender
 def test_passes_follow_the_request(tmp_path):
     cache = tmp_path / "cache"
+
     def channels(*args):
         aolab_reference(str(TINY), "--spp", "2", "--cache", str(cache), *args)
         folder = max(cache.iterdir(), key=lambda p: p.stat().st_mtime)

@@ -48,3 +48,19 @@ def test_errors_are_clear(args, text):
     res = aolab_cmd(*args, check=False)
     assert res.returncode != 0
     assert text in (res.stderr + res.stdout)
+
+
+def test_choice_settings_are_given_by_name(tmp_path):
+    # "off" is a choice's name here (vao_pp culling), not the boolean false.
+    out = tmp_path / "vao_pp"
+    aolab_cmd("run", "vao_pp", "analytic:blocks", "--width", "64", "--height", "36",
+              "--set", "culling=off", "--set", "samples=8", "--out", str(out),
+              "--json", str(tmp_path / "r.json"))
+    result = json.loads((tmp_path / "r.json").read_text())
+    assert result["settings"] == {"culling": "off", "samples": 8}
+    bad = aolab_cmd("run", "lsao", "analytic:plane", "--width", "32", "--height", "18",
+                    "--set", "falloff=steep", "--out", str(tmp_path / "bad"), check=False)
+    assert bad.returncode == 2
+    assert "falloff must be one of rational, clipped" in bad.stderr
+    listing = aolab_cmd("methods").stdout
+    assert "falloff" in listing and "one of rational, clipped" in listing

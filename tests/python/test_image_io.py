@@ -112,7 +112,8 @@ def test_no_reference_and_no_colour(tmp_path):
 def test_blender_exr_with_world_normals(tmp_path):
     """An EXR as Blender writes it (world-space normals, a layer with a custom name, passes
     AO Lab does not read) plus a sidecar with camera_to_world: normals come out in view space,
-    Nv = Nw @ R with R the column-normalised rotation (BLENDER_FACTS.md)."""
+    Nv = Nw @ R with R the column-normalised rotation (docs/blender_facts.md, "Passes in a
+    multilayer EXR")."""
     h, w = 4, 6
     rng = np.random.default_rng(7)
     depth = rng.uniform(1, 10, (h, w)).astype(np.float32)
@@ -176,7 +177,8 @@ def test_missing_depth_names_the_channels(tmp_path):
     plane = np.full((3, 4), 0.5, np.float32)
     write_oiio(tmp_path / "beauty.exr", [("ViewLayer.Combined.R", "half", plane),
                                          ("ViewLayer.Combined.G", "half", plane)])
-    with pytest.raises(ValueError, match=r"Depth\.Z.*ViewLayer\.Combined\.R, ViewLayer\.Combined\.G"):
+    channels = r"ViewLayer\.Combined\.R, ViewLayer\.Combined\.G"
+    with pytest.raises(ValueError, match=r"Depth\.Z.*" + channels):
         aolab.load_gbuffer(tmp_path / "beauty.exr")
 
 

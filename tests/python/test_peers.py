@@ -1,16 +1,15 @@
-"""The comparison study's peers (issue 6 items 4–6): the Cycles spp ladder, the noise floor
-and EEVEE's GTAO, rendered by Blender (aolab_blender/peers.py) via `aolab reference --peers`."""
+"""The comparison study's peers: the Cycles spp ladder, the noise floor and EEVEE's GTAO,
+rendered by Blender (blender_addon/aolab_blender/peers.py) via `aolab reference --peers`."""
 import json
 import shutil
 import subprocess
-import sys
 
 import numpy as np
 import OpenImageIO as oiio
 import pytest
 
 import aolab
-from test_bridge import BLENDER, ROOT, TINY, aolab_reference, needs_blender
+from test_bridge import BLENDER, ROOT, TINY, aolab_reference, checkout_env, needs_blender
 
 needs_xvfb = pytest.mark.skipif(shutil.which("xvfb-run") is None,
                                 reason="xvfb-run is not installed (scripts/install-deps.sh)")
@@ -28,8 +27,8 @@ def test_peers_leave_the_scene_as_it_was_also_when_cancelled():
     res = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", BLENDER, "-b",
                           "--factory-startup", "-noaudio", "--python-exit-code", "1", "--python",
                           str(ROOT / "tests" / "blender" / "peers_check.py"), "--", str(TINY)],
-                         capture_output=True, text=True, timeout=600)
-    lines = [l for l in res.stdout.splitlines() if l.startswith("RESULT ")]
+                         capture_output=True, text=True, timeout=600, env=checkout_env())
+    lines = [line for line in res.stdout.splitlines() if line.startswith("RESULT ")]
     assert res.returncode == 0 and lines, res.stdout[-3000:] + res.stderr[-3000:]
     r = json.loads(lines[-1][len("RESULT "):])
     full = r["full"]
@@ -88,7 +87,8 @@ def test_peers_options_are_checked(tmp_path):
     assert res.returncode != 0 and "--ladder" in res.stdout + res.stderr
 
 
-SCENES = sorted(p.parent.parent.name for p in (ROOT / "reference_scenes").glob("*/peers/peers.json"))
+SCENES = sorted(p.parent.parent.name
+                for p in (ROOT / "reference_scenes").glob("*/peers/peers.json"))
 
 
 @pytest.mark.parametrize("scene", SCENES)

@@ -74,8 +74,8 @@ def test_analytic_reference_matches_closed_forms_within_its_noise():
 @pytest.mark.skipif(BLENDER is None, reason="Blender is not installed")
 def test_aolab_reference_reproduces_the_committed_analytic_reference(tmp_path):
     """The committed 1024-spp reference rendered again at 64 spp (to stay in CI's budget):
-    the same passes, depth bit for bit, normals to half precision, and AO within the noise
-    of 64 spp (BLENDER_FACTS.md: RMS 0.013 against 1024 spp on a real model)."""
+    the same passes, depth to a few ulps, normals to half precision, and AO within the noise
+    of 64 spp (docs/blender_facts.md, "Noise": RMS 0.013 against 1024 spp on a real model)."""
     folder = ROOT / "reference_scenes" / "analytic"
     res = subprocess.run([sys.executable, "-m", "aolab", "reference", str(folder), "--spp", "64",
                           "--cache", str(tmp_path), "--quiet"], capture_output=True, text=True,
@@ -85,9 +85,15 @@ def test_aolab_reference_reproduces_the_committed_analytic_reference(tmp_path):
     old = aolab.load_gbuffer(folder / "reference.exr")
     assert new.sidecar["passes"] == old.sidecar["passes"]
     assert new.sidecar["scene_hash"] == old.sidecar["scene_hash"]
-    np.testing.assert_array_equal(new.depth, old.depth)
-    np.testing.assert_allclose(new.normal, old.normal, atol=1e-3)
+    # Depth: the same pixels hit, at the same distance to a few float ulps. Not bit for bit
+    # across machines: Cycles intersects with Embree, whose code path follows the CPU's vector
+    # ISA (AVX2 vs AVX-512), so a hit's distance can differ in its last bits (measured: 6.6 %
+    # of pixels, at most 8.7e-7 relative; docs/blender_facts.md, "Reproducibility").
     mask = old.valid_mask()
+    np.testing.assert_array_equal(new.valid_mask(), mask)
+    np.testing.assert_array_equal(new.depth[~mask], old.depth[~mask])
+    np.testing.assert_allclose(new.depth[mask], old.depth[mask], rtol=4e-6, atol=0)
+    np.testing.assert_allclose(new.normal, old.normal, atol=1e-3)
     diff = (new.reference - old.reference)[mask]
     assert np.sqrt(np.mean(diff**2)) < 0.03
     assert abs(diff.mean()) < 3e-3  # unbiased
@@ -107,5 +113,6 @@ def test_full_1024_spp_reproduction(tmp_path, name):
     old = aolab.load_gbuffer(folder / "reference.exr")
     mask = old.valid_mask()
     diff = (new.reference - old.reference)[mask]
-    # Two independent 1024-spp renders: RMS below 2 × 0.0043·sqrt(4) (BLENDER_FACTS noise).
+    # Two independent 1024-spp renders: expected RMS 0.0043·sqrt(2/5) ≈ 0.003 on the measured
+    # model (docs/blender_facts.md, "Noise"); 0.012 leaves room for noisier scenes.
     assert np.sqrt(np.mean(diff**2)) < 0.012 and abs(diff.mean()) < 1e-3

@@ -10,7 +10,7 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from aolab import cli, report
+from aolab import cli, report, scoring
 from compare_support import CROP, make_scenes, parse_report
 
 
@@ -33,11 +33,17 @@ def test_pareto_front():
 
 
 def test_signed_error_colours():
-    rgb = report.signed_error_rgb(np.array([[0.0, 1.0, -1.0, 0.125]]))
+    # One definition for the report's images and the add-on's error maps (aolab.scoring).
+    err = np.array([[0.0, 1.0, -1.0, 0.125, 0.5]])
+    rgb = scoring.signed_error_rgb(err)
     assert rgb[0, 0].tolist() == [1, 1, 1]
-    assert rgb[0, 1].tolist() == list(report.LIGHTER_RGB)
-    assert rgb[0, 2].tolist() == list(report.DARKER_RGB)
-    assert rgb[0, 3] == pytest.approx((np.ones(3) + np.array(report.LIGHTER_RGB)) / 2)
+    assert rgb[0, 1].tolist() == list(scoring.LIGHTER_RGB)
+    assert rgb[0, 2].tolist() == list(scoring.DARKER_RGB)
+    assert rgb[0, 3] == pytest.approx((np.ones(3) + np.array(scoring.LIGHTER_RGB)) / 2)
+    valid = np.array([[True, True, True, True, False]])
+    masked = scoring.signed_error_rgb(err, valid=valid)
+    assert masked[0, 4].tolist() == [scoring.BACKGROUND_GREY] * 3
+    assert np.array_equal(masked[0, :4], rgb[0, :4])
 
 
 def test_svg_points_carry_their_row_and_values():

@@ -124,6 +124,176 @@ struct Buffers {
   std::vector<float> n, s1, s2, c;  // the horizontal pass, w·h each
 };
 
+// How window sizes relate: the vertical half-width of a window is R·fy/d = rh·fy/fx when
+// adaptive, square otherwise.
+struct WindowShape {
+  bool adaptive;
+  double aspect;  // fy / fx
+  int max_kernel_radius;
+  int vertical(int rh) const {
+    return adaptive ? int(std::min<double>(std::round(rh * aspect), max_kernel_radius)) : rh;
+  }
+};
+
+// The frame, and the window half-width of every pixel: R·fx/d (k ∝ 1/d, §III) quantised, or
+// the fixed one; 0 for background.
+Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape& shape,
+                 int threads, std::vector<int>& radius_of) {
+  const int w = g.width(), h = g.height();
+  const std::size_t pixels = std::size_t(w) * h;
+  Frame f{w, h, std::vector<float>(pixels), std::vector<float>(pixels), std::vector<int>(pixels)};
+  radius_of.assign(pixels, 0);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        const bool valid = g.valid(x, y);
+        f.depth[i] = valid ? g.depth(x, y) : 0.0f;
+        f.weight[i] = valid ? 1.0f : 0.0f;
+        if (!valid) continue;
+        radius_of[i] = shape.adaptive ? chebyshev_quantised_radius(
+                                            double(s.radius) * g.camera.fx / g.depth(x, y),
+                                            s.max_kernel_radius)
+                                      : s.kernel_radius;
+      }
+  });
+  return f;
+}
+
+// Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
+// exactly 1 up to its silhouette).
+void shrink_at_background(const Frame& f, const WindowShape& shape, std::vector<int>& radius_of) {
+  const std::vector<int> dist = background_distance(f);
+  for (std::size_t i = 0; i < radius_of.size(); ++i) {
+    int r = radius_of[i];
+    while (r > 0 && std::max(r, shape.vertical(r)) >= dist[i])
+      r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
+    radius_of[i] = r;
+  }
+}
+
+// The distinct half-widths (levels) in increasing order; sets every pixel's level index.
+std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r,
+                                 const std::vector<int>& radius_of) {
+  std::vector<int> index_of(std::size_t(max_r) + 1, -1);
+  for (int r : radius_of) index_of[r] = 0;
+  std::vector<Level> levels;
+  for (int r = 1; r <= max_r; ++r) {
+    if (index_of[r] < 0) continue;
+    index_of[r] = int(levels.size());
+    levels.push_back({r, shape.vertical(r)});
+  }
+  for (std::size_t i = 0; i < radius_of.size(); ++i)
+    f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+  return levels;
+}
+
+// The rows one level touches: the rows holding its receivers with their column span, and the
+// rows and columns the horizontal pass must cover (the union of the spans of the receiver
+// rows within their vertical half-width).
+struct LevelRows {
+  std::vector<int> receiver_rows, pass_rows;
+  std::vector<int> span_lo, span_hi;  // per row: the receivers' columns (lo > hi: none)
+  std::vector<int> need_lo, need_hi;  // per row: the columns the horizontal pass covers
+};
+
+std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels) {
+  const int w = f.w, h = f.h;
+  std::vector<LevelRows> rows(levels.size());
+  for (LevelRows& r : rows) r.span_lo.assign(h, w), r.span_hi.assign(h, -1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int l = f.level[std::size_t(y) * w + x];
+      if (l < 0) continue;
+      rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
+      rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
+    }
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    LevelRows& r = rows[l];
+    r.need_lo.assign(h, w), r.need_hi.assign(h, -1);
+    for (int y = 0; y < h; ++y) {
+      if (r.span_hi[y] < 0) continue;
+      r.receiver_rows.push_back(y);
+      const int ry = std::min({levels[l].rv, y, h - 1 - y});
+      for (int j = y - ry; j <= y + ry; ++j) {
+        r.need_lo[j] = std::min(r.need_lo[j], r.span_lo[y]);
+        r.need_hi[j] = std::max(r.need_hi[j], r.span_hi[y]);
+      }
+    }
+    for (int y = 0; y < h; ++y)
+      if (r.need_hi[y] >= 0) r.pass_rows.push_back(y);
+  }
+  return rows;
+}
+
+// The horizontal pass of one level over the rows and columns it needs.
+void horizontal_pass(const Frame& f, const Level& lv, const LevelRows& rows, Buffers& b,
+                     int threads, Progress* progress) {
+  const int w = f.w;
+  parallel_for_rows(
+      int(rows.pass_rows.size()), threads,
+      [&](int i0, int i1) {
+        std::vector<int> left(w), right(w);
+        for (int i = i0; i < i1; ++i) {
+          const int y = rows.pass_rows[i];
+          const std::size_t o = std::size_t(y) * w;
+          horizontal_row(f, y, lv.rh, rows.need_lo[y], rows.need_hi[y], b.n.data() + o,
+                         b.s1.data() + o, b.s2.data() + o, b.c.data() + o, left, right);
+        }
+      },
+      progress);
+}
+
+// Vertical pass of row y for the receivers of level l in columns [xa, xb): shift each row's
+// sums from its reference c to the receiver's depth d,
+//   Σ(f − d) = s1 + n·δ,  Σ(f − d)² = s2 + 2δ·s1 + n·δ²,  δ = c − d,
+// exact identities evaluated in double; c lies in the receiver's window, so every term is
+// bounded by the window's own Σ(f − d)² (no cancellation beyond that sum's rounding).
+void vertical_row(const Frame& f, int l, int rv, int y, int xa, int xb, const Buffers& b,
+                  Image& out, std::vector<double>& sn, std::vector<double>& s1,
+                  std::vector<double>& s2) {
+  const int w = f.w, h = f.h;
+  const int span = xb - xa;
+  sn.assign(span, 0.0), s1.assign(span, 0.0), s2.assign(span, 0.0);
+  const float* dr = f.depth.data() + std::size_t(y) * w + xa;
+  const int ry = std::min({rv, y, h - 1 - y});
+  for (int j = -ry; j <= ry; ++j) {
+    const std::size_t o = std::size_t(y + j) * w + xa;
+    const float *hn = b.n.data() + o, *h1 = b.s1.data() + o, *h2 = b.s2.data() + o,
+                *hc = b.c.data() + o;
+    for (int x = 0; x < span; ++x) {
+      const double n = hn[x], a = h1[x];
+      const double delta = double(hc[x]) - double(dr[x]);
+      sn[x] += n;
+      s1[x] += a + n * delta;
+      s2[x] += double(h2[x]) + delta * (2.0 * a + n * delta);
+    }
+  }
+  const int* level = f.level.data() + std::size_t(y) * w + xa;
+  for (int x = 0; x < span; ++x) {
+    if (level[x] != l) continue;
+    const double m1 = s1[x] / sn[x], m2 = s2[x] / sn[x];
+    out(xa + x, y, 0) = float(sn[x]);
+    out(xa + x, y, 1) = float(-m1);                          // λ = d − μ
+    out(xa + x, y, 2) = float(std::max(0.0, m2 - m1 * m1));  // σ² (§III)
+  }
+}
+
+void vertical_pass(const Frame& f, int l, const Level& lv, const LevelRows& rows, const Buffers& b,
+                   Image& out, int threads, Progress* progress) {
+  const std::vector<int>& recv = rows.receiver_rows;
+  parallel_for_rows(
+      int(recv.size()), threads,
+      [&](int i0, int i1) {
+        std::vector<double> sn, s1, s2;
+        for (int i = i0; i < i1; ++i) {
+          const int y = recv[i];
+          vertical_row(f, l, lv.rv, y, rows.span_lo[y], rows.span_hi[y] + 1, b, out, sn, s1, s2);
+        }
+      },
+      progress);
+}
+
 }  // namespace
 
 int chebyshev_quantised_radius(double r, int cap) {
@@ -166,89 +336,19 @@ Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunO
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
   const std::size_t pixels = std::size_t(w) * h;
+  const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
+                          double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
 
-  Frame f{w, h, std::vector<float>(pixels), std::vector<float>(pixels), std::vector<int>(pixels)};
-  // Window half-width per pixel: R·fx/d (k ∝ 1/d, §III) quantised, or the fixed one.
-  const bool adaptive = s.kernel_mode == int(ChebyshevKernel::Adaptive);
-  std::vector<int> radius_of(pixels, 0);
-  parallel_for_rows(h, threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < w; ++x) {
-        const std::size_t i = std::size_t(y) * w + x;
-        const bool valid = g.valid(x, y);
-        f.depth[i] = valid ? g.depth(x, y) : 0.0f;
-        f.weight[i] = valid ? 1.0f : 0.0f;
-        if (!valid) continue;
-        radius_of[i] =
-            adaptive ? chebyshev_quantised_radius(double(s.radius) * g.camera.fx / g.depth(x, y),
-                                                  s.max_kernel_radius)
-                     : s.kernel_radius;
-      }
-  });
-  // The vertical half-width of a window: R·fy/d = rh·fy/fx when adaptive, square otherwise.
-  const double aspect = double(g.camera.fy) / g.camera.fx;
-  auto vertical = [&](int rh) {
-    return adaptive ? int(std::min<double>(std::round(rh * aspect), s.max_kernel_radius)) : rh;
-  };
-  if (s.shrink_at_background) {
-    // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
-    // exactly 1 up to its silhouette).
-    const std::vector<int> dist = background_distance(f);
-    for (std::size_t i = 0; i < pixels; ++i) {
-      int r = radius_of[i];
-      while (r > 0 && std::max(r, vertical(r)) >= dist[i])
-        r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
-      radius_of[i] = r;
-    }
-  }
-  // The distinct half-widths (levels).
-  const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);
-  std::vector<int> index_of(std::size_t(max_r) + 1, -1);
-  for (int r : radius_of) index_of[r] = 0;
-  std::vector<Level> levels;
-  for (int r = 1; r <= max_r; ++r) {
-    if (index_of[r] < 0) continue;
-    index_of[r] = int(levels.size());
-    levels.push_back({r, vertical(r)});
-  }
-  for (std::size_t i = 0; i < pixels; ++i)
-    f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
-  radius_of.clear();
-  radius_of.shrink_to_fit();
-
-  // Per level: the rows holding its receivers with their column span, and the rows and
-  // columns the horizontal pass must cover (the union of the spans of the receiver rows
-  // within their vertical half-width).
-  const int nl = int(levels.size());
-  std::vector<std::vector<int>> receiver_rows(nl), pass_rows(nl);
-  std::vector<std::vector<int>> span_lo(nl, std::vector<int>(h, w)),
-      span_hi(nl, std::vector<int>(h, -1));
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int l = f.level[std::size_t(y) * w + x];
-      if (l < 0) continue;
-      span_lo[l][y] = std::min(span_lo[l][y], x);
-      span_hi[l][y] = std::max(span_hi[l][y], x);
-    }
-  std::vector<std::vector<int>> need_lo(nl), need_hi(nl);
+  std::vector<int> radius_of;
+  Frame f = make_frame(g, s, shape, threads, radius_of);
+  if (s.shrink_at_background) shrink_at_background(f, shape, radius_of);
+  const std::vector<Level> levels =
+      assign_levels(f, shape, std::max(s.kernel_radius, s.max_kernel_radius), radius_of);
+  radius_of = {};
+  const std::vector<LevelRows> rows = level_rows(f, levels);
   std::int64_t total = 0;
-  for (int l = 0; l < nl; ++l) {
-    std::vector<int>& lo = need_lo[l];
-    std::vector<int>& hi = need_hi[l];
-    lo.assign(h, w), hi.assign(h, -1);
-    for (int y = 0; y < h; ++y) {
-      if (span_hi[l][y] < 0) continue;
-      receiver_rows[l].push_back(y);
-      const int ry = std::min({levels[l].rv, y, h - 1 - y});
-      for (int j = y - ry; j <= y + ry; ++j) {
-        lo[j] = std::min(lo[j], span_lo[l][y]);
-        hi[j] = std::max(hi[j], span_hi[l][y]);
-      }
-    }
-    for (int y = 0; y < h; ++y)
-      if (hi[y] >= 0) pass_rows[l].push_back(y);
-    total += std::int64_t(pass_rows[l].size() + receiver_rows[l].size());
-  }
+  for (const LevelRows& r : rows)
+    total += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
   if (options.progress) options.progress->total += total;
 
   Image out(w, h, 3, 0.0f);
@@ -262,62 +362,12 @@ Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunO
     parallel_for_rows(
         1, 1, [](int, int) {}, options.progress);
 
-  Buffers b{std::vector<float>(nl ? pixels : 0), std::vector<float>(nl ? pixels : 0),
-            std::vector<float>(nl ? pixels : 0), std::vector<float>(nl ? pixels : 0)};
-  for (int l = 0; l < nl; ++l) {
-    const Level lv = levels[l];
-    const std::vector<int>& rows = pass_rows[l];
-    parallel_for_rows(
-        int(rows.size()), threads,
-        [&](int i0, int i1) {
-          std::vector<int> left(w), right(w);
-          for (int i = i0; i < i1; ++i) {
-            const int y = rows[i];
-            const std::size_t o = std::size_t(y) * w;
-            horizontal_row(f, y, lv.rh, need_lo[l][y], need_hi[l][y], b.n.data() + o,
-                           b.s1.data() + o, b.s2.data() + o, b.c.data() + o, left, right);
-          }
-        },
-        options.progress);
-    // Vertical pass: shift each row's sums from its reference c to the receiver's depth d,
-    //   Σ(f − d) = s1 + n·δ,  Σ(f − d)² = s2 + 2δ·s1 + n·δ²,  δ = c − d,
-    // exact identities evaluated in double; c lies in the receiver's window, so every term
-    // is bounded by the window's own Σ(f − d)² (no cancellation beyond that sum's rounding).
-    const std::vector<int>& recv = receiver_rows[l];
-    parallel_for_rows(
-        int(recv.size()), threads,
-        [&](int i0, int i1) {
-          std::vector<double> sn, s1, s2;
-          for (int i = i0; i < i1; ++i) {
-            const int y = recv[i];
-            const int xa = span_lo[l][y], xb = span_hi[l][y] + 1;
-            const int span = xb - xa;
-            sn.assign(span, 0.0), s1.assign(span, 0.0), s2.assign(span, 0.0);
-            const float* dr = f.depth.data() + std::size_t(y) * w + xa;
-            const int ry = std::min({lv.rv, y, h - 1 - y});
-            for (int j = -ry; j <= ry; ++j) {
-              const std::size_t o = std::size_t(y + j) * w + xa;
-              const float *hn = b.n.data() + o, *h1 = b.s1.data() + o, *h2 = b.s2.data() + o,
-                          *hc = b.c.data() + o;
-              for (int x = 0; x < span; ++x) {
-                const double n = hn[x], a = h1[x];
-                const double delta = double(hc[x]) - double(dr[x]);
-                sn[x] += n;
-                s1[x] += a + n * delta;
-                s2[x] += double(h2[x]) + delta * (2.0 * a + n * delta);
-              }
-            }
-            const int* level = f.level.data() + std::size_t(y) * w + xa;
-            for (int x = 0; x < span; ++x) {
-              if (level[x] != l) continue;
-              const double m1 = s1[x] / sn[x], m2 = s2[x] / sn[x];
-              out(xa + x, y, 0) = float(sn[x]);
-              out(xa + x, y, 1) = float(-m1);                          // λ = d − μ
-              out(xa + x, y, 2) = float(std::max(0.0, m2 - m1 * m1));  // σ² (§III)
-            }
-          }
-        },
-        options.progress);
+  const std::size_t buffer = levels.empty() ? 0 : pixels;
+  Buffers b{std::vector<float>(buffer), std::vector<float>(buffer), std::vector<float>(buffer),
+            std::vector<float>(buffer)};
+  for (int l = 0; l < int(levels.size()); ++l) {
+    horizontal_pass(f, levels[l], rows[l], b, threads, options.progress);
+    vertical_pass(f, l, levels[l], rows[l], b, out, threads, options.progress);
   }
   return out;
 }
@@ -336,16 +386,9 @@ Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& 
 }
 
 Method chebyshev_method() {
-  Method m;
-  m.name = "chebyshev";
-  m.title = "Chebyshev ambient occlusion";
-  m.paper = "Chan, Im 2021, Chebyshev Ambient Occlusion";
-  m.needs_normal = false;
-  m.settings = describe_settings(kChebyshevFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return chebyshev(g, settings_from_values(values, kChebyshevFields, "chebyshev"), options);
-  };
-  return m;
+  return registered_method("chebyshev", "Chebyshev ambient occlusion",
+                           "Chan, Im 2021, Chebyshev Ambient Occlusion", kChebyshevFields,
+                           chebyshev);
 }
 
 }  // namespace aolab

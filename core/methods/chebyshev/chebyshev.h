@@ -1,6 +1,6 @@
 // Chebyshev ambient occlusion: Ka-Hou Chan, Sio-Kei Im, "Chebyshev Ambient Occlusion",
-// IEEE Access 9, 2021 (shared/papers/chebyshev-ao-chan-2021.md). docs/methods/chebyshev.md
-// gives the details.
+// IEEE Access 9, 2021 (doi:10.1109/ACCESS.2021.3124008). docs/methods/chebyshev.md gives the
+// details.
 //
 // Depth only. Over a k×k window around each pixel the first two moments of depth give μ and
 // σ² (§III: M1 = E(x), M2 = E(x²), two perpendicular box passes, O(2k)); the one-sided
@@ -98,7 +98,8 @@ inline const SettingField<ChebyshevSettings> kChebyshevFields[] = {
     {"radius", &ChebyshevSettings::radius, 1e-12, 1e30, "view-space units",
      "R; adaptive window half-width R fx/d px, epsilon = variance_bias R^2, range-check scale"},
     {"kernel_mode", &ChebyshevSettings::kernel_mode, 0, 1, "",
-     "0 = fixed pixel window, 1 = depth-adaptive window (k proportional to 1/d)"},
+     "fixed: a pixel window of constant size; adaptive: half-width R fx/d (k proportional to 1/d)",
+     "fixed|adaptive"},
     {"kernel_radius", &ChebyshevSettings::kernel_radius, 0, 1024, "px",
      "fixed mode: window half-width (k = 2 kernel_radius + 1)"},
     {"max_kernel_radius", &ChebyshevSettings::max_kernel_radius, 0, 1024, "px",

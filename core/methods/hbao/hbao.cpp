@@ -33,6 +33,19 @@ void HbaoDirections::rotated(float rotation, float* cos_out, float* sin_out) con
   }
 }
 
+HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float depth,
+                           const glm::vec3& normal) {
+  HbaoReceiver p;
+  p.x = x, p.y = y, p.d = depth, p.n = normal;
+  p.px = float(x) + 0.5f, p.py = float(y) + 0.5f;
+  p.ox = p.px - cam.cx, p.oy = p.py - cam.cy;
+  p.inv_fx = 1.0f / cam.fx, p.inv_fy = 1.0f / cam.fy;
+  const glm::vec3 r0(p.ox * p.inv_fx, -p.oy * p.inv_fy, -1.0f);
+  p.n_r0 = glm::dot(p.n, r0);
+  p.grazing_p = glm::length(r0) / std::abs(p.n_r0);
+  return p;
+}
+
 namespace {
 
 constexpr float kFloatEpsilon = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
@@ -86,91 +99,105 @@ struct Frame {
   CameraIntrinsics cam;
 };
 
+// The paper's one t(θ) per direction (per_sample_tangent off): from the ray one pixel along
+// θ, or in azimuth where that ray never meets the tangent plane.
+float direction_tangent_sin(const HbaoReceiver& p, float step_x, float step_y, float c, float s) {
+  const float len = std::sqrt(step_x * step_x + step_y * step_y);
+  const RayTangent rt =
+      tangent_on_ray(p.n, p.n_r0, step_x / len, step_y / len, p.d, p.ox, p.oy, p.inv_fx, p.inv_fy);
+  return std::isfinite(rt.tau) ? rt.sin_t : tangent_sin_in_azimuth(p.n, c, s);
+}
+
+// A sample that may become the horizon: its gain sin α − sin t and its distance r = |D|.
+struct Candidate {
+  float gain, r;
+};
+
+// t at the sample itself: the tangent plane on the sample's own view ray rs, met at depth tau
+// (tangent_on_ray). S counts only if it lies nearer than the plane by more than float32 depth
+// and normal rounding. The cheap sign test comes first: most samples of open surfaces fail it.
+bool per_sample_candidate(const HbaoReceiver& p, float qx, float qy, float ds, float dd, float r2,
+                          Candidate& out) {
+  const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
+  const float n_rs = glm::dot(p.n, rs);
+  const float tau = p.d * p.n_r0 / n_rs;
+  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
+  if (hits && !(tau > ds)) return false;
+  const float rs_len = glm::length(rs);
+  const float grazing_s = rs_len / std::abs(n_rs);
+  const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
+                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
+  if (!((hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance)) return false;
+  const float sin_t =
+      hits ? elevation_sin_on_ray(qx, qy, tau, p.d, p.ox, p.oy, p.inv_fx, p.inv_fy) : rs.z / rs_len;
+  out.r = std::sqrt(r2);
+  out.gain = -dd / out.r - sin_t;
+  return true;
+}
+
+// The sample on texel (sx, sy) at depth ds as a horizon candidate; false if it lies beyond R
+// (ignored, §3), is background (NaN) or is not above the tangent by more than rounding.
+bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius2, float sin_t_dir,
+                      int sx, int sy, float ds, Candidate& out) {
+  const float qx = float(sx - p.x), qy = float(sy - p.y);
+  // D = S − P without cancellation (see elevation_sin_on_ray).
+  const float dd = ds - p.d;
+  const float dx = (qx * ds + p.ox * dd) * p.inv_fx;
+  const float dy = -(qy * ds + p.oy * dd) * p.inv_fy;
+  const float r2 = dx * dx + dy * dy + dd * dd;
+  if (!(r2 <= radius2) || r2 == 0.0f) return false;
+  if (s.per_sample_tangent) return per_sample_candidate(p, qx, qy, ds, dd, r2, out);
+  out.r = std::sqrt(r2);
+  out.gain = -dd / out.r - sin_t_dir;
+  const float tolerance =
+      kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(p.d, ds) / out.r;
+  return out.gain > tolerance;
+}
+
+// The occlusion of direction (c, s): eq. 3's (sin h − sin t)·W(r) of the horizon, or with
+// incremental_attenuation eq. 2's rises of sin h, each weighted by W of the sample that caused it.
+float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver& p, float jitter,
+                      float c, float sn) {
+  const float radius = s.radius, radius2 = radius * radius, inv_radius = 1.0f / radius;
+  float step_x, step_y;
+  hbao_step(f.cam, radius, s.steps, p.d, c, sn, step_x, step_y);
+  const float sin_t_dir =
+      s.per_sample_tangent ? 0.0f : direction_tangent_sin(p, step_x, step_y, c, sn);
+  float best_gain = 0.0f, best_r = 0.0f;
+  float rises = 0.0f;  // eq. 2 mode: Σ (rise of sin h) · W(r of the sample that raised it)
+  for (int i = 1; i <= s.steps; ++i) {
+    const float t = float(i) - jitter;
+    const float sx_f = p.px + t * step_x, sy_f = p.py + t * step_y;
+    // Leaving the image along a straight line is final; the test also rejects inf/NaN.
+    if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
+    const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
+    if (sx == p.x && sy == p.y) continue;
+    Candidate cand;
+    if (!sample_candidate(p, s, radius2, sin_t_dir, sx, sy, f.depth[std::size_t(sy) * f.width + sx],
+                          cand))
+      continue;
+    if (cand.gain > 0.0f && (best_r == 0.0f || cand.gain > best_gain + kHbaoHorizonTie)) {
+      rises += (cand.gain - best_gain) * std::max(0.0f, 1.0f - cand.r * inv_radius);
+      best_gain = cand.gain, best_r = cand.r;
+    }
+  }
+  return s.incremental_attenuation
+             ? rises
+             : best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);  // eq. 3
+}
+
 float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& directions, int x,
                  int y, float* dir_cos, float* dir_sin) {
   const std::size_t idx = std::size_t(y) * f.width + x;
   const float d = f.depth[idx];
   if (!(d == d)) return 1.0f;  // background
-  const glm::vec3 n(f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]);
-  const float px = float(x) + 0.5f, py = float(y) + 0.5f;
-  const float ox = px - f.cam.cx, oy = py - f.cam.cy;  // offsets of P's pixel from (cx, cy)
-  const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
-  const float radius = s.radius, radius2 = radius * radius, inv_radius = 1.0f / radius;
-
+  const HbaoReceiver p = hbao_receiver(
+      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
   const HbaoPixelPattern pattern = hbao_pixel_pattern(s, x, y);
   directions.rotated(pattern.rotation, dir_cos, dir_sin);
-
-  // |r0| / |n·r0|: how much normal rounding moves tangent-plane depths at this pixel.
-  const glm::vec3 r0(ox * inv_fx, -oy * inv_fy, -1.0f);
-  const float n_r0 = glm::dot(n, r0);
-  const float grazing_p = glm::length(r0) / std::abs(n_r0);
-
   float occlusion = 0.0f;
-  for (int k = 0; k < s.directions; ++k) {
-    float step_x, step_y;
-    hbao_step(f.cam, radius, s.steps, d, dir_cos[k], dir_sin[k], step_x, step_y);
-    float sin_t_dir = 0.0f;
-    if (!s.per_sample_tangent) {  // one t(θ): the ray one pixel along θ
-      const float len = std::sqrt(step_x * step_x + step_y * step_y);
-      const RayTangent rt =
-          tangent_on_ray(n, n_r0, step_x / len, step_y / len, d, ox, oy, inv_fx, inv_fy);
-      sin_t_dir =
-          std::isfinite(rt.tau) ? rt.sin_t : tangent_sin_in_azimuth(n, dir_cos[k], dir_sin[k]);
-    }
-    float best_gain = 0.0f, best_r = 0.0f;
-    float rises = 0.0f;  // eq. 2 mode: Σ (rise of sin h) · W(r of the sample that raised it)
-    for (int i = 1; i <= s.steps; ++i) {
-      const float t = float(i) - pattern.jitter;
-      const float sx_f = px + t * step_x, sy_f = py + t * step_y;
-      // Leaving the image along a straight line is final; the test also rejects inf/NaN.
-      if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
-      const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
-      if (sx == x && sy == y) continue;
-      const float ds = f.depth[std::size_t(sy) * f.width + sx];
-      const float qx = float(sx - x), qy = float(sy - y);
-      // D = S - P without cancellation (see elevation_sin_on_ray).
-      const float dd = ds - d;
-      const float dx = (qx * ds + ox * dd) * inv_fx;
-      const float dy = -(qy * ds + oy * dd) * inv_fy;
-      const float r2 = dx * dx + dy * dy + dd * dd;
-      if (!(r2 <= radius2) || r2 == 0.0f) continue;  // beyond R (ignored, §3), background (NaN)
-      float r;                                       // |D|, computed only for candidates
-      float gain;
-      if (s.per_sample_tangent) {
-        // t at this sample: the tangent plane on the sample's own view ray rs, met at depth
-        // tau (tangent_on_ray). S counts only if it lies nearer than the plane by more than
-        // float32 depth and normal rounding. The cheap sign test comes first: most samples
-        // of open surfaces fail it.
-        const glm::vec3 rs((ox + qx) * inv_fx, -(oy + qy) * inv_fy, -1.0f);
-        const float n_rs = glm::dot(n, rs);
-        const float tau = d * n_r0 / n_rs;
-        const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
-        if (hits && !(tau > ds)) continue;
-        const float rs_len = glm::length(rs);
-        const float grazing_s = rs_len / std::abs(n_rs);
-        const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
-                                (kHbaoDepthUlps + kHbaoNormalUlps * (grazing_p + grazing_s));
-        if (!((hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance)) continue;
-        const float sin_t =
-            hits ? elevation_sin_on_ray(qx, qy, tau, d, ox, oy, inv_fx, inv_fy) : rs.z / rs_len;
-        r = std::sqrt(r2);
-        gain = -dd / r - sin_t;
-      } else {
-        r = std::sqrt(r2);
-        gain = -dd / r - sin_t_dir;
-        const float tolerance =
-            kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(d, ds) / r;
-        if (!(gain > tolerance)) continue;
-      }
-      if (gain > 0.0f && (best_r == 0.0f || gain > best_gain + kHbaoHorizonTie)) {
-        rises += (gain - best_gain) * std::max(0.0f, 1.0f - r * inv_radius);
-        best_gain = gain, best_r = r;
-      }
-    }
-    occlusion += s.incremental_attenuation
-                     ? rises
-                     : best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);  // eq. 3
-  }
+  for (int k = 0; k < s.directions; ++k)
+    occlusion += march_direction(f, s, p, pattern.jitter, dir_cos[k], dir_sin[k]);
   const float ao = 1.0f - occlusion / float(s.directions);
   return std::clamp(ao, 0.0f, 1.0f);
 }
@@ -179,21 +206,13 @@ float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& di
 
 Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   g.validate();
-  if (!g.has_normal())
-    throw_invalid("normal",
-                  "is required by hbao, which reads view-space normals (estimate them "
-                  "from depth with GBuffer.prepared_normals())",
-                  "none");
+  require_normal(g, "hbao");
   validate_settings(s, kHbaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
   // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h).
-  std::vector<float> depth(std::size_t(w) * h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      depth[std::size_t(y) * w + x] =
-          g.valid(x, y) ? g.depth(x, y) : std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
 
@@ -213,15 +232,11 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
 }
 
 Method hbao_method() {
-  Method m;
-  m.name = "hbao";
-  m.title = "Horizon-based ambient occlusion";
-  m.paper = "Bavoil, Sainz, Dimitrov 2008, Image-Space Horizon-Based Ambient Occlusion";
+  Method m =
+      registered_method("hbao", "Horizon-based ambient occlusion",
+                        "Bavoil, Sainz, Dimitrov 2008, Image-Space Horizon-Based Ambient Occlusion",
+                        kHbaoFields, hbao);
   m.needs_normal = true;
-  m.settings = describe_settings(kHbaoFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return hbao(g, settings_from_values(values, kHbaoFields, "hbao"), options);
-  };
   return m;
 }
 

@@ -1,5 +1,5 @@
 // Horizon-based ambient occlusion: Bavoil, Sainz, Dimitrov, "Image-Space Horizon-Based
-// Ambient Occlusion", SIGGRAPH 2008 talk (shared/papers/hbao-bavoil-2008.md).
+// Ambient Occlusion", SIGGRAPH 2008 talk.
 //
 // A = 1 - (1/N_d) Σ_θ (sin h(θ) - sin t(θ)) W(θ)            (eq. 3, Monte Carlo over θ, §3)
 // t(θ): tangent angle from the normal; h(θ) = max(t, α(S_i)) over N_s texel-centre samples
@@ -115,6 +115,22 @@ class HbaoDirections {
  private:
   std::vector<float> base_cos_, base_sin_;
 };
+
+/// What the tangent-plane tests of HBAO and Pyramid HBAO need of the receiver P at pixel
+/// (x, y), computed once per pixel.
+struct HbaoReceiver {
+  int x, y;
+  float d;       ///< P's depth
+  glm::vec3 n;   ///< P's prepared normal
+  float px, py;  ///< P's pixel centre
+  float ox, oy;  ///< offsets of P's pixel centre from (cx, cy)
+  float inv_fx, inv_fy;
+  float n_r0;       ///< n · (P's view ray at depth 1)
+  float grazing_p;  ///< |r0| / |n·r0|: how much normal rounding moves tangent-plane depths here
+};
+
+HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float depth,
+                           const glm::vec3& normal);
 
 /// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
 /// radius projected and split into N_s steps; image y points down, view y up.

@@ -1,6 +1,6 @@
-// The azimuthal directions of line-sweep ambient obscurance (Timonen 2013, §5;
-// shared/papers/line-sweep-ao-timonen-2013.md): which way each sweep goes, how long its steps
-// are, and how much of the azimuth it stands for.
+// The azimuthal directions of line-sweep ambient obscurance (Timonen, "Line-Sweep Ambient
+// Obscuration", EGSR 2013, §5): which way each sweep goes, how long its steps are, and how
+// much of the azimuth it stands for.
 //
 // Two kinds of sets:
 //  - aligned (§5.2): the 8n vectors from the centre of a (2n+1)×(2n+1) texel template to the

@@ -302,6 +302,218 @@ void sweep_line(const Context& c, const Slice& s, const std::vector<LsaoSample>&
   }
 }
 
+// ---- The gather (§5.1) ----
+
+// A direction and its opposite share their samples (§5.1 lines, walked both ways) and so
+// their candidates: the gather searches once per `plan.lines` entry ("axis").
+struct GatherAxis {
+  double radius, radius2;  // gather radius, pixels
+  int k[2];                // the directions that use the axis (k[1] = −1 if only one)
+  // Texel-centre samples reach the pixels (tx + dx, ty + dy) with dx² + dy² ≤ radius²:
+  // per dy in [−reach, reach], |dx| ≤ span[dy + reach].
+  int reach;
+  std::vector<int> span;
+};
+
+std::vector<GatherAxis> gather_axes(const LsaoPlan& plan, double line_spacing) {
+  std::vector<GatherAxis> axes(plan.lines.size());
+  for (std::size_t li = 0; li < plan.lines.size(); ++li) {
+    GatherAxis& a = axes[li];
+    a.radius = lsao_gather_radius(plan.directions[plan.lines[li].direction], line_spacing);
+    a.radius2 = a.radius * a.radius;
+    a.k[0] = a.k[1] = -1;
+    a.reach = int(a.radius);
+    for (int dy = -a.reach; dy <= a.reach; ++dy) {
+      int dx = 0;
+      while (double((dx + 1) * (dx + 1) + dy * dy) <= a.radius2) ++dx;
+      a.span.push_back(dx);
+    }
+  }
+  for (int k = 0; k < int(plan.directions.size()); ++k) {
+    GatherAxis& a = axes[plan.lines_of[k]];
+    a.k[a.k[0] < 0 ? 0 : 1] = k;
+  }
+  return axes;
+}
+
+// The samples j of `line` whose line position lies within rows [lo, hi] (an interval of j);
+// false if the line cannot reach them.
+bool samples_within_rows(const LsaoLine& line, const SweepDirection& d, double lo, double hi,
+                         long long& j_lo, long long& j_hi) {
+  if (line.count == 0) return false;
+  j_lo = line.first, j_hi = line.first + line.count - 1;
+  if (d.step_y == 0.0) return line.origin_y >= lo && line.origin_y <= hi;
+  const double ja = (lo - line.origin_y) / d.step_y, jb = (hi - line.origin_y) / d.step_y;
+  j_lo = std::max(j_lo, -floor_ll(-std::min(ja, jb)));
+  j_hi = std::min(j_hi, floor_ll(std::max(ja, jb)));
+  return true;
+}
+
+// What every band of the gather reads.
+struct GatherInputs {
+  const LsaoPlan& plan;
+  const LsaoSweep& sweep;
+  const std::vector<GatherAxis>& axes;
+  const float* depth;    // W·H, background as NaN
+  const float* normals;  // prepared, 3 per pixel; read only if normal_aware
+  bool normal_aware;
+  float tolerance;  // gather_depth_tolerance
+  bool interpolated;
+  int width, height;
+};
+
+// Rows per gather band. Each band visits, per axis, the samples within the gather radius of
+// its rows — short runs of consecutive samples of each line, read in order — and offers each
+// to the pixels within the radius (a scatter: per pixel and direction a search of the lines
+// around it read scattered samples and ran ~8× slower). Lines in order, samples in line order
+// and a strict "nearer" test make the choice between equally near samples the first one,
+// whatever the band: the result does not depend on threads. 16 rows: a sample is read by
+// about (16 + 2·radius)/16 bands, and a band's per-pixel state stays within a few hundred kB
+// at 1920 columns.
+constexpr int kGatherRows = 16;
+
+// One band of rows being gathered: per pixel, the nearest sample of the current axis that
+// passes the tests (best, pick) and the nearest regardless (best_any, pick_any), and the
+// coverage-weighted sums of the values chosen so far over the axes.
+class GatherBand {
+ public:
+  explicit GatherBand(const GatherInputs& in) : in_(in) {
+    const std::size_t n = std::size_t(kGatherRows) * in.width;
+    for (auto* v : {&sum_, &weight_, &sum_any_, &weight_any_, &best_, &best_any_}) v->resize(n);
+    pick_.resize(n), pick_any_.resize(n);
+  }
+
+  // Gathers band `band` into `out`.
+  void run(int band, Image& out) {
+    y0_ = band * kGatherRows, y1_ = std::min(in_.height, y0_ + kGatherRows);
+    for (auto* v : {&sum_, &weight_, &sum_any_, &weight_any_}) std::fill(v->begin(), v->end(), 0.0);
+    for (std::size_t li = 0; li < in_.axes.size(); ++li) {
+      std::fill(best_.begin(), best_.end(), INFINITY);
+      std::fill(best_any_.begin(), best_any_.end(), INFINITY);
+      visit_axis(int(li));
+      add_axis(in_.axes[li]);
+    }
+    write(out);
+  }
+
+ private:
+  // Offers every geometry sample of axis li that can reach a pixel of the band.
+  void visit_axis(int li) {
+    const GatherAxis& a = in_.axes[std::size_t(li)];
+    const LsaoLines& lines = in_.plan.lines[std::size_t(li)];
+    const SweepDirection& d = in_.plan.directions[lines.direction];
+    // Samples whose evaluated position can be within the radius of a pixel centre of the
+    // band (snapping moves a sample by less than 1 px from its line position).
+    const double lo = y0_ + 0.5 - a.radius - 1.0, hi = y1_ - 0.5 + a.radius + 1.0;
+    for (const LsaoLine& line : lines.lines) {
+      long long j_lo, j_hi;
+      if (!samples_within_rows(line, d, lo, hi, j_lo, j_hi)) continue;
+      for (long long j = j_lo; j <= j_hi; ++j) {
+        const std::size_t i = line.offset + std::size_t(j - line.first);
+        const float dq = in_.sweep.depth(li, i);
+        if (!(dq == dq)) continue;  // background sample: no value
+        double sx, sy;
+        lsao_sample_position(line, d, int(j), sx, sy);
+        const long long tx = floor_ll(sx), ty = floor_ll(sy);
+        const float* nq = in_.normal_aware
+                              ? in_.normals + 3 * (std::size_t(ty) * in_.width + std::size_t(tx))
+                              : nullptr;
+        if (in_.interpolated)
+          offer_around_point(a, i, dq, nq, sx, sy);
+        else
+          offer_around_texel(a, i, dq, nq, int(tx), int(ty));
+      }
+    }
+  }
+
+  // A sample evaluated at the centre of texel (tx, ty): the stencil of whole-pixel offsets.
+  void offer_around_texel(const GatherAxis& a, std::size_t i, float dq, const float* nq, int tx,
+                          int ty) {
+    const int ya = std::max<int>(y0_, ty - a.reach);
+    const int yb = std::min<int>(y1_ - 1, ty + a.reach);
+    for (int y = ya; y <= yb; ++y) {
+      const int dy = y - ty, span = a.span[std::size_t(dy + a.reach)];
+      const int xa = std::max<int>(0, tx - span);
+      const int xb = std::min<int>(in_.width - 1, tx + span);
+      for (int x = xa; x <= xb; ++x) {
+        const int dx = x - tx;
+        offer(i, dq, nq, x, y, double(dx * dx + dy * dy));
+      }
+    }
+  }
+
+  // A sample evaluated at (sx, sy), between texel centres: the pixels within the radius.
+  void offer_around_point(const GatherAxis& a, std::size_t i, float dq, const float* nq, double sx,
+                          double sy) {
+    const int ya = std::max<int>(y0_, int(-floor_ll(-(sy - 0.5 - a.radius))));
+    const int yb = std::min<int>(y1_ - 1, int(floor_ll(sy - 0.5 + a.radius)));
+    for (int y = ya; y <= yb; ++y) {
+      const double dy = y + 0.5 - sy;
+      const double half = std::sqrt(std::max(0.0, a.radius2 - dy * dy));
+      const int xa = std::max<int>(0, int(-floor_ll(-(sx - 0.5 - half))));
+      const int xb = std::min<int>(in_.width - 1, int(floor_ll(sx - 0.5 + half)));
+      for (int x = xa; x <= xb; ++x) {
+        const double dx = x + 0.5 - sx, dist2 = dx * dx + dy * dy;
+        if (dist2 <= a.radius2) offer(i, dq, nq, x, y, dist2);
+      }
+    }
+  }
+
+  // Sample i (depth dq, normal nq) offered to pixel (x, y) at squared distance dist2.
+  void offer(std::size_t i, float dq, const float* nq, int x, int y, double dist2) {
+    const std::size_t p = std::size_t(y - y0_) * in_.width + std::size_t(x);
+    if (!(dist2 < best_any_[p] || dist2 < best_[p])) return;
+    const float dp = in_.depth[std::size_t(y) * in_.width + x];
+    if (!(dp == dp)) return;  // background pixel: 1
+    if (dist2 < best_any_[p]) best_any_[p] = dist2, pick_any_[p] = i;
+    if (!(dist2 < best_[p])) return;
+    if (!(std::abs(dq - dp) <= in_.tolerance * dp)) return;  // §5.1, depth-aware
+    if (nq) {                                                // §5.1, normal-aware
+      const float* np = in_.normals + 3 * (std::size_t(y) * in_.width + x);
+      if (!(np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] >= kLsaoGatherNormalCos)) return;
+    }
+    best_[p] = dist2, pick_[p] = i;
+  }
+
+  // Adds the picks of an axis: both its directions at once, their pair sum as one term, so a
+  // pair that cancels (a plane) adds exactly 0.
+  void add_axis(const GatherAxis& a) {
+    const std::size_t used = std::size_t(y1_ - y0_) * in_.width;
+    for (std::size_t p = 0; p < used; ++p)
+      for (int with_test = 0; with_test < 2; ++with_test) {
+        if (!((with_test ? best_[p] : best_any_[p]) < INFINITY)) continue;
+        const std::size_t i = with_test ? pick_[p] : pick_any_[p];
+        double pair = 0.0, pair_weight = 0.0;
+        for (int k : a.k) {
+          if (k < 0) continue;
+          pair += in_.plan.directions[k].weight * double(in_.sweep.value(k, i));
+          pair_weight += in_.plan.directions[k].weight;
+        }
+        (with_test ? sum_ : sum_any_)[p] += pair;
+        (with_test ? weight_ : weight_any_)[p] += pair_weight;
+      }
+  }
+
+  void write(Image& out) const {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = 0; x < in_.width; ++x) {
+        const std::size_t p = std::size_t(y - y0_) * in_.width + std::size_t(x);
+        // Every direction failed the tests (a thin feature between sparse samples): the
+        // nearest values regardless, so that no geometry pixel is left without one.
+        const bool tested = weight_[p] > 0.0;
+        const double total = tested ? weight_[p] : weight_any_[p];
+        // A = 1 − Σ w_k O_k / Σ w_k (eq. 1 with the coverage weights of §5.2).
+        if (total > 0.0)
+          out(x, y) = float(std::clamp(1.0 - (tested ? sum_[p] : sum_any_[p]) / total, 0.0, 1.0));
+      }
+  }
+
+  const GatherInputs& in_;
+  int y0_ = 0, y1_ = 0;
+  std::vector<double> sum_, weight_, sum_any_, weight_any_, best_, best_any_;
+  std::vector<std::size_t> pick_, pick_any_;
+};
+
 }  // namespace
 
 void validate_lsao_settings(const LsaoSettings& s) {
@@ -313,15 +525,6 @@ void validate_lsao_settings(const LsaoSettings& s) {
                       " (a (2n+1)^2 template gives 8n aligned directions; template_size = 0 "
                       "gives K uniform directions)",
                   s.directions);
-}
-
-std::vector<float> lsao_depth(const GBuffer& g) {
-  const int w = g.width(), h = g.height();
-  std::vector<float> depth(std::size_t(w) * h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      depth[std::size_t(y) * w + x] = g.valid(x, y) ? g.depth(x, y) : kNaN;
-  return depth;
 }
 
 LsaoPlan lsao_plan(const GBuffer& g, const LsaoSettings& s) {
@@ -404,7 +607,7 @@ LsaoSweep lsao_sweep(const GBuffer& g, const LsaoSettings& s, const RunOptions& 
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = lsao_depth(g);
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const LsaoTangent strategy = LsaoTangent(s.tangent_strategy);
   Image normals;
   if (strategy != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
@@ -459,169 +662,29 @@ Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
   CHECK_EQ(plan.height, g.height());
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = lsao_depth(g);
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   Image normals;
   if (s.normal_aware_gather) normals = prepared_normals(g, threads);
-  const float tolerance = s.gather_depth_tolerance;
-  const bool interpolated = LsaoSampling(s.sampling) == LsaoSampling::Interpolate;
-
-  // A direction and its opposite share their samples (§5.1 lines, walked both ways) and so
-  // their candidates: the search runs once per `plan.lines` entry ("axis").
-  struct Axis {
-    double radius, radius2;  // gather radius, pixels
-    int k[2];                // the directions that use the axis (k[1] = −1 if only one)
-    // Texel-centre samples reach the pixels (tx + dx, ty + dy) with dx² + dy² ≤ radius²:
-    // per dy in [−reach, reach], |dx| ≤ span[dy + reach].
-    int reach;
-    std::vector<int> span;
-  };
-  std::vector<Axis> axes(plan.lines.size());
-  for (std::size_t li = 0; li < plan.lines.size(); ++li) {
-    Axis& a = axes[li];
-    a.radius = lsao_gather_radius(plan.directions[plan.lines[li].direction], s.line_spacing);
-    a.radius2 = a.radius * a.radius;
-    a.k[0] = a.k[1] = -1;
-    a.reach = int(a.radius);
-    for (int dy = -a.reach; dy <= a.reach; ++dy) {
-      int dx = 0;
-      while (double((dx + 1) * (dx + 1) + dy * dy) <= a.radius2) ++dx;
-      a.span.push_back(dx);
-    }
-  }
-  for (int k = 0; k < int(plan.directions.size()); ++k) {
-    Axis& a = axes[plan.lines_of[k]];
-    a.k[a.k[0] < 0 ? 0 : 1] = k;
-  }
+  const std::vector<GatherAxis> axes = gather_axes(plan, s.line_spacing);
+  const GatherInputs in{plan,
+                        sweep,
+                        axes,
+                        depth.data(),
+                        normals.data(),
+                        s.normal_aware_gather,
+                        s.gather_depth_tolerance,
+                        LsaoSampling(s.sampling) == LsaoSampling::Interpolate,
+                        w,
+                        h};
 
   Image out(w, h, 1, 1.0f);
-  // Bands of kGatherRows rows. Each band visits, per axis, the samples within the gather
-  // radius of its rows — short runs of consecutive samples of each line, read in order — and
-  // offers each to the pixels within the radius (a scatter: per pixel and direction a search
-  // of the lines around it read scattered samples and ran ~8× slower). Lines in order,
-  // samples in line order and a strict "nearer" test make the choice between equally near
-  // samples the first one, whatever the band: the result does not depend on threads.
-  // 16 rows: a sample is read by about (16 + 2·radius)/16 bands, and a band's per-pixel state
-  // stays within a few hundred kB at 1920 columns.
-  constexpr int kGatherRows = 16;
   const int bands = (h + kGatherRows - 1) / kGatherRows;
   if (options.progress) options.progress->total += bands;
   parallel_for_rows(
       bands, threads,
       [&](int b0, int b1) {
-        const std::size_t n = std::size_t(kGatherRows) * w;
-        std::vector<double> sum(n), weight(n), sum_any(n), weight_any(n);
-        std::vector<double> best(n), best_any(n);
-        std::vector<std::size_t> pick(n), pick_any(n);
-        for (int band = b0; band < b1; ++band) {
-          const int y0 = band * kGatherRows, y1 = std::min(h, y0 + kGatherRows);
-          std::fill(sum.begin(), sum.end(), 0.0), std::fill(weight.begin(), weight.end(), 0.0);
-          std::fill(sum_any.begin(), sum_any.end(), 0.0);
-          std::fill(weight_any.begin(), weight_any.end(), 0.0);
-          for (std::size_t li = 0; li < axes.size(); ++li) {
-            const Axis& a = axes[li];
-            const LsaoLines& lines = plan.lines[li];
-            const SweepDirection& d = plan.directions[lines.direction];
-            std::fill(best.begin(), best.end(), INFINITY);
-            std::fill(best_any.begin(), best_any.end(), INFINITY);
-            // Sample i (depth dq, normal nq) offered to pixel (x, y) at squared distance dist2.
-            auto offer = [&](std::size_t i, float dq, const float* nq, int x, int y, double dist2) {
-              const std::size_t p = std::size_t(y - y0) * w + std::size_t(x);
-              if (!(dist2 < best_any[p] || dist2 < best[p])) return;
-              const float dp = depth[std::size_t(y) * w + x];
-              if (!(dp == dp)) return;  // background pixel: 1
-              if (dist2 < best_any[p]) best_any[p] = dist2, pick_any[p] = i;
-              if (!(dist2 < best[p])) return;
-              if (!(std::abs(dq - dp) <= tolerance * dp)) return;  // §5.1, depth-aware
-              if (nq) {                                            // §5.1, normal-aware
-                const float* np = normals.data() + 3 * (std::size_t(y) * w + x);
-                if (!(np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] >= kLsaoGatherNormalCos))
-                  return;
-              }
-              best[p] = dist2, pick[p] = i;
-            };
-            // Samples whose evaluated position can be within the radius of a pixel centre of
-            // the band (snapping moves a sample by less than 1 px from its line position).
-            const double lo = y0 + 0.5 - a.radius - 1.0, hi = y1 - 0.5 + a.radius + 1.0;
-            for (const LsaoLine& line : lines.lines) {
-              if (line.count == 0) continue;
-              long long j_lo = line.first, j_hi = line.first + line.count - 1;
-              if (d.step_y != 0.0) {
-                const double ja = (lo - line.origin_y) / d.step_y,
-                             jb = (hi - line.origin_y) / d.step_y;
-                j_lo = std::max(j_lo, -floor_ll(-std::min(ja, jb)));
-                j_hi = std::min(j_hi, floor_ll(std::max(ja, jb)));
-              } else if (!(line.origin_y >= lo && line.origin_y <= hi)) {
-                continue;
-              }
-              for (long long j = j_lo; j <= j_hi; ++j) {
-                const std::size_t i = line.offset + std::size_t(j - line.first);
-                const float dq = sweep.depth(int(li), i);
-                if (!(dq == dq)) continue;  // background sample: no value
-                double sx, sy;
-                lsao_sample_position(line, d, int(j), sx, sy);
-                const long long tx = floor_ll(sx), ty = floor_ll(sy);
-                const float* nq = s.normal_aware_gather
-                                      ? normals.data() + 3 * (std::size_t(ty) * w + std::size_t(tx))
-                                      : nullptr;
-                if (!interpolated) {
-                  // Evaluated at the texel centre: the stencil of whole-pixel offsets.
-                  const int ya = std::max<int>(y0, int(ty) - a.reach);
-                  const int yb = std::min<int>(y1 - 1, int(ty) + a.reach);
-                  for (int y = ya; y <= yb; ++y) {
-                    const int dy = y - int(ty), span = a.span[std::size_t(dy + a.reach)];
-                    const int xa = std::max<int>(0, int(tx) - span);
-                    const int xb = std::min<int>(w - 1, int(tx) + span);
-                    for (int x = xa; x <= xb; ++x) {
-                      const int dx = x - int(tx);
-                      offer(i, dq, nq, x, y, double(dx * dx + dy * dy));
-                    }
-                  }
-                  continue;
-                }
-                const int ya = std::max<int>(y0, int(-floor_ll(-(sy - 0.5 - a.radius))));
-                const int yb = std::min<int>(y1 - 1, int(floor_ll(sy - 0.5 + a.radius)));
-                for (int y = ya; y <= yb; ++y) {
-                  const double dy = y + 0.5 - sy;
-                  const double half = std::sqrt(std::max(0.0, a.radius2 - dy * dy));
-                  const int xa = std::max<int>(0, int(-floor_ll(-(sx - 0.5 - half))));
-                  const int xb = std::min<int>(w - 1, int(floor_ll(sx - 0.5 + half)));
-                  for (int x = xa; x <= xb; ++x) {
-                    const double dx = x + 0.5 - sx, dist2 = dx * dx + dy * dy;
-                    if (dist2 <= a.radius2) offer(i, dq, nq, x, y, dist2);
-                  }
-                }
-              }
-            }
-            // Both directions of the axis at once: their pair sum is added as one term, so a
-            // pair that cancels (a plane) adds exactly 0.
-            const std::size_t used = std::size_t(y1 - y0) * w;
-            for (std::size_t p = 0; p < used; ++p)
-              for (int with_test = 0; with_test < 2; ++with_test) {
-                if (!((with_test ? best[p] : best_any[p]) < INFINITY)) continue;
-                const std::size_t i = with_test ? pick[p] : pick_any[p];
-                double pair = 0.0, pair_weight = 0.0;
-                for (int k : a.k) {
-                  if (k < 0) continue;
-                  pair += plan.directions[k].weight * double(sweep.value(k, i));
-                  pair_weight += plan.directions[k].weight;
-                }
-                (with_test ? sum : sum_any)[p] += pair;
-                (with_test ? weight : weight_any)[p] += pair_weight;
-              }
-          }
-          for (int y = y0; y < y1; ++y)
-            for (int x = 0; x < w; ++x) {
-              const std::size_t p = std::size_t(y - y0) * w + std::size_t(x);
-              // Every direction failed the tests (a thin feature between sparse samples): the
-              // nearest values regardless, so that no geometry pixel is left without one.
-              const bool tested = weight[p] > 0.0;
-              const double total = tested ? weight[p] : weight_any[p];
-              // A = 1 − Σ w_k O_k / Σ w_k (eq. 1 with the coverage weights of §5.2).
-              if (total > 0.0)
-                out(x, y) =
-                    float(std::clamp(1.0 - (tested ? sum[p] : sum_any[p]) / total, 0.0, 1.0));
-            }
-        }
+        GatherBand band(in);
+        for (int b = b0; b < b1; ++b) band.run(b, out);
       },
       options.progress);
   return out;
@@ -633,16 +696,8 @@ Image lsao(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
 }
 
 Method lsao_method() {
-  Method m;
-  m.name = "lsao";
-  m.title = "Line-sweep ambient obscurance";
-  m.paper = "Timonen 2013, Line-Sweep Ambient Obscuration";
-  m.needs_normal = false;
-  m.settings = describe_settings(kLsaoFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return lsao(g, settings_from_values(values, kLsaoFields, "lsao"), options);
-  };
-  return m;
+  return registered_method("lsao", "Line-sweep ambient obscurance",
+                           "Timonen 2013, Line-Sweep Ambient Obscuration", kLsaoFields, lsao);
 }
 
 }  // namespace aolab

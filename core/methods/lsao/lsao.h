@@ -1,5 +1,5 @@
-// Line-sweep ambient obscurance: Ville Timonen, "Line-Sweep Ambient Obscuration", 2013
-// (shared/papers/line-sweep-ao-timonen-2013.md). docs/methods/lsao.md gives the details.
+// Line-sweep ambient obscurance: Ville Timonen, "Line-Sweep Ambient Obscuration", Computer
+// Graphics Forum 32(4) (Proc. EGSR), 2013. docs/methods/lsao.md gives the details.
 //
 // K azimuthal directions (§3); per direction, lines D_L pixels apart cross the depth buffer
 // (§5.1) and are walked in steps of D_S pixels. Along a line the visited points are kept on
@@ -137,16 +137,20 @@ inline const SettingField<LsaoSettings> kLsaoFields[] = {
     {"step", &LsaoSettings::step, 1, 64, "px", "D_S of uniform directions (template_size = 0)"},
     {"line_spacing", &LsaoSettings::line_spacing, 1, 64, "px", "D_L, distance between lines"},
     {"tangent_strategy", &LsaoSettings::tangent_strategy, 1, 3, "",
-     "1 = real tangent, 2 = fixed for the hull and real for the obscurance, 3 = fixed (paper)"},
+     "real: the receiver's tangent; fixed_hull: the fixed tangent for the hull, the real one for "
+     "the obscurance; fixed: the fixed tangent for both (the paper's)",
+     "real|fixed_hull|fixed"},
     {"tangent_sin", &LsaoSettings::tangent_sin, -1, 0, "", "sin t of the fixed tangent"},
     {"falloff", &LsaoSettings::falloff, 2, 3, "",
-     "2 = eq. 2, r/(r + d^2); 3 = eq. 3, max(0, r(1+C)/(r + d^2) - C), C = 0.3"},
+     "rational: eq. 2, r/(r + d^2); clipped: eq. 3, max(0, r(1+C)/(r + d^2) - C), C = 0.3",
+     "rational|clipped"},
     {"gather_depth_tolerance", &LsaoSettings::gather_depth_tolerance, 0, 1e30, "relative",
      "a value counts for a pixel only within this fraction of its depth"},
     {"normal_aware_gather", &LsaoSettings::normal_aware_gather, 0, 1, "",
      "also require normals within 25 degrees when gathering"},
     {"sampling", &LsaoSettings::sampling, 0, 1, "",
-     "off-texel samples: 0 = snap to the texel, 1 = interpolate, snap at depth edges"},
+     "off-texel samples: snap to the texel, or interpolate (snapping at depth edges)",
+     "snap|interpolate"},
     {"seed", &LsaoSettings::seed, 0, 2147483647, "",
      "0 = line lattice through the image centre; > 0 = random lattice offset"},
     {"hull_search", &LsaoSettings::hull_search, 0, 256, "entries",
@@ -248,12 +252,10 @@ struct LsaoSample {
 };
 
 /// The samples of line `line` of lines[`lines_index`] in line order (j = first, first+1, …),
-/// sampled per `sampling`. `depth` holds W·H planar depths, background as NaN.
+/// sampled per `sampling`. `depth` holds W·H planar depths, background as NaN
+/// (depth_with_background_as_nan).
 void lsao_line_samples(const LsaoPlan& plan, const float* depth, LsaoSampling sampling,
                        int lines_index, int line, std::vector<LsaoSample>& out);
-
-/// Depth with background (gbuffer.h's rule) as NaN, W·H row-major.
-std::vector<float> lsao_depth(const GBuffer& g);
 
 /// The intermediate buffer (§5.2, "an intermediate floating point buffer the size of
 /// K·W·H/(D_S·D_L) elements"), with each sample's depth beside the values of the (one or

@@ -32,6 +32,12 @@ DepthPyramidLevel level_zero(int width, int height) {
   return level;
 }
 
+// The G-buffer's depth, background as NaN, once the G-buffer is known to be valid.
+std::vector<float> validated_depth(const GBuffer& g, int threads) {
+  g.validate();
+  return depth_with_background_as_nan(g, threads);
+}
+
 }  // namespace
 
 int DepthPyramid::full_levels(int width, int height, int reduction) {
@@ -43,19 +49,7 @@ int DepthPyramid::full_levels(int width, int height, int reduction) {
 }
 
 DepthPyramid::DepthPyramid(const GBuffer& g, int reduction, int levels, int threads)
-    : reduction_(reduction) {
-  g.validate();
-  validate_shape(g.width(), g.height(), reduction, levels);
-  const int w = g.width(), h = g.height();
-  levels_.push_back(level_zero(w, h));
-  DepthPyramidLevel& base = levels_.back();
-  parallel_for_rows(h, threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < w; ++x)
-        base.texels[std::size_t(y) * w + x] = {g.valid(x, y) ? g.depth(x, y) : kNaN,
-                                               float(x) + 0.5f, float(y) + 0.5f};
-  });
-  build(levels, threads);
+    : DepthPyramid(validated_depth(g, threads), g.width(), g.height(), reduction, levels, threads) {
 }
 
 DepthPyramid::DepthPyramid(const std::vector<float>& depth, int width, int height, int reduction,
@@ -68,12 +62,14 @@ DepthPyramid::DepthPyramid(const std::vector<float>& depth, int width, int heigh
                       std::to_string(height));
   levels_.push_back(level_zero(width, height));
   DepthPyramidLevel& base = levels_.back();
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const float d = depth[std::size_t(y) * width + x];
-      base.texels[std::size_t(y) * width + x] = {std::isfinite(d) && d > 0.0f ? d : kNaN,
-                                                 float(x) + 0.5f, float(y) + 0.5f};
-    }
+  parallel_for_rows(height, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float d = depth[std::size_t(y) * width + x];
+        base.texels[std::size_t(y) * width + x] = {std::isfinite(d) && d > 0.0f ? d : kNaN,
+                                                   float(x) + 0.5f, float(y) + 0.5f};
+      }
+  });
   build(levels, threads);
 }
 

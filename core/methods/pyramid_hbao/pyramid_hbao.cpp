@@ -9,6 +9,7 @@
 
 #include "core/base/parallel.h"
 #include "core/filters/blur.h"
+#include "core/methods/hbao/hbao.h"
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 
@@ -71,21 +72,48 @@ struct Frame {
   CameraIntrinsics cam;
 };
 
-// What one pixel needs for every direction.
-struct PixelContext {
-  float d;       // P's depth
-  glm::vec3 n;   // P's prepared normal
-  float px, py;  // P's pixel centre
-  float ox, oy;  // offsets of P's pixel centre from (cx, cy)
-  float inv_fx, inv_fy;
-  float n_r0;       // n · (P's view ray at depth 1)
-  float grazing_p;  // |r0| / |n·r0|: how much rounding moves tangent-plane depths here
-  int x, y;
-};
+// Eq. 8's term W(r)·sin α of the texel read on level l, into `weighted`; false if the texel
+// is background, at or beyond R (W = 0, eq. 7) or not above P's tangent plane.
+bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexel& texel, int l,
+                        float radius2, float inv_radius, float& weighted) {
+  const float ds = texel.depth;
+  // §3.4 step 2a: "restore the position in the three-dimensional space" — at the texel's
+  // centroid (its centre where its footprint is whole), at the averaged depth. D = S − P
+  // without cancellation: S.x − P.x = (qx·ds + ox·(ds − d))/fx with qx = centroid − P's
+  // centre (likewise y), and D.z = d − ds.
+  const float qx = texel.x - p.px, qy = texel.y - p.py;
+  const float dd = ds - p.d;
+  const float dx = (qx * ds + p.ox * dd) * p.inv_fx;
+  const float dy = -(qy * ds + p.oy * dd) * p.inv_fy;
+  const float r2 = dx * dx + dy * dy + dd * dd;
+  // W(r) = max(0, 1 − r/R) (eq. 7) is 0 from r = R on; background is NaN.
+  if (!(r2 < radius2) || r2 == 0.0f) return false;
+  // Above the tangent plane? The plane of (P, n) meets the sample's view ray rs at depth
+  // tau = d (n·r0)/(n·rs); the sample counts only if it lies nearer than that by more than
+  // float32 rounding (kPyramidHbaoDepthUlps ...), so a plane never occludes itself. A ray
+  // that never meets the plane in front of the camera passes above it.
+  const glm::vec3 rs((texel.x - f.cam.cx) * p.inv_fx, -(texel.y - f.cam.cy) * p.inv_fy, -1.0f);
+  const float n_rs = glm::dot(p.n, rs);
+  const float tau = p.d * p.n_r0 / n_rs;
+  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
+  if (hits && !(tau > ds)) return false;  // the cheap test first: most samples fail it
+  const float grazing_s = glm::length(rs) / std::abs(n_rs);
+  const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
+                          (kPyramidHbaoDepthUlps + kPyramidHbaoLevelUlps * float(l) +
+                           kPyramidHbaoNormalUlps * (p.grazing_p + grazing_s));
+  if (!((hits ? tau : kInfinity) - ds > tolerance)) return false;
+  // sin α = n·D/|D|: the elevation above the tangent plane, in the hemisphere about n of
+  // §2.2.1 (ω = (cos θ cos α, sin α, sin θ cos α), n the middle axis; eq. 2 integrates α
+  // from 0, the tangent plane).
+  const float r = std::sqrt(r2);
+  const float sin_alpha = std::clamp((p.n.x * dx + p.n.y * dy - p.n.z * dd) / r, 0.0f, 1.0f);
+  weighted = (1.0f - r * inv_radius) * sin_alpha;
+  return true;
+}
 
 // Eq. 8 for one direction: the largest weighted contribution max_i W(r_i)·sin α_i over the
 // samples of the march (§3.4 step 2), 0 if no sample occludes.
-float march_direction(const Frame& f, const PyramidHbaoSettings& s, const PixelContext& p,
+float march_direction(const Frame& f, const PyramidHbaoSettings& s, const HbaoReceiver& p,
                       const PyramidHbaoDirection& dir) {
   const float radius2 = s.radius * s.radius, inv_radius = 1.0f / s.radius;
   // The view-space azimuth θ as an image direction (image y points down, view y up) and
@@ -114,41 +142,11 @@ float march_direction(const Frame& f, const PyramidHbaoSettings& s, const PixelC
         return best;
       const int tx = int(sx_f) / scale, ty = int(sy_f) / scale;
       if (tx == own_x && ty == own_y) continue;  // P's own texel on this level
-      const PyramidTexel& texel = level(tx, ty);
-      const float ds = texel.depth;
-      // §3.4 step 2a: "restore the position in the three-dimensional space" — at the
-      // texel's centroid (its centre where its footprint is whole), at the averaged depth.
-      // D = S − P without cancellation: S.x − P.x = (qx·ds + ox·(ds − d))/fx with
-      // qx = centroid − P's centre (likewise y), and D.z = d − ds.
-      const float qx = texel.x - p.px, qy = texel.y - p.py;
-      const float dd = ds - p.d;
-      const float dx = (qx * ds + p.ox * dd) * p.inv_fx;
-      const float dy = -(qy * ds + p.oy * dd) * p.inv_fy;
-      const float r2 = dx * dx + dy * dy + dd * dd;
-      // W(r) = max(0, 1 − r/R) (eq. 7) is 0 from r = R on; background is NaN.
-      if (!(r2 < radius2) || r2 == 0.0f) continue;
-      // Above the tangent plane? The plane of (P, n) meets the sample's view ray rs at
-      // depth tau = d (n·r0)/(n·rs); the sample counts only if it lies nearer than that by
-      // more than float32 rounding (kPyramidHbaoDepthUlps ...), so a plane never occludes
-      // itself. A ray that never meets the plane in front of the camera passes above it.
-      const glm::vec3 rs((texel.x - f.cam.cx) * p.inv_fx, -(texel.y - f.cam.cy) * p.inv_fy, -1.0f);
-      const float n_rs = glm::dot(p.n, rs);
-      const float tau = p.d * p.n_r0 / n_rs;
-      const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
-      if (hits && !(tau > ds)) continue;  // the cheap test first: most samples fail it
-      const float grazing_s = glm::length(rs) / std::abs(n_rs);
-      const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
-                              (kPyramidHbaoDepthUlps + kPyramidHbaoLevelUlps * float(l) +
-                               kPyramidHbaoNormalUlps * (p.grazing_p + grazing_s));
-      if (!((hits ? tau : kInfinity) - ds > tolerance)) continue;
-      // sin α = n·D/|D|: the elevation above the tangent plane, in the hemisphere about n of
-      // §2.2.1 (ω = (cos θ cos α, sin α, sin θ cos α), n the middle axis; eq. 2 integrates
-      // α from 0, the tangent plane).
-      const float r = std::sqrt(r2);
-      const float sin_alpha = std::clamp((p.n.x * dx + p.n.y * dy - p.n.z * dd) / r, 0.0f, 1.0f);
       // Eq. 8: keep the occluder with the largest weighted contribution, instead of HBAO's
       // highest horizon.
-      best = std::max(best, (1.0f - r * inv_radius) * sin_alpha);
+      float weighted;
+      if (texel_contribution(f, p, level(tx, ty), l, radius2, inv_radius, weighted))
+        best = std::max(best, weighted);
     }
   }
   return best;
@@ -157,18 +155,11 @@ float march_direction(const Frame& f, const PyramidHbaoSettings& s, const PixelC
 float pyramid_hbao_pixel(const Frame& f, const PyramidHbaoSettings& s, int x, int y,
                          PyramidHbaoDirection* dirs) {
   const std::size_t idx = std::size_t(y) * f.width + x;
-  PixelContext p;
-  p.d = f.pyramid->level(0).texels[idx].depth;
-  if (!(p.d == p.d)) return 1.0f;  // background
+  const float d = f.pyramid->level(0).texels[idx].depth;
+  if (!(d == d)) return 1.0f;  // background
   // §3.4 step 1: P from the depth buffer, n from the normal map.
-  p.n = glm::vec3(f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]);
-  p.px = float(x) + 0.5f, p.py = float(y) + 0.5f;
-  p.ox = p.px - f.cam.cx, p.oy = p.py - f.cam.cy;
-  p.inv_fx = 1.0f / f.cam.fx, p.inv_fy = 1.0f / f.cam.fy;
-  const glm::vec3 r0(p.ox * p.inv_fx, -p.oy * p.inv_fy, -1.0f);
-  p.n_r0 = glm::dot(p.n, r0);
-  p.grazing_p = glm::length(r0) / std::abs(p.n_r0);
-  p.x = x, p.y = y;
+  const HbaoReceiver p = hbao_receiver(
+      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
 
   pyramid_hbao_directions(s, x, y, dirs);
   float occlusion = 0.0f;
@@ -182,11 +173,7 @@ float pyramid_hbao_pixel(const Frame& f, const PyramidHbaoSettings& s, int x, in
 
 Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOptions& options) {
   g.validate();
-  if (!g.has_normal())
-    throw_invalid("normal",
-                  "is required by pyramid_hbao, which reads view-space normals "
-                  "(estimate them from depth with GBuffer.prepared_normals())",
-                  "none");
+  require_normal(g, "pyramid_hbao");
   validate_settings(s, kPyramidHbaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
@@ -215,18 +202,11 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOpti
 }
 
 Method pyramid_hbao_method() {
-  Method m;
-  m.name = "pyramid_hbao";
-  m.title = "Pyramid horizon-based ambient occlusion";
-  m.paper =
-      "Astapov, Frolov, Galaktionov 2021, Pyramid HBAO - a Scalable Horizon-based "
-      "Ambient Occlusion Method";
+  Method m = registered_method("pyramid_hbao", "Pyramid horizon-based ambient occlusion",
+                               "Astapov, Frolov, Galaktionov 2021, Pyramid HBAO - a Scalable "
+                               "Horizon-based Ambient Occlusion Method",
+                               kPyramidHbaoFields, pyramid_hbao);
   m.needs_normal = true;
-  m.settings = describe_settings(kPyramidHbaoFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return pyramid_hbao(g, settings_from_values(values, kPyramidHbaoFields, "pyramid_hbao"),
-                        options);
-  };
   return m;
 }
 

@@ -1,6 +1,5 @@
 // Pyramid HBAO: A. Astapov, V. Frolov, V. Galaktionov, "Pyramid HBAO — a Scalable
-// Horizon-based Ambient Occlusion Method", GraphiCon 2021
-// (shared/papers/pyramid-hbao-astapov-2021.md).
+// Horizon-based Ambient Occlusion Method", GraphiCon 2021 (CEUR-WS Vol-3027, paper 5).
 //
 // A = 1 − (1/D) Σ_θ max_i W(r_i)·sin α_i          (eq. 8 per direction, averaged: §3.4 step 3)
 // W(r) = max(0, 1 − r/R) (eq. 7); α_i is the elevation of sample S_i above P's tangent

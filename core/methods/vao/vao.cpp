@@ -1,7 +1,6 @@
 #include "core/methods/vao/vao.h"
 
 #include <glm/geometric.hpp>
-#include <limits>
 #include <numbers>
 
 #include "core/base/parallel.h"
@@ -94,11 +93,7 @@ VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
   f.width = g.width();
   f.height = g.height();
   f.camera = g.camera;
-  f.depth.resize(std::size_t(f.width) * f.height);
-  for (int y = 0; y < f.height; ++y)
-    for (int x = 0; x < f.width; ++x)
-      f.depth[std::size_t(y) * f.width + x] =
-          g.valid(x, y) ? g.depth(x, y) : std::numeric_limits<float>::quiet_NaN();
+  f.depth = depth_with_background_as_nan(g, threads);
   f.normals = prepared_normals(g, threads);
   if (with_color && g.has_color()) {
     f.color = Image(f.width, f.height, 3);
@@ -111,6 +106,62 @@ VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
   }
   return f;
 }
+
+namespace {
+
+// The tangent sphere of P (§3), radius r = R/2 and centre C = P + r·n, as every sample of the
+// pixel sees it.
+struct Sphere {
+  float r;
+  glm::vec3 c;
+  float dc, inv_dc;  // C's depth and its inverse
+  float c_term;      // |C|² − r² = |P|² + 2r P·n
+};
+
+// One sample's pipe through the sphere, its full length and the depth tolerance of its test.
+struct SamplePipe {
+  VaoPipe pipe;
+  float full, tolerance;
+};
+
+// The view ray X = δ v through the centre of texel (ix, iy) meets |X − C| = r at
+// δ = (b ± sqrt(b² − a·c_term))/a, a = |v|², b = v·C; δ is planar depth. False if the ray
+// misses the sphere (no pipe).
+bool view_ray_pipe(const CameraIntrinsics& cam, const Sphere& sp, int ix, int iy, float ds,
+                   SamplePipe& out) {
+  const float inv_fx = 1.0f / cam.fx, inv_fy = 1.0f / cam.fy;
+  const glm::vec3 v((float(ix) + 0.5f - cam.cx) * inv_fx, -(float(iy) + 0.5f - cam.cy) * inv_fy,
+                    -1.0f);
+  const float a = glm::dot(v, v), b = glm::dot(v, sp.c);
+  const float disc = b * b - a * sp.c_term;
+  if (!(disc > 0.0f)) return false;
+  const float sq = std::sqrt(disc);
+  if (!(b + sq > 0.0f) || !std::isfinite(b + sq)) return false;
+  out.pipe.back = (b + sq) / a;
+  out.pipe.front = std::max(0.0f, sp.c_term / (b + sq));  // the camera may be inside
+  out.full = out.pipe.back - out.pipe.front;
+  // Rounding of b, c_term (and of P and n in them) moves δ by ~ε (|b| + sq + (b² +
+  // |a c_term|)/sq)/a: ill-conditioned for rays grazing the sphere (small sq).
+  out.tolerance = kFloatEpsilon * kVaoDepthUlps *
+                  (std::abs(ds) + (std::abs(b) + sq + (b * b + std::abs(a * sp.c_term)) / sq) / a);
+  return true;
+}
+
+// Eq. 5 for the sample point at offset (ox, oy) on the disc, over texel (ix, iy):
+// c(x) = max(0, (x − p)·n/|x − p|) (1 − |x − p|/radius)², added as lerp(white, colour, c).
+void add_bleeding(const VaoFrame& f, const glm::vec3& nrm, float r, float ox, float oy,
+                  float inv_radius, int ix, int iy, VaoPixelSums& out) {
+  const glm::vec3 to_sample = r * nrm + glm::vec3(ox, oy, 0.0f);
+  const float len = glm::length(to_sample);
+  const float cosine = len > 0.0f ? std::max(0.0f, glm::dot(to_sample, nrm) / len) : 0.0f;
+  const float fall = std::max(0.0f, 1.0f - len * inv_radius);
+  const float weight = cosine * fall * fall;
+  const float* col = f.color.data() + 3 * (std::size_t(iy) * f.width + ix);
+  for (int k = 0; k < 3; ++k) out.bleed[k] += 1.0f + weight * (col[k] - 1.0f);
+  ++out.bleed_count;
+}
+
+}  // namespace
 
 VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y, const float* sx,
                        const float* sy, const float* sh, int n) {
@@ -125,79 +176,52 @@ VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y
   const glm::vec3 v0((float(x) + 0.5f - cam.cx) * inv_fx, -(float(y) + 0.5f - cam.cy) * inv_fy,
                      -1.0f);
   const glm::vec3 p = d * v0;
-  const float r = 0.5f * o.radius;  // the tangent sphere (§3)
-  const glm::vec3 c = p + r * nrm;
-  const float dc = -c.z;
-  if (!(dc > 0.0f) || !std::isfinite(dc)) return out;  // the disc is not in front of the camera
-  const float inv_dc = 1.0f / dc;
+  Sphere sp;
+  sp.r = 0.5f * o.radius;  // the tangent sphere (§3)
+  sp.c = p + sp.r * nrm;
+  sp.dc = -sp.c.z;
+  if (!(sp.dc > 0.0f) || !std::isfinite(sp.dc)) return out;  // the disc is not in front
+  sp.inv_dc = 1.0f / sp.dc;
   // |C|² - r² = |P|² + 2r P·n, without forming r² (no cancellation, no overflow first).
-  const float c_term = d * d * glm::dot(v0, v0) + 2.0f * r * d * glm::dot(v0, nrm);
+  sp.c_term = d * d * glm::dot(v0, v0) + 2.0f * sp.r * d * glm::dot(v0, nrm);
   const float inv_radius = 1.0f / o.radius;
 
   for (int i = 0; i < n; ++i) {
-    const float ox = r * sx[i], oy = r * sy[i];
-    const float px = cam.cx + cam.fx * (c.x + ox) * inv_dc;
-    const float py = cam.cy - cam.fy * (c.y + oy) * inv_dc;
+    const float ox = sp.r * sx[i], oy = sp.r * sy[i];
+    const float px = cam.cx + cam.fx * (sp.c.x + ox) * sp.inv_dc;
+    const float py = cam.cy - cam.fy * (sp.c.y + oy) * sp.inv_dc;
     // Off-screen samples carry no information: left out (the test also rejects NaN).
     if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
     const int ix = int(px), iy = int(py);
     const float ds = f.depth[std::size_t(iy) * w + ix];
-    VaoPipe pipe;
-    float full, tolerance;
+    SamplePipe sample;
     if (o.view_ray_pipes) {
-      // The view ray X = δ v through the texel centre meets |X - C| = r at
-      // δ = (b ± sqrt(b² - a·c_term))/a, a = |v|², b = v·C; δ is planar depth.
-      const glm::vec3 v((float(ix) + 0.5f - cam.cx) * inv_fx, -(float(iy) + 0.5f - cam.cy) * inv_fy,
-                        -1.0f);
-      const float a = glm::dot(v, v), b = glm::dot(v, c);
-      const float disc = b * b - a * c_term;
-      if (!(disc > 0.0f)) continue;  // the ray misses the sphere: no pipe
-      const float sq = std::sqrt(disc);
-      if (!(b + sq > 0.0f) || !std::isfinite(b + sq)) continue;
-      pipe.back = (b + sq) / a;
-      pipe.front = std::max(0.0f, c_term / (b + sq));  // the camera may be inside
-      full = pipe.back - pipe.front;
-      // Rounding of b, c_term (and of P and n in them) moves δ by ~ε (|b| + sq + (b² +
-      // |a c_term|)/sq)/a: ill-conditioned for rays grazing the sphere (small sq).
-      tolerance = kFloatEpsilon * kVaoDepthUlps *
-                  (std::abs(ds) + (std::abs(b) + sq + (b * b + std::abs(a * c_term)) / sq) / a);
+      if (!view_ray_pipe(cam, sp, ix, iy, ds, sample)) continue;
     } else {
-      const float half = r * sh[i];  // half the pipe parallel to the view axis
-      pipe = {dc - half, dc + half};
-      full = 2.0f * half;  // Σ full = R Σ h_i: F of eq. 2
-      tolerance = kFloatEpsilon * kVaoDepthUlps * (std::abs(ds) + d + r);
+      const float half = sp.r * sh[i];  // half the pipe parallel to the view axis
+      sample.pipe = {sp.dc - half, sp.dc + half};
+      sample.full = 2.0f * half;  // Σ full = R Σ h_i: F of eq. 2
+      sample.tolerance = kFloatEpsilon * kVaoDepthUlps * (std::abs(ds) + d + sp.r);
     }
-    if (!(full > 0.0f)) continue;
+    if (!(sample.full > 0.0f)) continue;
     float open;
-    if ((ix == x && iy == y) || vao_case(pipe, ds, tolerance) == VaoCase::B) {
-      open = full;  // case B; on P's own texel the surface is P, where the sphere touches it
+    if ((ix == x && iy == y) || vao_case(sample.pipe, ds, sample.tolerance) == VaoCase::B) {
+      open = sample.full;  // case B; on P's own texel the surface is P, where the sphere touches
     } else {
-      open = std::min(full, vao_unoccluded_length(pipe, ds, tolerance, o.range_check, o.radius));
+      open = std::min(sample.full, vao_unoccluded_length(sample.pipe, ds, sample.tolerance,
+                                                         o.range_check, o.radius));
     }
     out.open += open;
-    out.full += full;
-    if (o.bleeding_step > 0 && i % o.bleeding_step == 0 && ds == ds) {
-      // Eq. 5: c(x) = max(0, (x - p)·n/|x - p|) (1 - |x - p|/radius)², x the sample point.
-      const glm::vec3 to_sample = r * nrm + glm::vec3(ox, oy, 0.0f);
-      const float len = glm::length(to_sample);
-      const float cosine = len > 0.0f ? std::max(0.0f, glm::dot(to_sample, nrm) / len) : 0.0f;
-      const float fall = std::max(0.0f, 1.0f - len * inv_radius);
-      const float weight = cosine * fall * fall;
-      const float* col = f.color.data() + 3 * (std::size_t(iy) * w + ix);
-      for (int k = 0; k < 3; ++k) out.bleed[k] += 1.0f + weight * (col[k] - 1.0f);
-      ++out.bleed_count;
-    }
+    out.full += sample.full;
+    if (o.bleeding_step > 0 && i % o.bleeding_step == 0 && ds == ds)
+      add_bleeding(f, nrm, sp.r, ox, oy, inv_radius, ix, iy, out);
   }
   return out;
 }
 
 Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
   g.validate();
-  if (!g.has_normal())
-    throw_invalid("normal",
-                  "is required by vao, which reads view-space normals (estimate them "
-                  "from depth with GBuffer.prepared_normals())",
-                  "none");
+  require_normal(g, "vao");
   validate_settings(s, kVaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
@@ -231,17 +255,12 @@ Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
 }
 
 Method vao_method() {
-  Method m;
-  m.name = "vao";
-  m.title = "Volumetric ambient occlusion";
-  m.paper =
+  Method m = registered_method(
+      "vao", "Volumetric ambient occlusion",
       "Szirmay-Kalos, Umenhoffer, Toth, Szecsi, Sbert 2010, Volumetric Ambient Occlusion "
-      "for Real-Time Rendering and Games (as outlined in VAO++ 2017, section 3)";
+      "for Real-Time Rendering and Games (as outlined in VAO++ 2017, section 3)",
+      kVaoFields, vao);
   m.needs_normal = true;
-  m.settings = describe_settings(kVaoFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return vao(g, settings_from_values(values, kVaoFields, "vao"), options);
-  };
   return m;
 }
 

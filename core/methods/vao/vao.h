@@ -1,6 +1,7 @@
 // Volumetric ambient occlusion: Szirmay-Kalos, Umenhoffer, Tóth, Szécsi, Sbert, "Volumetric
 // Ambient Occlusion for Real-Time Rendering and Games", IEEE CG&A 2010, as outlined in VAO++
-// (Bokšanský, Pospíšil, Bittner 2017, §3; shared/papers/vao-plus-plus-boksansky-2017.md).
+// (Bokšanský, Pospíšil, Bittner, "VAO++: Practical Volumetric Ambient Occlusion for Games",
+// EGSR 2017, §3).
 //
 // The tangent sphere of radius r = R/2 sits on the surface, its centre C = P + r·n. Samples
 // (x_i, y_i) of the unit disc are placed on the sphere's great disc perpendicular to the view

@@ -17,10 +17,8 @@ Image cross_bilateral_filter(ConstImageView image, const GBuffer& g, int taps, f
   std::vector<float> weights(static_cast<std::size_t>(taps));
   for (int i = -half; i <= half; ++i)
     weights[std::size_t(i + half)] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
-  // Depth with background as NaN: every comparison with it fails.
-  std::vector<float> depth(std::size_t(w) * h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) depth[std::size_t(y) * w + x] = g.valid(x, y) ? g.depth(x, y) : NAN;
+  // Every comparison with a background depth fails.
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
 
   Image tmp(w, h, nc), out(w, h, nc);
   auto pass = [&](ConstImageView src, Image& dst, int dx, int dy) {

@@ -106,129 +106,140 @@ bool occlusion_nearby(const Image& low, int x, int y, float threshold) {
   return false;
 }
 
+// The setting that makes VAO++ read colour ("" = none); colour bleeding is named first.
+std::string color_setting(bool color_bleeding, bool luminance_sensitivity) {
+  if (color_bleeding) return "color_bleeding";
+  if (luminance_sensitivity) return "luminance_sensitivity";
+  return "";
+}
+
 void validate_vao_pp(const GBuffer& g, const VaoPpSettings& s) {
   g.validate();
-  if (!g.has_normal())
-    throw_invalid("normal",
-                  "is required by vao_pp, which reads view-space normals (estimate "
-                  "them from depth with GBuffer.prepared_normals())",
-                  "none");
+  require_normal(g, "vao_pp");
   validate_settings(s, kVaoPpFields);
   if (!is_power_of_two_set(s.samples))
     throw_invalid("samples", "must be 2, 4, 8, 16 or 32 (the sample sets of 4.1)", s.samples);
   if (s.filter_taps % 2 == 0) throw_invalid("filter_taps", "must be odd", s.filter_taps);
   if (s.bleeding_sample_step == 3)
     throw_invalid("bleeding_sample_step", "must be 1, 2 or 4", s.bleeding_sample_step);
-  if (s.color_bleeding && !g.has_color())
-    throw_invalid("color", "is required by vao_pp with color_bleeding on", "none");
-  if (s.luminance_sensitivity && !g.has_color())
-    throw_invalid("color", "is required by vao_pp with luminance_sensitivity on", "none");
+  if (const std::string setting = color_setting(s.color_bleeding, s.luminance_sensitivity);
+      !setting.empty())
+    require_color(g, "vao_pp", setting);
 }
 
-}  // namespace
+// What the passes of one run share.
+struct Pass {
+  const GBuffer& g;
+  const VaoPpSettings& s;
+  const VaoFrame& frame;
+  const SampleSets& sets;
+  VaoPixelOptions po;  // without colour bleeding (the pre-pass)
+  VaoPpCulling culling;
+  int threads;
+  Progress* progress;
 
-Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options,
-             VaoPpStats* stats) {
-  validate_vao_pp(g, s);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-  const VaoFrame frame = vao_frame(g, s.color_bleeding, threads);
-  const SampleSets sets(s.poisson_samples, s.seed);
-  VaoPixelOptions po;
-  po.radius = s.radius;
-  po.view_ray_pipes = s.view_ray_pipes;
-  po.range_check = s.range_check;
-  auto is_geometry = [&](int x, int y) {
-    const float d = frame.depth[std::size_t(y) * w + x];
+  bool geometry(int x, int y) const {
+    const float d = frame.depth[std::size_t(y) * frame.width + x];
     return d == d;
-  };
+  }
+};
 
-  const auto culling = VaoPpCulling(s.culling);
+// VaoPpStats as the threads add to it.
+struct Counters {
+  std::atomic<std::int64_t> prepass_pixels{0}, pixels{0}, culled{0}, samples{0};
+};
+
+// §4.2: AO at 1/8 resolution, 8 samples, at the pixel nearest each low-res texel's centre.
+Image cull_prepass(const Pass& r, Counters& counters) {
+  const int w = r.frame.width, h = r.frame.height;
   const int lw = (w + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
   const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
-  if (options.progress) options.progress->total += (culling != VaoPpCulling::Off ? lh : 0) + h;
-  std::atomic<std::int64_t> prepass_pixels{0}, pixels{0}, culled{0}, samples{0};
-
-  // §4.2: AO at 1/8 resolution, 8 samples, at the pixel nearest each low-res texel's centre.
-  Image low;
-  if (culling != VaoPpCulling::Off) {
-    low = Image(lw, lh, 1, 1.0f);
-    parallel_for_rows(
-        lh, threads,
-        [&](int j0, int j1) {
-          VaoKernel scratch;
-          std::int64_t count = 0;
-          for (int j = j0; j < j1; ++j)
-            for (int i = 0; i < lw; ++i) {
-              const int x = std::min(i * kVaoPpCullFactor + kVaoPpCullFactor / 2, w - 1);
-              const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
-              if (!is_geometry(x, y)) continue;
-              const VaoKernel& k = sets.get(kVaoPpCullSamples, x, y, scratch);
-              low(i, j) =
-                  vao_pixel(frame, po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size()).ao();
-              ++count;
-            }
-          prepass_pixels += count;
-        },
-        options.progress);
-  }
-
-  // Pass 1 (§3): occlusion, and with colour bleeding the bleed colour B, into a working image
-  // of 1 or 4 channels (A, B_r, B_g, B_b).
-  const int nc = s.color_bleeding ? 4 : 1;
-  Image work(w, h, nc, 1.0f);
-  VaoPixelOptions full_po = po;
-  full_po.bleeding_step = s.color_bleeding ? s.bleeding_sample_step : 0;
-  const float inv_height = 1.0f / float(h);
+  Image low(lw, lh, 1, 1.0f);
   parallel_for_rows(
-      h, threads,
+      lh, r.threads,
+      [&](int j0, int j1) {
+        VaoKernel scratch;
+        std::int64_t count = 0;
+        for (int j = j0; j < j1; ++j)
+          for (int i = 0; i < lw; ++i) {
+            const int x = std::min(i * kVaoPpCullFactor + kVaoPpCullFactor / 2, w - 1);
+            const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
+            if (!r.geometry(x, y)) continue;
+            const VaoKernel& k = r.sets.get(kVaoPpCullSamples, x, y, scratch);
+            low(i, j) =
+                vao_pixel(r.frame, r.po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size()).ao();
+            ++count;
+          }
+        counters.prepass_pixels += count;
+      },
+      r.progress);
+  return low;
+}
+
+// The samples of geometry pixel (x, y): §4.1's adaptive count, cut by §4.2's culling where
+// the pre-pass found no occlusion nearby (`culled`); 0 = culled greedily (left at 1).
+int pixel_samples(const Pass& r, const Image& low, int x, int y, bool& culled) {
+  const VaoPpSettings& s = r.s;
+  int n = s.samples;
+  if (s.adaptive_sampling) {
+    // §4.1: the disc of diameter R at the sphere centre's depth, projected.
+    const std::size_t idx = std::size_t(y) * r.frame.width + x;
+    const float dc = r.frame.depth[idx] - 0.5f * s.radius * r.frame.normals.data()[3 * idx + 2];
+    const float inv_height = 1.0f / float(r.frame.height);
+    const float diameter = dc > 0.0f ? s.radius * r.g.camera.fy / dc * inv_height : INFINITY;
+    n = vao_pp_adaptive_samples(diameter, s.adaptive_min_diameter, s.samples);
+  }
+  culled = r.culling != VaoPpCulling::Off && !occlusion_nearby(low, x, y, s.cull_threshold);
+  if (!culled) return n;
+  return r.culling == VaoPpCulling::Greedy ? 0 : std::min(n, kVaoPpCarefulSamples);
+}
+
+// Pass 1 (§3): occlusion, and with colour bleeding the bleed colour B, into a working image
+// of 1 or 4 channels (A, B_r, B_g, B_b).
+Image occlusion_pass(const Pass& r, const Image& low, Counters& counters) {
+  const VaoPpSettings& s = r.s;
+  const int w = r.frame.width, h = r.frame.height;
+  Image work(w, h, s.color_bleeding ? 4 : 1, 1.0f);
+  VaoPixelOptions full_po = r.po;
+  full_po.bleeding_step = s.color_bleeding ? s.bleeding_sample_step : 0;
+  parallel_for_rows(
+      h, r.threads,
       [&](int y0, int y1) {
         VaoKernel scratch;
         std::int64_t band_pixels = 0, band_culled = 0, band_samples = 0;
         for (int y = y0; y < y1; ++y)
           for (int x = 0; x < w; ++x) {
-            if (!is_geometry(x, y)) continue;
+            if (!r.geometry(x, y)) continue;
             ++band_pixels;
-            int n = s.samples;
-            if (s.adaptive_sampling) {
-              // §4.1: the disc of diameter R at the sphere centre's depth, projected.
-              const std::size_t idx = std::size_t(y) * w + x;
-              const float dc =
-                  frame.depth[idx] - 0.5f * s.radius * frame.normals.data()[3 * idx + 2];
-              const float diameter =
-                  dc > 0.0f ? s.radius * g.camera.fy / dc * inv_height : INFINITY;
-              n = vao_pp_adaptive_samples(diameter, s.adaptive_min_diameter, s.samples);
-            }
-            if (culling != VaoPpCulling::Off && !occlusion_nearby(low, x, y, s.cull_threshold)) {
-              ++band_culled;
-              if (culling == VaoPpCulling::Greedy) continue;  // left at 1 (and white)
-              n = std::min(n, kVaoPpCarefulSamples);
-            }
-            const VaoKernel& k = sets.get(n, x, y, scratch);
+            bool culled;
+            const int n = pixel_samples(r, low, x, y, culled);
+            band_culled += culled;
+            if (n == 0) continue;  // greedy culling: left at 1 (and white)
+            const VaoKernel& k = r.sets.get(n, x, y, scratch);
             const VaoPixelSums sums =
-                vao_pixel(frame, full_po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size());
+                vao_pixel(r.frame, full_po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size());
             band_samples += n;
             work(x, y, 0) = sums.ao();
             if (s.color_bleeding && sums.bleed_count > 0)
               for (int c = 0; c < 3; ++c)
                 work(x, y, 1 + c) = sums.bleed[c] / float(sums.bleed_count);
           }
-        pixels += band_pixels;
-        culled += band_culled;
-        samples += band_samples;
+        counters.pixels += band_pixels;
+        counters.culled += band_culled;
+        counters.samples += band_samples;
       },
-      options.progress);
+      r.progress);
+  return work;
+}
 
-  // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
-  if (s.filter)
-    work = cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius, threads,
-                                  options.progress);
-
-  // Pass 3: luminance sensitivity (eq. 3) on the occlusion 1 - A, then A·B.
-  if (s.luminance_sensitivity) {
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        if (!is_geometry(x, y)) continue;
+// Pass 3: luminance sensitivity (eq. 3) on the occlusion 1 − A of the geometry pixels.
+void apply_luminance(const Pass& r, Image& work) {
+  const GBuffer& g = r.g;
+  const VaoPpSettings& s = r.s;
+  parallel_for_rows(g.height(), r.threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < g.width(); ++x) {
+        if (!r.geometry(x, y)) continue;
         float rgb[3];
         for (int c = 0; c < 3; ++c) {
           float v = g.color(x, y, c) + (g.has_emission() ? g.emission(x, y, c) : 0.0f);
@@ -239,44 +250,68 @@ Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options
                                     s.luminance_width, s.luminance_sigma);
         work(x, y, 0) = 1.0f - (1.0f - work(x, y, 0)) * factor;
       }
-  }
-  if (stats) {
-    stats->pixels = pixels;
-    stats->culled = culled;
-    stats->samples = samples;
-    stats->prepass_pixels = prepass_pixels;
-  }
-  if (!s.color_bleeding) return work;
+  });
+}
+
+// Colour bleeding's result: A·B per channel, clamped to [0, 1].
+Image bleeding_result(const Image& work, int threads) {
+  const int w = work.width(), h = work.height();
   Image out(w, h, 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c)
-        out(x, y, c) = std::clamp(work(x, y, 0) * work(x, y, 1 + c), 0.0f, 1.0f);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c)
+          out(x, y, c) = std::clamp(work(x, y, 0) * work(x, y, 1 + c), 0.0f, 1.0f);
+  });
   return out;
 }
 
+}  // namespace
+
+Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options,
+             VaoPpStats* stats) {
+  validate_vao_pp(g, s);
+  const int h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const VaoFrame frame = vao_frame(g, s.color_bleeding, threads);
+  const SampleSets sets(s.poisson_samples, s.seed);
+  Pass r{g, s, frame, sets, {}, VaoPpCulling(s.culling), threads, options.progress};
+  r.po.radius = s.radius;
+  r.po.view_ray_pipes = s.view_ray_pipes;
+  r.po.range_check = s.range_check;
+
+  const bool culling = r.culling != VaoPpCulling::Off;
+  const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
+  if (options.progress) options.progress->total += (culling ? lh : 0) + h;
+  Counters counters;
+  const Image low = culling ? cull_prepass(r, counters) : Image();
+  Image work = occlusion_pass(r, low, counters);
+  // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
+  if (s.filter)
+    work = cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius, threads,
+                                  options.progress);
+  if (s.luminance_sensitivity) apply_luminance(r, work);
+  if (stats) {
+    stats->pixels = counters.pixels;
+    stats->culled = counters.culled;
+    stats->samples = counters.samples;
+    stats->prepass_pixels = counters.prepass_pixels;
+  }
+  if (!s.color_bleeding) return work;
+  return bleeding_result(work, threads);
+}
+
 Method vao_pp_method() {
-  Method m;
-  m.name = "vao_pp";
-  m.title = "VAO++: practical volumetric ambient occlusion";
-  m.paper =
+  Method m = registered_method(
+      "vao_pp", "VAO++: practical volumetric ambient occlusion",
       "Boksansky, Pospisil, Bittner 2017, VAO++: Practical Volumetric Ambient Occlusion "
-      "for Games";
+      "for Games",
+      kVaoPpFields, [](const GBuffer& g, const VaoPpSettings& s, const RunOptions& options) {
+        return vao_pp(g, s, options);
+      });
   m.needs_normal = true;
   m.needs_color = true;  // with luminance_sensitivity or color_bleeding only
-  m.color_needed_by = [](const SettingValues& values) -> std::string {
-    auto on = [&](const char* name) {
-      const auto it = values.find(name);
-      return it != values.end() && it->second != 0.0;
-    };
-    if (on("color_bleeding")) return "color_bleeding";
-    if (on("luminance_sensitivity")) return "luminance_sensitivity";
-    return "";
-  };
-  m.settings = describe_settings(kVaoPpFields);
-  m.run = [](const GBuffer& g, const SettingValues& values, const RunOptions& options) {
-    return vao_pp(g, settings_from_values(values, kVaoPpFields, "vao_pp"), options);
-  };
+  m.color_depends_on_settings = true;  // validate_vao_pp checks it
   return m;
 }
 

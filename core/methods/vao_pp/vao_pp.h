@@ -1,5 +1,5 @@
 // VAO++: Bokšanský, Pospíšil, Bittner, "VAO++: Practical Volumetric Ambient Occlusion for
-// Games", EGSR 2017 (shared/papers/vao-plus-plus-boksansky-2017.md), §4: VAO
+// Games", EGSR 2017, §4: VAO
 // (core/methods/vao/vao.h, whose per-sample code it runs) with these extensions, each a setting:
 //   §4.1 adaptive sampling: 2, 4, 8, 16 or 32 samples from the projected disc area;
 //   §4.2 culling pre-pass: AO at 1/8 resolution with 8 samples; pixels with no occlusion in
@@ -115,7 +115,9 @@ inline const SettingField<VaoPpSettings> kVaoPpFields[] = {
     {"adaptive_min_diameter", &VaoPpSettings::adaptive_min_diameter, 1e-6, 10, "image heights",
      "projected disc diameter that gets 2 samples (4.1)"},
     {"culling", &VaoPpSettings::culling, 0, 2, "",
-     "culling pre-pass (4.2): 0 = off, 1 = greedy, 2 = careful"},
+     "culling pre-pass (4.2): off; greedy (culled pixels are 1); careful (culled pixels get 4 "
+     "samples)",
+     "off|greedy|careful"},
     {"cull_threshold", &VaoPpSettings::cull_threshold, 0, 1, "",
      "a 1/8-resolution AO fetch below this exhibits occlusion (4.2)"},
     {"luminance_sensitivity", &VaoPpSettings::luminance_sensitivity, 0, 1, "",
@@ -124,7 +126,8 @@ inline const SettingField<VaoPpSettings> kVaoPpFields[] = {
     {"luminance_width", &VaoPpSettings::luminance_width, 1e-6, 1e30, "", "width of eq. 3"},
     {"luminance_sigma", &VaoPpSettings::luminance_sigma, 0.001, 1000, "", "sigma of eq. 3"},
     {"luminance_mode", &VaoPpSettings::luminance_mode, 0, 1, "",
-     "lum(x) of eq. 3: 0 = luminance, 1 = HSV value"},
+     "lum(x) of eq. 3: luminance (Rec. 709 weights) or the HSV value (max of R, G, B)",
+     "luminance|value"},
     {"range_check", &VaoPpSettings::range_check, 0, 1, "",
      "depth range check, s(d) = u/max(u, d/R), u = 0.03 (4.4)"},
     {"poisson_samples", &VaoPpSettings::poisson_samples, 0, 1, "",
@@ -160,7 +163,8 @@ struct VaoPpStats {
 Image vao_pp(const GBuffer& g, const VaoPpSettings& settings, const RunOptions& options = {},
              VaoPpStats* stats = nullptr);
 
-/// The registry entry (needs_color: may read colour; color_needed_by says when).
+/// The registry entry (needs_color: may read colour; color_depends_on_settings: vao_pp()
+/// checks when).
 Method vao_pp_method();
 
 /// The factor eq. 3 multiplies the occlusion 1 - A by: (1 - t)^σ with

@@ -32,8 +32,9 @@ def methods() -> list[str]:
 
 
 def method_info(method: str) -> dict:
-    """Description of a method: paper, what it reads, and every setting with its default,
-    unit, range and meaning."""
+    """Description of a method: paper, what it reads, and every setting with its type,
+    default, unit, range (``min``, ``max``) or, for a choice, its names (``choices``; the
+    default is a name), and meaning."""
     return _core.method_info(method)
 
 
@@ -44,7 +45,8 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     where the method documents an RGB result (``vao_pp`` with ``color_bleeding=True``).
 
     ``radius`` is the view-space radius of influence (the reference's AO distance).
-    ``settings`` are the method's own (see ``method_info``). ``blur`` applies the separable
+    ``settings`` are the method's own (see ``method_info``); a choice setting is given by
+    name, e.g. ``falloff="clipped"`` for ``lsao``. ``blur`` applies the separable
     Gaussian of :func:`gaussian_blur` afterwards; it is kept apart from the method so that it
     can be timed apart (1-channel results only). ``threads = 0`` uses all cores; results do
     not depend on it.

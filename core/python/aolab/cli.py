@@ -25,30 +25,17 @@ import numpy as np
 
 import aolab
 
+from .scoring import metrics_mask
+from .settings import describe_value, parse_assignments
 
-def _parse_value(text: str):
-    low = text.lower()
-    if low in ("true", "on", "yes"):
-        return True
-    if low in ("false", "off", "no"):
-        return False
+
+def _key_values(pairs: list[str], method: str | None = None) -> dict:
+    """--set / --param KEY=VALUE items as a dict: numbers, bools, and a choice setting's name
+    (or any other text, which aolab.compute then rejects, naming what is valid)."""
     try:
-        return int(text)
-    except ValueError:
-        try:
-            return float(text)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(f"not a number or boolean: {text!r}") from e
-
-
-def _key_values(pairs: list[str]) -> dict:
-    out = {}
-    for pair in pairs or []:
-        if "=" not in pair:
-            raise SystemExit(f"aolab: expected KEY=VALUE, got {pair!r}")
-        key, value = pair.split("=", 1)
-        out[key.strip()] = _parse_value(value.strip())
-    return out
+        return parse_assignments(pairs, method)
+    except ValueError as e:
+        raise SystemExit(f"aolab: {e}") from None
 
 
 def _load_input(spec: str, radius: float | None, width: int, height: int):
@@ -68,14 +55,6 @@ def _load_input(spec: str, radius: float | None, width: int, height: int):
     return g, float(radius)
 
 
-def _scored_mask(g) -> np.ndarray | None:
-    ref = getattr(g, "reference", None)
-    if ref is None:
-        return None
-    mask = g.valid_mask() & np.isfinite(ref)
-    return mask if mask.any() else None
-
-
 def cmd_methods(args) -> int:
     for name in aolab.methods():
         info = aolab.method_info(name)
@@ -86,9 +65,8 @@ def cmd_methods(args) -> int:
             (["color"] if info["needs_color"] else [])
         print(f"  reads: {', '.join(reads)}")
         for s in info["settings"]:
-            unit = f" {s['unit']}" if s["unit"] else ""
-            print(f"  {s['name']:<20} {s['type']:<5} default {s['default']!s:<6} "
-                  f"range [{s['min']:g}, {s['max']:g}]{unit}  {s['description']}")
+            print(f"  {s['name']:<22} {s['type']:<6} default {s['default']!s:<8} "
+                  f"{describe_value(s)}  {s['description']}")
     if args.json:
         print(json.dumps([aolab.method_info(n) for n in aolab.methods()], indent=2))
     return 0
@@ -109,7 +87,7 @@ def cmd_analytic(args) -> int:
 
 def cmd_run(args) -> int:
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
-    settings = _key_values(args.set)
+    settings = _key_values(args.set, args.method)
     kwargs = dict(radius=radius, threads=args.threads, **settings)
     if args.blur:
         kwargs.update(blur=True, blur_sigma=args.blur_sigma, blur_taps=args.blur_taps)
@@ -125,7 +103,7 @@ def cmd_run(args) -> int:
               "seconds": elapsed, "output": str(out.with_suffix(".exr"))}
     print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
           f"-> {out.with_suffix('.exr')}, {out.with_suffix('.png')}")
-    mask = _scored_mask(g)
+    mask = metrics_mask(g)
     if ao.ndim == 3:
         print("  RGB result (colour bleeding): written as an image, not scored")
     elif mask is not None:
@@ -143,7 +121,7 @@ def cmd_run(args) -> int:
 
 def cmd_bench(args) -> int:
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
-    settings = _key_values(args.set)
+    settings = _key_values(args.set, args.method)
     for _ in range(args.warmup):
         aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
     times = []
@@ -153,8 +131,9 @@ def cmd_bench(args) -> int:
         times.append(time.perf_counter() - t0)
     med = statistics.median(times)
     spread = (max(times) - min(times)) if len(times) > 1 else 0.0
+    cpu = platform.processor() or platform.machine()
     print(f"{args.method} on {args.input} {g.width}x{g.height}, radius {radius:g}, "
-          f"threads {args.threads or os.cpu_count()}, {platform.processor() or platform.machine()}: "
+          f"threads {args.threads or os.cpu_count()}, {cpu}: "
           f"median {med * 1000:.1f} ms over {args.repeat} runs (spread {spread * 1000:.1f} ms)")
     return 0
 
@@ -221,7 +200,8 @@ def build_parser() -> argparse.ArgumentParser:
         q.add_argument("--height", type=int, default=720, help="analytic scenes: height")
         q.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
         q.add_argument("--set", action="append", metavar="KEY=VALUE",
-                       help="a method setting, e.g. --set directions=16 (repeatable)")
+                       help="a method setting, e.g. --set directions=16; a choice by "
+                       "name, e.g. --set falloff=clipped (repeatable)")
 
     a = sub.add_parser("analytic", help="write an analytic scene's G-buffer EXR and sidecar")
     a.add_argument("name", choices=aolab.analytic_scene_names())
@@ -267,7 +247,8 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--resolution", help="WxH, overriding the scene's")
     f.add_argument("--camera", help="camera object to render from (default: the scene camera)")
     f.add_argument("--gbuffer-samples", type=int, default=1)
-    f.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or ~/.cache/aolab/references)")
+    f.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or "
+                   "~/.cache/aolab/references)")
     f.add_argument("--out", help="also copy reference.exr/.json here (one folder per scene "
                    "when several)")
     f.add_argument("--peers", action="store_true", help="render the comparison peers instead "

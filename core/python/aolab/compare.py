@@ -35,9 +35,10 @@ import numpy as np
 import aolab
 
 from . import presets as presets_mod
+from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
-from .report import WEAK_FRACTION, atomic_write_text
 from .regions import REGIONS, region_masks
+from .report import WEAK_FRACTION, atomic_write_text
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -45,8 +46,6 @@ METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
 SSIM_CROP = 5
 AGGREGATE_SCENE = "ALL"
 BASELINE = "baseline_one"
-PEERS_DIR = "peers"
-PEERS_FILE = "peers.json"
 
 #: results.csv columns before the per-region metrics.
 BASE_COLUMNS = ("key", "scene", "kind", "method", "label", "preset", "settings", "threads",
@@ -175,7 +174,7 @@ class Peer:
 
 def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], list[str]]:
     """The peers of a scene folder and notes about entries that could not be used."""
-    path = folder / PEERS_DIR / PEERS_FILE
+    path = folder / PEERS_DIR / PEERS_JSON
     if not path.exists():
         return [], []
     notes = []
@@ -542,7 +541,8 @@ class _Images:
             return
         m, t = row["metrics"]["all"]["mae"], row["total_ms"]
         name = row["method"]
-        if t <= self.budget and (name not in self.best or m < self.best[name][0]["metrics"]["all"]["mae"]):
+        best = self.best.get(name)
+        if t <= self.budget and (best is None or m < best[0]["metrics"]["all"]["mae"]):
             self.best[name] = (row, ao)
         if name not in self.fastest or t < self.fastest[name][0]["total_ms"]:
             self.fastest[name] = (row, ao)
@@ -733,8 +733,8 @@ class Study:
     def _peers(self, scene: Scene) -> None:
         for p in scene.peers:
             ms = p.render_time_s * 1000 if p.render_time_s is not None else None
-            settings = {k: v for k, v in p.entry.items() if k not in ("name", "kind", "file",
-                                                                       "render_time_s", "note")}
+            settings = {k: v for k, v in p.entry.items()
+                        if k not in ("name", "kind", "file", "render_time_s", "note")}
             row = _row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
                        settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
                        note=p.entry.get("note", ""))
@@ -761,7 +761,8 @@ class Study:
             f = math.sqrt(2 / 5)
             info["noise_floor"] = {"source": f"estimated: {rung[0].name} MAE x sqrt(2/5)",
                                    "key": r["key"], "estimated": True,
-                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] * f for reg in REGIONS}}
+                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] * f
+                                      for reg in REGIONS}}
         else:
             info["noise_floor"] = None
 

@@ -3,7 +3,8 @@
 A method's entry names its presets (``low`` < ``medium`` < ``high`` < ``ultra``: more
 samples, more time) and the grid of its quality parameters that the full sweep covers.
 The radius is never set here: every method runs with the scene's R (the reference's AO
-distance). Settings not named keep the method's defaults (``aolab.method_info``).
+distance). Settings not named keep the method's defaults (``aolab.method_info``). A choice
+setting is given by name (``"kernel_mode": "adaptive"``), as results.csv records it.
 
 ``blur`` is not a method setting: it asks for the shared separable Gaussian
 (``aolab.gaussian_blur``, sigma 1.5 px, 5 taps: Pyramid HBAO §3.5) after the method, timed
@@ -30,6 +31,9 @@ from dataclasses import dataclass, field
 #: Preset names, cheapest first. ``--sweep quick`` runs the first three.
 PRESET_ORDER = ("low", "medium", "high", "ultra")
 QUICK_PRESETS = ("low", "medium", "high")
+#: The configuration of a method without presets, and the add-on's menu entry for a method's
+#: own defaults.
+DEFAULT_PRESET = "default"
 
 #: The shared blur's parameters (Pyramid HBAO §3.5; core/filters/blur.h defaults).
 BLUR_SIGMA = 1.5
@@ -99,6 +103,23 @@ def _split(method: str, values: dict) -> tuple[dict, bool]:
     return values, blur
 
 
+def preset_names(method: str) -> list[str]:
+    """The method's presets, cheapest first (empty for a method without an entry)."""
+    e = entry(method)
+    return [] if e is None else [p for p in PRESET_ORDER if p in e.presets]
+
+
+def preset_values(method: str, name: str) -> tuple[dict, bool]:
+    """(the method's settings, shared blur on/off) of preset ``name`` as the study runs it:
+    the method's builtin blur switch off where the shared blur replaces it. ({}, False) for
+    DEFAULT_PRESET, an unknown name or a method without presets: its own defaults."""
+    e = entry(method)
+    if e is None or name not in e.presets:
+        return {}, False
+    values, blur = _split(method, e.presets[name])
+    return Setting(method, name, values, blur, name).compute_settings(), blur
+
+
 def _identity(method: str, values: dict, blur: bool) -> tuple:
     """What a configuration computes: its settings over the method's defaults (floats at the
     float32 precision the methods store them in), and the blur. Two configurations with the
@@ -106,10 +127,11 @@ def _identity(method: str, values: dict, blur: bool) -> tuple:
     import numpy as np
 
     import aolab
+
+    from .settings import described
     full = {}
     if method in aolab.methods():
-        full = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]
-                if s["name"] != "radius"}
+        full = {s["name"]: s["default"] for s in described(method)}
     full.update(values)
     norm = {k: (float(np.float32(v)) if isinstance(v, float) else v) for k, v in full.items()}
     return tuple(sorted(norm.items())), blur
@@ -127,7 +149,7 @@ def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
         raise ValueError(f"sweep must be quick, presets or full, got {sweep!r}")
     e = entry(method)
     if e is None:
-        return [Setting(method, "default", {}, False, "default")]
+        return [Setting(method, DEFAULT_PRESET, {}, False, DEFAULT_PRESET)]
     names = [p for p in PRESET_ORDER if p in e.presets and (sweep != "quick" or p in QUICK_PRESETS)]
     out, seen = [], set()
     for name in names:
@@ -224,12 +246,13 @@ register(
     constraints=(_lsao_directions,),
 )
 
+
 def _chebyshev_window(point: dict) -> dict | None:
     """Each window mode reads one of the two window settings: sweep that one, keep the other
     at its default (8, 64) so that no configuration is run twice under two names."""
-    if point["kernel_mode"] == 1 and point["kernel_radius"] != 8:
+    if point["kernel_mode"] == "adaptive" and point["kernel_radius"] != 8:
         return None
-    if point["kernel_mode"] == 0 and point["max_kernel_radius"] != 64:
+    if point["kernel_mode"] == "fixed" and point["max_kernel_radius"] != 64:
         return None
     return point
 
@@ -242,12 +265,12 @@ def _chebyshev_window(point: dict) -> dict | None:
 register(
     "chebyshev",
     presets={
-        "low": {"kernel_mode": 1, "max_kernel_radius": 16},
-        "medium": {"kernel_mode": 1, "max_kernel_radius": 32},
-        "high": {"kernel_mode": 1, "max_kernel_radius": 64},
-        "ultra": {"kernel_mode": 1, "max_kernel_radius": 128},
+        "low": {"kernel_mode": "adaptive", "max_kernel_radius": 16},
+        "medium": {"kernel_mode": "adaptive", "max_kernel_radius": 32},
+        "high": {"kernel_mode": "adaptive", "max_kernel_radius": 64},
+        "ultra": {"kernel_mode": "adaptive", "max_kernel_radius": 128},
     },
-    sweep={"kernel_mode": [0, 1], "kernel_radius": [4, 8, 16, 32],
+    sweep={"kernel_mode": ["fixed", "adaptive"], "kernel_radius": [4, 8, 16, 32],
            "max_kernel_radius": [16, 32, 64, 128], "ignore_unoccluded": [True, False]},
     source="Chan & Im 2021, §III (depth-adaptive window); window caps ours",
     constraints=(_chebyshev_window,),
@@ -281,6 +304,6 @@ register(
         "ultra": {"samples": 32},
     },
     sweep={"samples": [2, 4, 8, 16, 32], "adaptive_sampling": [False, True],
-           "culling": [0, 2], "range_check": [False, True]},
+           "culling": ["off", "careful"], "range_check": [False, True]},
     source="Bokšanský et al. 2017, Table 1 (2–32 samples; adaptive sampling, culling)",
 )

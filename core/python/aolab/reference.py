@@ -14,7 +14,6 @@ a batch resumes where it stopped.
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import json
 import os
 import re
@@ -26,12 +25,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-BRIDGE_VERSION = 1  # bump when the bridge's output changes: invalidates cached results
-RESULT_EXR = "reference.exr"
-RESULT_JSON = "reference.json"
-PEERS_JSON = "peers.json"
+from .bridge.constants import BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON
+from .bridge.passes import parse_passes, required_passes
+
 SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build scripts
-LADDER_SPP = (1, 4, 16, 64, 256)  # aolab_blender.peers.LADDER_SPP (no bpy import here)
+#: Environment variable naming the folder that holds this aolab package, for Blender's
+#: Python: batch.py puts it first on sys.path, so Blender uses the same build.
+PACKAGE_PATH_ENV = "AOLAB_PACKAGE_PATH"
 _SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
 
 
@@ -50,11 +50,37 @@ def find_blender() -> str:
 
 
 def bridge_script() -> Path:
-    spec = importlib.util.find_spec("aolab_blender")
-    if spec is None or not spec.submodule_search_locations:
-        raise ReferenceError("the Blender bridge (aolab_blender) is not installed beside aolab: "
-                             "run scripts/build.sh")
-    return Path(list(spec.submodule_search_locations)[0]) / "batch.py"
+    """blender_addon/aolab_blender/batch.py of the checkout this package was built from: the
+    build writes that folder into aolab/_build_info.py. The add-on's package is never
+    imported here (it needs bpy); only Blender runs it."""
+    try:
+        from ._build_info import ADDON_SOURCE_DIR
+    except ImportError:
+        raise ReferenceError("this aolab package does not say where its Blender add-on's "
+                             "sources are (no aolab/_build_info.py): build it with "
+                             "scripts/build.sh") from None
+    script = Path(ADDON_SOURCE_DIR) / "aolab_blender" / "batch.py"
+    if not script.exists():
+        raise ReferenceError(f"the Blender bridge's entry point {script} is missing: was the "
+                             "checkout moved? Rebuild with scripts/build.sh")
+    return script
+
+
+def recorded_source(path: Path) -> str:
+    """The scene's path as the sidecar records it: relative to the checkout for the checkout's
+    own scenes, so that a committed sidecar names no folder of the machine that rendered it;
+    absolute for any other scene."""
+    p = Path(path).resolve()
+    try:
+        from ._build_info import ADDON_SOURCE_DIR
+        return p.relative_to(Path(ADDON_SOURCE_DIR).resolve().parent).as_posix()
+    except (ImportError, ValueError):
+        return str(p)
+
+
+def package_path() -> str:
+    """The folder that holds this aolab package (put first on Blender's sys.path)."""
+    return str(Path(__file__).resolve().parents[1])
 
 
 def default_cache() -> Path:
@@ -109,8 +135,8 @@ class Plan:
     resolution: tuple[int, int] | None
     camera: str | None
     gbuffer_samples: int = 1
-    # The comparison peers (Cycles ladder + EEVEE, aolab_blender/peers.py) instead of the
-    # reference; spp, passes and gbuffer_samples do not apply then.
+    # The comparison peers (Cycles ladder + EEVEE: blender_addon/aolab_blender/peers.py)
+    # instead of the reference; spp, passes and gbuffer_samples do not apply then.
     peers: bool = False
     ladder: tuple[int, ...] = LADDER_SPP
     eevee: bool = True
@@ -139,8 +165,6 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
     """What to render: explicit arguments first, then the scene's manifest, then defaults.
     Passes follow from the methods (all registered ones by default) and the manifest's
     effects unless given explicitly."""
-    from aolab_blender.passes import parse_passes, required_passes
-
     import aolab
     m = scene.manifest
     if passes is None:
@@ -200,11 +224,11 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     s = plan.scene
     cmd = [blender, "-b", "--factory-startup", "-noaudio", "--disable-autoexec"]
     if plan.peers and plan.eevee:
-        cmd = _xvfb() + cmd  # EEVEE needs an OpenGL context (BLENDER_FACTS.md)
+        cmd = _xvfb() + cmd  # EEVEE needs an OpenGL context even with -b (docs/blender_facts.md)
     if s.kind == "blend":
         cmd.append(str(s.path))
-    extra = {"source": str(s.path), "scene_name": s.name, "source_sha256": s.content_sha256,
-             "manifest": s.manifest}
+    extra = {"source": recorded_source(s.path), "scene_name": s.name,
+             "source_sha256": s.content_sha256, "manifest": s.manifest}
     cmd += ["--python", str(bridge_script()), "--", "--scene", str(s.path), "--kind", s.kind,
             "--out", str(tmp if plan.peers else tmp / RESULT_EXR), "--spp", str(plan.spp),
             "--gbuffer-samples", str(plan.gbuffer_samples), "--passes", ",".join(plan.passes),
@@ -223,8 +247,9 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     bar = _progress_bar(progress, s.name)
     tail, error = [], None
     try:
+        env = dict(os.environ, **{PACKAGE_PATH_ENV: package_path()})
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                stdin=subprocess.DEVNULL)
+                                stdin=subprocess.DEVNULL, env=env)
         stage = ""
         for line in proc.stdout:
             line = line.rstrip("\n")

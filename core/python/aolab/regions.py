@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from .scoring import scored_mask
+
 REGIONS = ("all", "occluded", "depth_edges", "grazing", "creases", "border")
 
 OCCLUDED_BELOW = 0.9
@@ -121,7 +123,7 @@ def border_pixels(height: int, width: int) -> np.ndarray:
 
 def region_masks(g, reference: np.ndarray, radius: float) -> dict[str, np.ndarray]:
     """The boolean masks of :data:`REGIONS` for a G-buffer, its reference AO and R."""
-    valid = np.asarray(g.valid_mask(), bool) & np.isfinite(reference)
+    valid = scored_mask(g, reference)
     positions = np.asarray(g.view_positions())
     normals = np.asarray(g.prepared_normals())
     view = -positions

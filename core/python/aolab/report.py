@@ -21,16 +21,13 @@ from pathlib import Path
 import numpy as np
 
 from .regions import REGIONS
+from .scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
 WEAK_FRACTION = 0.75
 
-#: The signed error maps saturate at +-ERROR_SCALE.
-ERROR_SCALE = 0.25
-#: Light blue: lighter than the reference (under-occlusion); red: darker (over-occlusion).
-LIGHTER_RGB = (0.1, 0.3, 0.9)
-DARKER_RGB = (0.85, 0.1, 0.1)
+# The signed error maps' colours and scale are aolab.scoring's (the add-on's too).
 
 #: (results.csv column, axis label, lower is better)
 PLOTS = (
@@ -65,14 +62,6 @@ def png_bytes(image: np.ndarray) -> bytes:
 
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, colour, 0, 0, 0))
             + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
-
-
-def signed_error_rgb(err: np.ndarray, scale: float = ERROR_SCALE) -> np.ndarray:
-    """err = method - reference as RGB: white at 0, blue when lighter (> 0, under-occlusion),
-    red when darker (< 0, over-occlusion), full colour at |err| >= scale."""
-    t = np.clip(np.abs(err) / scale, 0, 1)[..., None]
-    colour = np.where(err[..., None] < 0, np.array(DARKER_RGB), np.array(LIGHTER_RGB))
-    return (1 - t) + t * colour
 
 
 def _img(image: np.ndarray, alt: str, cls: str = "") -> str:
@@ -144,8 +133,9 @@ def series_for(rows: list[dict]) -> list[dict]:
     methods = sorted({r["method"] for r in rows if r["kind"] == "method"})
     out = []
     for i, m in enumerate(methods):
+        mine = [r for r in rows if r["kind"] == "method" and r["method"] == m]
         out.append({"name": m, "colour": PALETTE[i % len(PALETTE)], "marker": "circle",
-                    "line": False, "rows": [r for r in rows if r["kind"] == "method" and r["method"] == m]})
+                    "line": False, "rows": mine})
     cycles = sorted((r for r in rows if r["kind"] == "cycles"),
                     key=lambda r: (r.get("settings", {}).get("samples") or 0, r["method"]))
     if cycles:
@@ -160,9 +150,11 @@ def series_for(rows: list[dict]) -> list[dict]:
 
 def _marker(shape: str, x: float, y: float, r: float, attrs: str) -> str:
     if shape == "square":
-        return f'<rect x="{x - r:.2f}" y="{y - r:.2f}" width="{2 * r:.2f}" height="{2 * r:.2f}" {attrs}/>'
+        return (f'<rect x="{x - r:.2f}" y="{y - r:.2f}" width="{2 * r:.2f}" '
+                f'height="{2 * r:.2f}" {attrs}/>')
     if shape == "diamond":
-        pts = f"{x:.2f},{y - r * 1.4:.2f} {x + r * 1.4:.2f},{y:.2f} {x:.2f},{y + r * 1.4:.2f} {x - r * 1.4:.2f},{y:.2f}"
+        d = r * 1.4
+        pts = f"{x:.2f},{y - d:.2f} {x + d:.2f},{y:.2f} {x:.2f},{y + d:.2f} {x - d:.2f},{y:.2f}"
         return f'<polygon points="{pts}" {attrs}/>'
     return f'<circle cx="{x:.2f}" cy="{y:.2f}" r="{r:.2f}" {attrs}/>'
 
@@ -282,7 +274,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
     for j, h in enumerate(lines):
         Y = ly + (len(entries) + 1 + j) * 18
         out.append(f'<line x1="{lx}" y1="{Y}" x2="{lx + 10}" y2="{Y}" class="hline {h["cls"]}"/>'
-                   f'<text x="{lx + 16}" y="{Y + 4}" class="legend">{html.escape(h["label"])}</text>')
+                   f'<text x="{lx + 16}" y="{Y + 4}" class="legend">'
+                   f'{html.escape(h["label"])}</text>')
     out.append("</svg>")
     return "\n".join(out)
 
@@ -382,13 +375,18 @@ def table(rows: list[dict], floor: dict | None) -> str:
 # Images
 
 
+def _rgb(colour) -> str:
+    return "rgb(" + ",".join(str(int(c * 255)) for c in colour) + ")"
+
+
 def _colour_bar() -> str:
     return (f'<svg class="colourbar" xmlns="http://www.w3.org/2000/svg" width="300" height="40">'
             '<defs><linearGradient id="errgrad" x1="0" x2="1" y1="0" y2="0">'
-            f'<stop offset="0" stop-color="rgb({",".join(str(int(c * 255)) for c in DARKER_RGB)})"/>'
+            f'<stop offset="0" stop-color="{_rgb(DARKER_RGB)}"/>'
             '<stop offset="0.5" stop-color="#ffffff"/>'
-            f'<stop offset="1" stop-color="rgb({",".join(str(int(c * 255)) for c in LIGHTER_RGB)})"/>'
-            '</linearGradient></defs><rect x="10" y="4" width="280" height="14" fill="url(#errgrad)" '
+            f'<stop offset="1" stop-color="{_rgb(LIGHTER_RGB)}"/>'
+            '</linearGradient></defs>'
+            '<rect x="10" y="4" width="280" height="14" fill="url(#errgrad)" '
             'stroke="#888"/>'
             f'<text x="10" y="34" class="tick">−{ERROR_SCALE:g} darker</text>'
             '<text x="150" y="34" class="tick" text-anchor="middle">0</text>'
@@ -439,17 +437,20 @@ CSS = SVG_CSS + """
 body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:24px auto;max-width:1500px;
  padding:0 16px;color:#222;line-height:1.4}
 h1{margin-bottom:4px} h2{border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:40px}
-.banner{background:#fde2e1;border:2px solid #c0392b;padding:10px 14px;font-weight:bold;margin:12px 0}
+.banner{background:#fde2e1;border:2px solid #c0392b;padding:10px 14px;font-weight:bold;
+ margin:12px 0}
 .meta td{padding:1px 12px 1px 0;vertical-align:top} .meta td:first-child{color:#666}
 .plots{display:flex;flex-wrap:wrap;gap:12px}
 table.results{border-collapse:collapse;font-size:12px;margin:8px 0}
 table.results th,table.results td{border:1px solid #ddd;padding:2px 6px;text-align:right}
 table.results td:first-child,table.results td:nth-child(2){text-align:left}
 table.results th{background:#f4f4f4;position:sticky;top:0}
-tr.baseline{background:#fbeaea} tr.cycles,tr.noise_floor{background:#f3f3f3} tr.eevee{background:#fbf5e6}
+tr.baseline{background:#fbeaea} tr.cycles,tr.noise_floor{background:#f3f3f3}
+tr.eevee{background:#fbf5e6}
 tr.floor{background:#eaf7ee;font-style:italic}
 .weak{color:#c0392b;font-weight:bold}
-.grid{display:flex;flex-wrap:wrap;gap:10px} .card{margin:0;border:1px solid #ddd;padding:6px;background:#fafafa}
+.grid{display:flex;flex-wrap:wrap;gap:10px}
+.card{margin:0;border:1px solid #ddd;padding:6px;background:#fafafa}
 .card img{display:inline-block;margin:4px 4px 0 0;vertical-align:top} figcaption{font-size:12px}
 .legendbar{font-size:12px;margin:6px 0;display:flex;align-items:center;gap:8px}
 .missing{color:#a05a00} .note{color:#555;font-size:13px} .scroll{overflow-x:auto}
@@ -460,7 +461,8 @@ window.addEventListener('load', function () {
   var problems = [];
   var imgs = document.images;
   for (var i = 0; i < imgs.length; i++) {
-    if (!imgs[i].complete || imgs[i].naturalWidth === 0) problems.push('image "' + imgs[i].alt + '" did not decode');
+    if (!imgs[i].complete || imgs[i].naturalWidth === 0)
+      problems.push('image "' + imgs[i].alt + '" did not decode');
   }
   var svgs = document.querySelectorAll('svg.plot');
   if (svgs.length === 0) problems.push('no plot');
@@ -481,10 +483,14 @@ window.addEventListener('load', function () {
 def _meta_table(results: dict) -> str:
     meta = results["meta"]
     m = meta.get("machine", {})
-    load = lambda v: ", ".join(f"{x:.2f}" for x in v) if v else "—"
+
+    def load(v):
+        return ", ".join(f"{x:.2f}" for x in v) if v else "—"
+
     items = [
         ("machine", f'{m.get("cpu")}, {m.get("logical_cores")} logical cores '
-                    f'({m.get("usable_cores")} usable), {m.get("memory_gib")} GiB, {m.get("platform")}'),
+                    f'({m.get("usable_cores")} usable), {m.get("memory_gib")} GiB, '
+                    f'{m.get("platform")}'),
         ("threads", f'{m.get("threads")} (requested {m.get("threads_requested")}; 0 = all cores)'),
         ("timing", f'{meta.get("warmup")} warm-up run(s), then the median of {meta.get("repeat")} '
                    "timed runs (min–max shown); the method and the shared blur timed apart; "
@@ -492,14 +498,15 @@ def _meta_table(results: dict) -> str:
         ("load average", f'start {load(m.get("load_average_start"))}; end '
                          f'{load(meta.get("load_average_end"))} (1, 5, 15 min)'),
         ("sweep", f'{meta.get("sweep")}; methods {", ".join(meta.get("methods", []))}'),
-        ("scenes", ", ".join(meta.get("scenes", [])) + (f' (cropped to {meta["crop"]})'
-                                                         if meta.get("crop") else "")),
+        ("scenes", ", ".join(meta.get("scenes", []))
+         + (f' (cropped to {meta["crop"]})' if meta.get("crop") else "")),
         ("time budget for the images", f'{meta.get("budget_ms"):g} ms'),
         ("run", f'started {meta.get("started")}, finished {meta.get("finished")}, '
                 f'{meta.get("elapsed_s", 0):.0f} s; aolab commit {meta.get("aolab_commit")}'),
     ]
-    return "<table class='meta'>" + "".join(
-        f"<tr><td>{html.escape(k)}</td><td>{html.escape(str(v))}</td></tr>" for k, v in items) + "</table>"
+    rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{html.escape(str(v))}</td></tr>"
+                   for k, v in items)
+    return f"<table class='meta'>{rows}</table>"
 
 
 def _how_to_read(results: dict) -> str:
@@ -518,16 +525,17 @@ the <b>Pareto front</b>: no other method or Cycles setting is both faster and mo
 <li>Most pixels of a frame are nearly white, so whole-frame scores flatter every method. The
 red dashed line <b>AO ≡ 1</b> scores "no occlusion at all"; a configuration is flagged
 <span class="weak">weak on occluded</span> when its MAE on the occluded region (reference &lt; 0.9)
-exceeds {meta.get("weak_fraction", 0.75):g} × that of AO ≡ 1, i.e. it removes less than a quarter of the
-error of drawing nothing there.</li>
+exceeds {meta.get("weak_fraction", 0.75):g} × that of AO ≡ 1, i.e. it removes less than a quarter
+of the error of drawing nothing there.</li>
 <li>The green dotted <b>noise floor</b> is the reference's own noise: the MAE between it and an
 independent 1024-spp render (or, marked "est.", the 256-spp render's MAE × √(2/5)). Differences
 below it are not resolved by the reference.</li>
 <li><b>bias</b> = mean(method − reference): positive = lighter than the reference
 (under-occlusion), negative = darker (over-occlusion).</li>
 <li><b>MAE calibrated</b>: the MAE after the best affine fit a·AO + b to the reference (least
-absolute deviations, fitted on all scored pixels), shown beside (never instead of) the MAE: it separates a different falloff
-(a bias the fit removes) from structural error (what it cannot).</li>
+absolute deviations, fitted on all scored pixels), shown beside (never instead of) the MAE:
+it separates a different falloff (a bias the fit removes) from structural error (what it
+cannot).</li>
 <li><b>Cycles (fewer spp)</b>: Cycles AO at 1 … 256 samples scored against 1024; its time is
 Blender's render time on this CPU. <b>EEVEE GTAO</b> renders on a software rasteriser (Mesa
 llvmpipe) under xvfb: its time is <b>not comparable</b> with ours; read its accuracy only.</li>
@@ -568,15 +576,15 @@ def render_html(results: dict, images: dict) -> str:
     rows = results["rows"]
     body = ["<h1>AO Lab: what accuracy costs in time</h1>"]
     if meta.get("partial"):
+        complete = ", ".join(meta.get("complete_scenes", [])) or "none"
         body.append('<div class="banner">PARTIAL results: the study was interrupted or is still '
-                    f'running. Complete scenes: {html.escape(", ".join(meta.get("complete_scenes", [])) or "none")}.'
-                    '</div>')
+                    f'running. Complete scenes: {html.escape(complete)}.</div>')
     body.append(_meta_table(results))
     body.append(_how_to_read(results))
     scenes = meta.get("scenes", [])
     agg = [r for r in rows if r["scene"] == "ALL"]
     if agg:
-        body.append(f'<h2 id="all">All scenes</h2><p class="note">Each point is the mean over the '
+        body.append('<h2 id="all">All scenes</h2><p class="note">Each point is the mean over the '
                     'complete scenes where the configuration ran (times and scores averaged; '
                     'peers only over the scenes that have them: see each row\'s note). The '
                     'noise floor is per scene: see the scenes below.</p>')
@@ -598,8 +606,8 @@ def render_html(results: dict, images: dict) -> str:
         body.append(scene_section(name, name, mine, info, images.get(name),
                                   meta.get("budget_ms", 0), f"plot-{name}"))
     if results.get("notes"):
-        body.append("<h2>Notes</h2><ul>" + "".join(f"<li>{html.escape(n)}</li>"
-                                                  for n in results["notes"]) + "</ul>")
+        notes = "".join(f"<li>{html.escape(n)}</li>" for n in results["notes"])
+        body.append(f"<h2>Notes</h2><ul>{notes}</ul>")
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             "<meta name='viewport' content='width=device-width, initial-scale=1'>"
             "<title>AO Lab report</title>"

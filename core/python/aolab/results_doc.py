@@ -50,7 +50,8 @@ def _table(rows: list[dict]) -> list[str]:
         flag = "**weak on occluded**" if r.get("flag") == "weak" else ""
         out.append(
             f'| {r["method"]} | {r["label"]} | {tms} | {_f(m["all"]["mae"])} | '
-            f'{_f(m["all"]["ssim"])} | {_f(m["all"]["bias"], "+.4f")} | {_f(m["all"]["mae_cal"])} | '
+            f'{_f(m["all"]["ssim"])} | {_f(m["all"]["bias"], "+.4f")} | '
+            f'{_f(m["all"]["mae_cal"])} | '
             f'{_f(m["occluded"]["mae"])} | {_f(r.get("occluded_mae_vs_baseline"), ".2f")} | '
             f'{_f(m["depth_edges"]["mae"])} | {_f(m["grazing"]["mae"])} | '
             f'{_f(m["creases"]["mae"])} | {_f(m["border"]["mae"])} | {flag} |')

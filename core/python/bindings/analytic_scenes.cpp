@@ -6,8 +6,6 @@
 
 namespace aolab::python {
 
-SettingValues to_setting_values(const py::dict& d);  // methods.cpp
-
 void bind_analytic_scenes(py::module_& m) {
   m.def("analytic_scene_names", &analytic_scene_names);
   m.def(

@@ -9,7 +9,10 @@ namespace aolab::python {
 namespace {
 std::string shape_string(const py::array& a) {
   std::string s = "(";
-  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+    if (i) s += ", ";  // appended apart: GCC 12 misreads `const char* + string` under LTO
+    s += std::to_string(a.shape(i));
+  }
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
 }  // namespace

@@ -5,9 +5,11 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <vector>
 
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
+#include "core/base/settings.h"
 
 namespace aolab::python {
 
@@ -23,6 +25,11 @@ ConstImageView view_of(const FloatArray& a, const std::string& name, int channel
                        int alt_channels = 0);
 
 /// Moves an Image into a numpy array (no copy): (H, W) for 1 channel, else (H, W, C).
+/// Settings from a Python dict: numbers and bools as they are, and a Choice setting among
+/// `descriptions` from its name (std::invalid_argument, i.e. ValueError, for anything else).
+SettingValues to_setting_values(const py::dict& d,
+                                const std::vector<SettingDescription>& descriptions = {});
+
 py::array_t<float> to_numpy(Image&& image);
 
 /// The G-buffer as Python sees it: keeps its arrays alive and hands out a core view.

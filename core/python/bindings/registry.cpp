@@ -11,12 +11,20 @@ namespace aolab::python {
 
 namespace {
 
+std::string join_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 const char* type_name(SettingType t) {
   switch (t) {
     case SettingType::Bool:
       return "bool";
     case SettingType::Int:
       return "int";
+    case SettingType::Choice:
+      return "choice";
     default:
       return "float";
   }
@@ -28,14 +36,20 @@ py::dict describe(const Method& m) {
     py::dict d;
     d["name"] = s.name;
     d["type"] = type_name(s.type);
-    if (s.type == SettingType::Bool)
-      d["default"] = s.default_value != 0.0;
-    else if (s.type == SettingType::Int)
-      d["default"] = int(s.default_value);
-    else
-      d["default"] = s.default_value;
-    d["min"] = s.min;
-    d["max"] = s.max;
+    if (s.type == SettingType::Choice) {
+      // Names only: the numbers behind them are the C++ side's business.
+      d["default"] = s.choices.at(std::size_t(s.default_value - s.min));
+      d["choices"] = s.choices;
+    } else {
+      if (s.type == SettingType::Bool)
+        d["default"] = s.default_value != 0.0;
+      else if (s.type == SettingType::Int)
+        d["default"] = int(s.default_value);
+      else
+        d["default"] = s.default_value;
+      d["min"] = s.min;
+      d["max"] = s.max;
+    }
     d["unit"] = s.unit;
     d["description"] = s.description;
     settings.append(d);
@@ -52,10 +66,22 @@ py::dict describe(const Method& m) {
 
 }  // namespace
 
-SettingValues to_setting_values(const py::dict& d) {
+SettingValues to_setting_values(const py::dict& d,
+                                const std::vector<SettingDescription>& descriptions) {
   SettingValues values;
   for (const auto& [key, value] : d) {
     const std::string name = py::str(key);
+    const SettingDescription* described = nullptr;
+    for (const auto& s : descriptions)
+      if (s.name == name) described = &s;
+    // A choice takes its name only, so that no script depends on the numbers behind it.
+    if (described && described->type == SettingType::Choice) {
+      if (!py::isinstance<py::str>(value))
+        throw_invalid(name, "must be a name: one of " + join_names(described->choices),
+                      py::repr(value).cast<std::string>());
+      values[name] = choice_value(*described, value.cast<std::string>());
+      continue;
+    }
     if (py::isinstance<py::bool_>(value) || py::isinstance<py::int_>(value) ||
         py::isinstance<py::float_>(value) || py::hasattr(value, "__float__")) {
       try {
@@ -82,7 +108,7 @@ void bind_methods(py::module_& m) {
       "compute",
       [](const std::string& method, const PyGBuffer& g, const py::dict& settings, int threads,
          Progress* progress) {
-        const SettingValues values = to_setting_values(settings);
+        const SettingValues values = to_setting_values(settings, find_method(method).settings);
         RunOptions options{threads, progress};
         Image ao;
         {
@@ -99,7 +125,7 @@ void bind_methods(py::module_& m) {
   m.def(
       "vao_pp_with_stats",
       [](const PyGBuffer& g, const py::dict& settings, int threads, Progress* progress) {
-        const SettingValues values = to_setting_values(settings);
+        const SettingValues values = to_setting_values(settings, find_method("vao_pp").settings);
         if (!values.count("radius")) throw_invalid("radius", "is required", "nothing");
         const VaoPpSettings s = settings_from_values(values, kVaoPpFields, "vao_pp");
         RunOptions options{threads, progress};

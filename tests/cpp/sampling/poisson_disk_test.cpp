@@ -44,7 +44,9 @@ TEST(PoissonDisk, DeterministicCachedAndZOrdered) {
     for (std::size_t i = 0; i < a.points.size(); ++i) {
       EXPECT_EQ(a.points[i].x, b.points[i].x);
       EXPECT_EQ(a.points[i].y, b.points[i].y);
-      if (i > 0) EXPECT_LE(morton_key(a.points[i - 1]), morton_key(a.points[i]));
+      if (i > 0) {
+        EXPECT_LE(morton_key(a.points[i - 1]), morton_key(a.points[i]));
+      }
     }
   }
   EXPECT_EQ(morton_key({-1, -1}), 0u);

@@ -1,5 +1,5 @@
 // The analytic scenes are exact: check them against their own geometry and against the
-// Cycles closed forms measured in BLENDER_FACTS.md.
+// Cycles closed forms measured in docs/blender_facts.md, "The Cycles AO pass".
 #include "core/scenes/analytic_scenes.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +11,8 @@ namespace aolab {
 namespace {
 
 TEST(CyclesClosedForms, MatchMeasuredValues) {
-  // BLENDER_FACTS.md: ceiling at h = 1: 0.64 at R = 1.25, 0.25 at R = 2, 0.0625 at R = 4.
+  // Measured in Cycles (docs/blender_facts.md): ceiling at h = 1: 0.64 at R = 1.25, 0.25 at
+  // R = 2, 0.0625 at R = 4.
   EXPECT_NEAR(cycles_ao_under_ceiling(1, 1.25), 0.64, 1e-12);
   EXPECT_NEAR(cycles_ao_under_ceiling(1, 2), 0.25, 1e-12);
   EXPECT_NEAR(cycles_ao_under_ceiling(1, 4), 0.0625, 1e-12);
@@ -38,7 +39,7 @@ TEST(AnalyticScene, ReconstructedPointsLieOnTheirPlane) {
       const float d = s.depth(x, y);
       if (d >= kAnalyticBackgroundDepth) continue;
       ++hits;
-      const glm::dvec3 p(s.camera.view_position(x + 0.5f, y + 0.5f, d));
+      const glm::dvec3 p(s.camera.view_position(float(x) + 0.5f, float(y) + 0.5f, d));
       EXPECT_NEAR(glm::dot(n, p - glm::dvec3(0, 0, -3)), 0.0, 1e-5 * d);
     }
   EXPECT_GT(hits, 1000);

@@ -1,5 +1,6 @@
 // Chebyshev AO: the separable moments against a brute-force window in long double, the
-// stability of σ² at large depths, open planes, the quantised window sizes, threads.
+// stability of σ² at large depths, the quantised window sizes, the visibility formulas. What
+// every method promises (planes, background, threads, settings errors) is conformance_test's.
 #include "core/methods/chebyshev/chebyshev.h"
 
 #include <gtest/gtest.h>
@@ -192,18 +193,6 @@ TEST(Chebyshev, FarPlaneWithMillimetreReliefHasStableMoments) {
   EXPECT_LT(lowest, 0.9f);  // the relief is resolved
 }
 
-TEST(Chebyshev, OpenPlanesAreExactlyOne) {
-  for (const auto& c : testing::kOpenPlaneCases) {
-    SceneFixture f = testing::open_plane(c);
-    for (float radius : {0.25f, 1.0f, 4.0f}) {
-      ChebyshevSettings s;
-      s.radius = radius;
-      EXPECT_EQ(testing::min_valid(chebyshev(f.g, s), f.g), 1.0f)
-          << "tilt " << c.tilt << " azimuth " << c.azimuth << " R " << radius;
-    }
-  }
-}
-
 TEST(Chebyshev, VisibilityFormulas) {
   ChebyshevSettings s;
   s.radius = 1.0f;
@@ -221,29 +210,6 @@ TEST(Chebyshev, VisibilityFormulas) {
   s.variance_bias = 0.0f;
   EXPECT_FLOAT_EQ(chebyshev_visibility(0.5f, 0.25f, s), 0.5f);  // gap within R: unchanged
   EXPECT_FLOAT_EQ(chebyshev_visibility(2.0f, 0.0f, s), 0.5f);   // smoothstep(1/2) = 1/2
-}
-
-TEST(Chebyshev, SameBitsForAnyThreadCount) {
-  SceneFixture f("blocks", 200, 120);
-  ChebyshevSettings s;
-  s.radius = 0.5f;
-  RunOptions one, two, seven;
-  one.threads = 1, two.threads = 2, seven.threads = 7;
-  const Image a = chebyshev(f.g, s, one), b = chebyshev(f.g, s, two), c = chebyshev(f.g, s, seven);
-  EXPECT_EQ(a.pixels(), b.pixels());
-  EXPECT_EQ(a.pixels(), c.pixels());
-}
-
-TEST(Chebyshev, InvalidSettingsNameTheSetting) {
-  SceneFixture f("plane", 16, 9);
-  ChebyshevSettings s;
-  s.kernel_mode = 3;
-  EXPECT_THROW(chebyshev(f.g, s), std::invalid_argument);
-  try {
-    chebyshev(f.g, s);
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("kernel_mode"), std::string::npos);
-  }
 }
 
 }  // namespace

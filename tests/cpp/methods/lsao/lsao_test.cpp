@@ -1,5 +1,6 @@
 // Line-sweep AO (Timonen 2013): the direction sets of §5.2, the open-plane values eq. 1
-// implies, the obscure hull against brute force (§4.1), the gather, determinism, hard inputs.
+// implies, the obscure hull against brute force (§4.1), the gather, hard inputs. What every
+// method promises (planes, background, threads, settings errors) is conformance_test's.
 #include "core/methods/lsao/lsao.h"
 
 #include <gtest/gtest.h>
@@ -139,23 +140,6 @@ LsaoSettings config(int index) {
   return s;
 }
 
-// A plane facing the camera: opposite sweeps gather the same sample, see the plane at
-// elevations +s and −s with the same ρ (|s| < 0.85 for any field of view under 116°), and
-// eq. 1 gives O_k + O_k' = 2 (1 − ρ) sin t ≤ 0 per pair: A ≥ 1, clamped to exactly 1. Any
-// radius (ρ = 1 makes the pair sum exactly 0), any configuration.
-class LsaoFacingPlane : public ::testing::TestWithParam<int> {};
-
-TEST_P(LsaoFacingPlane, IsExactlyOne) {
-  SceneFixture f("plane", 160, 90, {{"fov", 90}});
-  for (float radius : {1e-4f, 0.3f, 1.0f, 5.0f, 1e6f, 1e30f}) {
-    LsaoSettings s = config(GetParam());
-    s.radius = radius;
-    EXPECT_EQ(min_valid(lsao(f.g, s), f.g), 1.0f) << "radius " << radius;
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(Configurations, LsaoFacingPlane, ::testing::Range(0, 8));
-
 // A tilted plane at the centre pixel of an odd-sized image, which is sample 0 of line 0 of
 // every direction: in direction k the largest occluder is the previous sample P − v_k (on a
 // plane every earlier sample is at the same elevation s_k, and ρ falls with distance), so
@@ -219,7 +203,9 @@ TEST(Lsao, TiltedPlanesOneUntilTheFixedTangentThenBounded) {
       LsaoSettings s;
       s.radius = radius;
       const float m = min_valid(lsao(steep.g, s), steep.g);
-      if (radius > 1.0f) EXPECT_LT(m, 1.0f) << tilt;  // ρ = 1: every steep slice counts
+      if (radius > 1.0f) {
+        EXPECT_LT(m, 1.0f) << tilt;  // ρ = 1: every steep slice counts
+      }
       EXPECT_GE(m, 0.925f) << tilt;
     }
   }
@@ -340,7 +326,9 @@ TEST(Lsao, HullSearchLiesBetweenAlgorithmOneAndBruteForce) {
               << " samples differ from brute force\n";
     EXPECT_EQ(below, 0) << search;
     EXPECT_EQ(above, 0) << search;
-    if (search == 256) EXPECT_LT(far, total / 200);
+    if (search == 256) {
+      EXPECT_LT(far, total / 200);
+    }
   }
 }
 
@@ -383,28 +371,6 @@ TEST(Lsao, IntermediateBufferHoldsKWHOverDsDl) {
 
 // ---- Determinism, hard inputs, errors ----
 
-TEST(Lsao, BitIdenticalAcrossThreadCounts) {
-  SceneFixture f("blocks", 200, 120);
-  for (int i : {0, 5}) {
-    LsaoSettings s = config(i);
-    s.radius = 0.5f;
-    RunOptions one, two, eight;
-    one.threads = 1, two.threads = 2, eight.threads = 8;
-    const Image a = lsao(f.g, s, one), b = lsao(f.g, s, two), c = lsao(f.g, s, eight);
-    EXPECT_EQ(a.pixels(), b.pixels());
-    EXPECT_EQ(a.pixels(), c.pixels());
-  }
-}
-
-TEST(Lsao, BackgroundIsOneAndNeverOccludes) {
-  // The step scene's floor (facing the camera) with the raised half replaced by background:
-  // an open plane again, so exactly 1 everywhere.
-  const testing::StepBesideBackground scene;
-  const GBuffer& g = scene.g;
-  const Image ao = lsao(g, LsaoSettings{});  // named: a temporary would die before the loop
-  for (float v : ao.pixels()) EXPECT_EQ(v, 1.0f);
-}
-
 TEST(Lsao, OcclusionGrowsWithRadiusAndEq3IsLighter) {
   SceneFixture f("crease", 160, 90);
   double previous = 1.0;
@@ -422,7 +388,9 @@ TEST(Lsao, OcclusionGrowsWithRadiusAndEq3IsLighter) {
   eq3.falloff = 3;
   const LsaoSweep a = lsao_oracle_sweep(f.g, eq2), b = lsao_oracle_sweep(f.g, eq3);
   for (std::size_t i = 0; i < a.buffer.size(); ++i)  // depths are equal, values can only drop
-    if (a.buffer[i] == a.buffer[i]) ASSERT_LE(b.buffer[i], a.buffer[i] + 1e-6f) << i;
+    if (a.buffer[i] == a.buffer[i]) {
+      ASSERT_LE(b.buffer[i], a.buffer[i] + 1e-6f) << i;
+    }
 }
 
 TEST(Lsao, RadiusBelowAPixelIsOne) {
@@ -432,24 +400,14 @@ TEST(Lsao, RadiusBelowAPixelIsOne) {
   EXPECT_EQ(min_valid(lsao(f.g, s), f.g), 1.0f);
 }
 
-TEST(Lsao, RejectsBadSettings) {
+// Beyond the ranges of the settings table (conformance_test): K must match the template.
+TEST(Lsao, RejectsDirectionsThatDoNotMatchTheTemplate) {
   SceneFixture f("plane", 8, 8);
   LsaoSettings s;
-  s.radius = 0.0f;
-  EXPECT_THROW(lsao(f.g, s), std::invalid_argument);
-  s = {};
   s.directions = 8;  // template_size 2 needs 16
   const std::string message = testing::invalid_argument_message([&] { lsao(f.g, s); });
   EXPECT_NE(message.find("directions must be 8 x template_size = 16"), std::string::npos)
       << message;
-  s = {};
-  s.tangent_strategy = 4;
-  EXPECT_NE(testing::invalid_argument_message([&] { lsao(f.g, s); }).find("tangent_strategy"),
-            std::string::npos);
-  s = {};
-  s.template_size = 0, s.directions = 5, s.step = 0.5f;
-  EXPECT_NE(testing::invalid_argument_message([&] { lsao(f.g, s); }).find("step"),
-            std::string::npos);
 }
 
 TEST(Lsao, RegistryNeedsDepthOnly) {
@@ -478,13 +436,14 @@ struct ReferenceCrop {
 
 class LsaoHullOnReferences : public ::testing::TestWithParam<ReferenceCrop> {};
 
-// Issue 4's acceptance on the committed reference G-buffers, at each scene's R. Measured
-// (docs/methods/lsao.md): with Algorithm 1 exactly (hull_search = 0) the mean |ΔA| is
-// 0.07–0.21 % everywhere but `grille`, 4.49 %: there the largest occluder of a wall receiver
-// is a wall point still on the stack, under the last bar point, which is higher but farther
-// in view space, and line 12's "and below it" stops the popping at the bar. An independent
-// re-implementation of the pseudocode (docs/methods/lsao.md) gives the same rate, so this is
-// the algorithm, not this code; hull_search = 16 brings every scene under 0.5 %.
+// The hull's accuracy bound (mean |ΔA| < 0.5 % against brute force, docs/methods/lsao.md) on
+// the committed reference G-buffers, at each scene's R. Measured there: with Algorithm 1
+// exactly (hull_search = 0) the mean |ΔA| is 0.07–0.21 % everywhere but `grille`, 4.49 %:
+// there the largest occluder of a wall receiver is a wall point still on the stack, under the
+// last bar point, which is higher but farther in view space, and line 12's "and below it"
+// stops the popping at the bar. An independent re-implementation of the pseudocode
+// (docs/methods/lsao.md) gives the same rate, so this is the algorithm, not this code;
+// hull_search = 16 brings every scene under 0.5 %.
 TEST_P(LsaoHullOnReferences, MatchesBruteForce) {
   const ReferenceCrop crop = GetParam();
   const std::string name = crop.scene;
@@ -523,7 +482,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(ReferenceCrop{"analytic", 480, 270}, ReferenceCrop{"room", 480, 270},
                       ReferenceCrop{"engine", 480, 270}, ReferenceCrop{"grille", 480, 270},
                       ReferenceCrop{"street", 960, 360}, ReferenceCrop{"colored_room", 480, 270}),
-    [](const auto& info) { return std::string(info.param.scene); });
+    [](const auto& test) { return std::string(test.param.scene); });
 
 }  // namespace
 }  // namespace aolab

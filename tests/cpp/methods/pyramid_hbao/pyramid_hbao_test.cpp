@@ -1,6 +1,7 @@
-// Known answers for Pyramid HBAO (Astapov et al. 2021): open planes, eq. 7–8 on a depth
-// step read from level 0 and from level 1 of the pyramid, background, the sampling pattern
-// of §3.5, determinism and settings errors.
+// Known answers for Pyramid HBAO (Astapov et al. 2021): eq. 7–8 on a depth step read from
+// level 0 and from level 1 of the pyramid, the sampling pattern of §3.5, levels, the blur.
+// What every method promises (planes, background, threads, settings errors) is
+// conformance_test's.
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
 
 #include <gtest/gtest.h>
@@ -31,32 +32,6 @@ PyramidHbaoSettings no_randomness(PyramidHbaoSettings s = {}) {
   s.gaussian_filter = false;
   return s;
 }
-
-using testing::PlaneCase;
-class PyramidHbaoOpenPlane : public ::testing::TestWithParam<PlaneCase> {};
-
-// An unoccluded plane has nothing above its tangent plane, and the pyramid's means of a plane
-// lie on or behind it (depth_pyramid_test): A = 1 exactly, at every tilt HBAO's test uses,
-// for either K, with the random pattern on. Checked without the Gaussian (which would hide
-// a single darker pixel only partly) and with it (the default).
-TEST_P(PyramidHbaoOpenPlane, IsExactlyOne) {
-  const SceneFixture f = testing::open_plane(GetParam());
-  for (float radius : {0.3f, 1.0f, 5.0f})
-    for (int reduction : {2, 3})
-      for (int samples : {4, 16}) {
-        PyramidHbaoSettings s;
-        s.radius = radius;
-        s.reduction = reduction;
-        s.samples = samples;
-        s.gaussian_filter = false;
-        EXPECT_EQ(min_valid(pyramid_hbao(f.g, s), f.g), 1.0f)
-            << "radius " << radius << " K " << reduction << " S " << samples;
-      }
-  EXPECT_EQ(min_valid(pyramid_hbao(f.g, PyramidHbaoSettings{}), f.g), 1.0f);
-}
-
-INSTANTIATE_TEST_SUITE_P(Tilts, PyramidHbaoOpenPlane,
-                         ::testing::ValuesIn(testing::kOpenPlaneCases));
 
 // Eq. 8's term for a sample at view-space position S seen from P with normal n (eq. 7 W).
 double weighted_contribution(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& s,
@@ -139,20 +114,6 @@ TEST_F(PyramidHbaoStep, LevelOneSamplesAreRestoredAtTexelCentroids) {
   EXPECT_NEAR(ao(x, kRow), 1.0 - best / 4, 1e-5);
 }
 
-TEST(PyramidHbao, BackgroundIsOneAndNeverOccludes) {
-  // A step scene whose raised half is replaced by background: the floor beside it must be
-  // as unoccluded as an open floor, at every level of the pyramid.
-  const testing::StepBesideBackground scene;
-  const GBuffer& g = scene.g;
-  for (float radius : {0.5f, 5.0f, 1e3f}) {
-    PyramidHbaoSettings s;
-    s.radius = radius;
-    s.gaussian_filter = false;
-    const Image ao = pyramid_hbao(g, s);  // named: a temporary would die before the loop
-    for (float v : ao.pixels()) ASSERT_EQ(v, 1.0f) << "radius " << radius;
-  }
-}
-
 TEST(PyramidHbao, OcclusionGrowsWithRadiusAndStaysInRange) {
   SceneFixture f("crease", 160, 90);
   double previous = 1.0;
@@ -167,19 +128,6 @@ TEST(PyramidHbao, OcclusionGrowsWithRadiusAndStaysInRange) {
     EXPECT_LT(mean(ao), previous) << "radius " << radius;
     previous = mean(ao);
   }
-}
-
-TEST(PyramidHbao, BitIdenticalAcrossThreadCounts) {
-  SceneFixture f("blocks", 200, 120);
-  PyramidHbaoSettings s;
-  s.radius = 0.5f;
-  RunOptions one, two, seven;
-  one.threads = 1;
-  two.threads = 2;
-  seven.threads = 7;
-  const Image a = pyramid_hbao(f.g, s, one);
-  EXPECT_EQ(a.pixels(), pyramid_hbao(f.g, s, two).pixels());
-  EXPECT_EQ(a.pixels(), pyramid_hbao(f.g, s, seven).pixels());
 }
 
 TEST(PyramidHbao, SeedChangesNoiseButNotMean) {
@@ -276,44 +224,6 @@ TEST(PyramidHbao, GaussianFilterIsTheSharedBlurWithItsDefaults) {
             gaussian_blur(pyramid_hbao(f.g, raw).view(), f.g, BlurSettings{}).pixels());
   EXPECT_EQ(BlurSettings{}.sigma, 1.5f);  // §3.5: σ = 1.5, 5 samples per direction
   EXPECT_EQ(BlurSettings{}.taps, 5);
-}
-
-TEST(PyramidHbao, RejectsBadSettingsNamingThem) {
-  SceneFixture f("plane", 8, 8);
-  using testing::invalid_argument_message;
-  auto message = [&](auto change) {
-    PyramidHbaoSettings s;
-    change(s);
-    return invalid_argument_message([&] { pyramid_hbao(f.g, s); });
-  };
-  EXPECT_NE(message([](auto& s) { s.radius = 0.0f; }).find("radius"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.radius = NAN; }).find("radius"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.directions = 0; }).find("directions"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.samples = 65; }).find("samples"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.levels = -1; }).find("levels"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.reduction = 1; }).find("reduction"), std::string::npos);
-  EXPECT_NE(message([](auto& s) { s.seed = -1; }).find("seed"), std::string::npos);
-}
-
-TEST(PyramidHbao, ComputeThroughRegistry) {
-  SceneFixture f("plane", 16, 9);
-  EXPECT_EQ(find_method("pyramid_hbao").name, "pyramid_hbao");
-  const Image ao = compute("pyramid_hbao", f.g, {{"radius", 1.0}, {"reduction", 2}});
-  EXPECT_EQ(min_valid(ao, f.g), 1.0f);
-  GBuffer g = f.g;
-  g.normal = {};
-  EXPECT_NE(testing::invalid_argument_message([&] {
-              compute("pyramid_hbao", g, {{"radius", 1.0}});
-            }).find("normal"),
-            std::string::npos);
-  EXPECT_NE(testing::invalid_argument_message([&] {
-              compute("pyramid_hbao", f.g, {{"radius", 1.0}, {"samples", 2.5}});
-            }).find("samples"),
-            std::string::npos);
-  EXPECT_NE(testing::invalid_argument_message([&] {
-              compute("pyramid_hbao", f.g, {{"radius", 1.0}, {"blur", 1}});
-            }).find("unknown setting 'blur'"),
-            std::string::npos);
 }
 
 }  // namespace

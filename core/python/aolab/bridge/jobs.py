@@ -1,4 +1,4 @@
-"""The add-on's heavy work, outside Blender's main thread (no bpy).
+"""The AO Lab add-on's heavy work, outside Blender's main thread (no bpy).
 
 A Job runs one function in a daemon thread. The main thread (a modal operator's timer, or
 an operator's execute() waiting in a loop) polls `progress`, `stage` and `done`, and reads
@@ -6,11 +6,13 @@ an operator's execute() waiting in a loop) polls `progress`, `stage` and `done`,
 child process it may be waiting on. Tasks receive plain Python data prepared on the main
 thread and never touch bpy: images and results are made on the main thread afterwards.
 
-References are rendered by `aolab reference` in a child /usr/bin/python3 (reference_job.py;
-not sys.executable: BLENDER_FACTS.md) on a copy of the user's file, so the user's scene is
-never changed. Its cache is content-keyed by the file's bytes; `find_reference` also finds a
-render by the scene's content hash (export.content_hash, stored in each sidecar), so that a
-re-saved, unchanged scene is served from the cache.
+References are rendered by `aolab reference` in a child /usr/bin/python3 (reference_job.py,
+with this aolab package first on its path; not sys.executable, which inside Blender is
+whichever python3.11 comes first on PATH, possibly one without numpy: docs/blender_facts.md,
+"Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its cache
+is content-keyed by the file's bytes; `find_reference` also finds a render by the scene's
+content hash (the add-on's export.content_hash, stored in each sidecar), so that a re-saved,
+unchanged scene is served from the cache.
 """
 
 from __future__ import annotations
@@ -23,8 +25,13 @@ import threading
 import time
 from pathlib import Path
 
+import aolab
+
+from ..scoring import error_map, metrics_mask
+from .constants import RESULT_EXR, RESULT_JSON
+
 PYTHON = "/usr/bin/python3"
-DRIVER = Path(__file__).with_name("reference_job.py")
+DRIVER = "aolab.bridge.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
 TERMINATE_GRACE_S = 10.0
 # Share of the progress bar per stage of a reference render (G-buffer render, AO render).
 STAGE_SPAN = {"start": (0.0, 0.02), "prepare": (0.02, 0.03), "gbuffer": (0.03, 0.06),
@@ -88,13 +95,13 @@ class Job:
         if self._cancel.is_set():
             raise Cancelled()
 
-    def run_process(self, cmd: list[str], on_line) -> int:
+    def run_process(self, cmd: list[str], on_line, env: dict | None = None) -> int:
         """Runs cmd, calling on_line(line) for each output line; cancel() terminates it."""
         with self._lock:
             self.check()
             self._proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                           stdin=subprocess.DEVNULL, text=True,
-                                          start_new_session=True)
+                                          start_new_session=True, env=env)
         try:
             for line in self._proc.stdout:
                 on_line(line.rstrip("\n"))
@@ -140,15 +147,16 @@ def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
     cache = Path(cache)
     if not cache.is_dir():
         return None
-    for side_path in cache.glob("[!.]*/reference.json"):
+    for side_path in cache.glob(f"[!.]*/{RESULT_JSON}"):
         try:
             side = json.loads(side_path.read_text())
-            exr = side_path.with_name("reference.exr")
-            if not exr.exists():
+            if not side_path.with_name(RESULT_EXR).exists():
                 continue
         except (OSError, ValueError):
             continue
-        if side.get("scene_hash") != scene_hash or (side.get("width"), side.get("height")) != tuple(size):
+        if side.get("scene_hash") != scene_hash:
+            continue
+        if (side.get("width"), side.get("height")) != tuple(size):
             continue
         if radius is not None and side.get("ao_distance") != radius:
             continue
@@ -162,12 +170,23 @@ def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
     return best
 
 
+def _child_env() -> dict:
+    """The environment of reference_job.py: this aolab package first on its path, so that the
+    child (and the Blender it starts) use the same build as the add-on."""
+    from ..reference import package_path
+    paths = [package_path()] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
+                                if p]
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
+
+
 def render_reference(job: Job, blend: str, *, spp: int, radius: float, size: tuple[int, int],
-                     passes: list[str], cache: Path | None, scale: tuple[float, float] = (0.0, 1.0)) -> Path:
+                     passes: list[str], cache: Path | None,
+                     scale: tuple[float, float] = (0.0, 1.0)) -> Path:
     """Renders (or finds in the `aolab reference` cache) the reference of `blend`; returns the
     folder of reference.exr. Progress is mapped into `scale` of the job's bar."""
-    cmd = [PYTHON, str(DRIVER), "--scene", blend, "--spp", str(spp), "--radius", repr(float(radius)),
-           "--resolution", f"{size[0]}x{size[1]}", "--passes", ",".join(passes)]
+    cmd = [PYTHON, "-P", "-m", DRIVER, "--scene", blend, "--spp", str(spp),
+           "--radius", repr(float(radius)), "--resolution", f"{size[0]}x{size[1]}",
+           "--passes", ",".join(passes)]
     if cache is not None:
         cmd += ["--cache", str(cache)]
     lo, hi = scale
@@ -181,7 +200,8 @@ def render_reference(job: Job, blend: str, *, spp: int, radius: float, size: tup
             a, b = STAGE_SPAN.get(stage, (0.0, 0.0))
             a, b = lo + (hi - lo) * a, lo + (hi - lo) * b
             if stage == "reference":
-                job.report_samples(a, b, int(done), int(total), f"reference: {done}/{total} samples")
+                job.report_samples(a, b, int(done), int(total),
+                                   f"reference: {done}/{total} samples")
             else:
                 job.report(a, f"reference: {stage}")
         elif kind == "AOLAB_RESULT":
@@ -190,7 +210,7 @@ def render_reference(job: Job, blend: str, *, spp: int, radius: float, size: tup
             state["error"] = rest
 
     job.report(lo, "reference: starting Blender")
-    rc = job.run_process(cmd, on_line)
+    rc = job.run_process(cmd, on_line, env=_child_env())
     job.check()
     if state["error"]:
         raise JobError(state["error"])
@@ -201,21 +221,23 @@ def render_reference(job: Job, blend: str, *, spp: int, radius: float, size: tup
 
 def run_methods(job: Job, g, runs: list[dict], *, radius: float, threads: int,
                 scale: tuple[float, float] = (0.0, 1.0)) -> list[dict]:
-    """Computes each run ({method, settings, blur}) on G-buffer `g`; with a reference in g,
-    also its metrics and signed error map. Returns dicts with ao, seconds, metrics, error."""
-    from . import lab
+    """Computes each run ({method, settings, blur}) on G-buffer `g`, timed; with a reference in
+    g, also its metrics and signed error map, on the command line's scored pixels. Returns
+    dicts with ao, seconds, metrics, error_rgb. aolab.compute releases the GIL."""
     out = []
     lo, hi = scale
-    mask = lab.scored_mask(g)
+    mask = metrics_mask(g)
     for i, run in enumerate(runs):
         job.check()
         job.report(lo + (hi - lo) * i / len(runs), f"computing {run['method']}")
-        ao, seconds = lab.compute(run["method"], g, radius=radius, settings=run["settings"],
-                                  blur=run["blur"], threads=threads)
-        item = {**run, "ao": ao, "seconds": seconds, "metrics": None, "error_rgb": None}
+        t0 = time.perf_counter()
+        ao = aolab.compute(run["method"], g, radius=radius, threads=threads, blur=run["blur"],
+                           **run["settings"])
+        item = {**run, "ao": ao, "seconds": time.perf_counter() - t0, "metrics": None,
+                "error_rgb": None}
         if mask is not None:
-            item["metrics"] = lab.score(ao, g)
-            item["error_rgb"] = lab.signed_error_rgb(ao, g.reference, mask)
+            item["metrics"] = dict(aolab.metrics(ao, g.reference, mask))
+            item["error_rgb"] = error_map(ao, g.reference, mask)
         out.append(item)
     job.report(hi, "done")
     return out
@@ -223,13 +245,12 @@ def run_methods(job: Job, g, runs: list[dict], *, radius: float, threads: int,
 
 def preview_task(job: Job, plan: dict) -> dict:
     """The G-buffer (cached, or rendered at 1 sample), then the methods on it."""
-    from . import lab
     folder = plan.get("cached")
     if folder is None:
         folder = render_reference(job, plan["blend"], spp=1, radius=plan["radius"],
                                   size=plan["size"], passes=plan["passes"], cache=plan["cache"],
                                   scale=(0.0, 0.7))
-    g = lab.load(str(Path(folder) / "reference.exr"))
+    g = aolab.load_gbuffer(Path(folder) / RESULT_EXR)
     g.reference = None  # a preview is not scored (the G-buffer's AO may be 1 sample)
     runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"],
                        scale=(0.7, 1.0))
@@ -244,16 +265,19 @@ def reference_task(job: Job, plan: dict) -> dict:
 
 def compare_task(job: Job, plan: dict) -> dict:
     """The methods on the reference's own G-buffer, scored against its AO."""
-    from . import lab
     job.report(0.0, "loading the reference")
-    g = lab.load(str(Path(plan["folder"]) / "reference.exr"))
+    g = aolab.load_gbuffer(Path(plan["folder"]) / RESULT_EXR)
     runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"])
     return {"folder": plan["folder"], "runs": runs, "reference": g.reference}
 
 
 def report_task(job: Job, plan: dict) -> dict:
-    from . import study
+    """The comparison study (`aolab compare`, quick sweep) on one scene: the folder of its
+    reference.exr, for the chosen methods; writes report.html, results.csv, results.json."""
+    from .. import compare
     job.report(0.05, "running the comparison study")
-    path = study.write_report(Path(plan["folder"]), plan["methods"], Path(plan["out"]),
-                              plan["threads"])
-    return {"report": str(path)}
+    out = Path(plan["out"])
+    opts = compare.Options(scenes=[str(plan["folder"])], methods=list(plan["methods"]) or None,
+                           out=out, threads=plan["threads"], progress=False)
+    compare.Study(opts).run()
+    return {"report": str(out / "report.html")}

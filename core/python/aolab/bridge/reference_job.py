@@ -1,4 +1,5 @@
-"""Run by the add-on as `/usr/bin/python3 reference_job.py --scene COPY.blend ...` (no bpy).
+"""Run by the add-on as `/usr/bin/python3 -m aolab.bridge.reference_job --scene COPY.blend
+...` (no bpy; jobs.render_reference).
 
 `aolab reference` for one scene (aolab.reference: the same plan, cache and Blender batch
 run as the command line), with its progress printed as lines the add-on parses:
@@ -16,6 +17,8 @@ import json
 import signal
 import sys
 from pathlib import Path
+
+from .. import reference
 
 
 class LineBar:
@@ -54,11 +57,6 @@ def main(argv) -> int:
         raise KeyboardInterrupt
 
     signal.signal(signal.SIGTERM, terminated)
-    try:
-        from aolab import reference
-    except ImportError as e:
-        print(f"AOLAB_ERROR module not built: run scripts/setup.sh ({e})", flush=True)
-        return 2
     w, h = (int(v) for v in args.resolution.split("x"))
     reference._progress_bar = lambda enabled, desc: LineBar()
     try:

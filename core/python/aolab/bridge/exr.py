@@ -23,7 +23,8 @@ def read_channels(path: str) -> dict[str, np.ndarray]:
         pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
         if pixels is None:
             raise RuntimeError(f"cannot read {path}: {inp.geterror()}")
-        pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
+        pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width,
+                                                              spec.nchannels)
         return {name: pixels[..., i].copy() for i, name in enumerate(spec.channelnames)}
     finally:
         inp.close()

@@ -1,5 +1,6 @@
 """Which render passes a reference needs (no bpy): only what the chosen methods and the
-scene's effects require (DESIGN.md "Effects a scene calls for")."""
+scene's effects (its manifest's "effects") require (docs/conventions.md, "Effects and the
+passes they need")."""
 
 from __future__ import annotations
 

@@ -1,8 +1,9 @@
 """Pinhole intrinsics of a Blender perspective camera (no bpy).
 
-The formulas of BLENDER_FACTS.md "Camera intrinsics", verified there to 1e-5 against the
-Position pass and re-verified by tests/python/test_bridge_camera.py for every sensor fit,
-with shifts and non-square pixels.
+Blender's own camera projection, written out (the formulas and how they were measured:
+docs/blender_facts.md, "Camera intrinsics"): verified against Cycles' Position pass by
+tests/python/test_bridge.py (tests/blender/camera_check.py) for every sensor fit, with
+shifts and non-square pixels.
 """
 
 from __future__ import annotations

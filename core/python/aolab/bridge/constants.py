@@ -1,0 +1,15 @@
+"""What the bpy side (blender_addon/aolab_blender) and the aolab side agree on: output file
+names, the bridge version in the cache key and the sidecar, the background rule, and the
+comparison peers' Cycles ladder."""
+
+#: Bump when the bridge's output changes: invalidates cached results.
+BRIDGE_VERSION = 1
+RESULT_EXR = "reference.exr"
+RESULT_JSON = "reference.json"
+PEERS_DIR = "peers"          # reference_scenes/<scene>/peers/
+PEERS_JSON = "peers.json"
+#: Cycles writes 1e10 where nothing is hit: depth at or beyond this is background.
+BACKGROUND_DEPTH = 1e9
+#: The Cycles ladder of the comparison peers: samples per rung (seed LADDER_SEED).
+LADDER_SPP = (1, 4, 16, 64, 256)
+LADDER_SEED = 1              # the reference uses seed 0: independent samples

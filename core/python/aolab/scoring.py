@@ -1,0 +1,59 @@
+"""What a method is scored on and how its error is shown, once for the command line, the
+comparison study, its report and the add-on (no bpy).
+
+- The scored pixels: geometry (``GBuffer.valid_mask``) where the reference is finite.
+  ``aolab run``, ``aolab compare`` (its region "all") and the add-on's Compare score there.
+- The signed error map (method − reference): white at 0, blue where the method is lighter
+  (under-occlusion), red where it is darker (over-occlusion), full colour at
+  |error| >= ERROR_SCALE, background grey.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: The signed error maps saturate at ±ERROR_SCALE.
+ERROR_SCALE = 0.25
+#: Blue: lighter than the reference (under-occlusion); red: darker (over-occlusion).
+LIGHTER_RGB = (0.1, 0.3, 0.9)
+DARKER_RGB = (0.85, 0.1, 0.1)
+#: Pixels that are not scored (background), in error maps.
+BACKGROUND_GREY = 0.5
+
+
+def scored_mask(g, reference: np.ndarray | None = None) -> np.ndarray:
+    """The scored pixels: geometry of G-buffer ``g`` where ``reference`` (default: the
+    G-buffer's own ``g.reference``) is finite. Without a reference, no pixel is scored."""
+    if reference is None:
+        reference = getattr(g, "reference", None)
+    valid = np.asarray(g.valid_mask(), bool)
+    if reference is None:
+        return np.zeros_like(valid)
+    return valid & np.isfinite(reference)
+
+
+def metrics_mask(g) -> np.ndarray | None:
+    """``scored_mask(g)`` where there is something to score against, else None (no
+    reference, or no finite reference on geometry)."""
+    mask = scored_mask(g)
+    return mask if mask.any() else None
+
+
+def signed_error_rgb(err: np.ndarray, scale: float = ERROR_SCALE,
+                     valid: np.ndarray | None = None) -> np.ndarray:
+    """err = method − reference as RGB, (H, W) -> (H, W, 3): white at 0, blue when lighter
+    (> 0, under-occlusion), red when darker (< 0, over-occlusion), full colour at
+    |err| >= scale; BACKGROUND_GREY outside ``valid`` when given."""
+    t = np.clip(np.abs(err) / scale, 0, 1)[..., None]
+    colour = np.where(err[..., None] < 0, np.array(DARKER_RGB), np.array(LIGHTER_RGB))
+    rgb = (1 - t) + t * colour
+    if valid is not None:
+        rgb[~np.asarray(valid, bool)] = BACKGROUND_GREY
+    return rgb
+
+
+def error_map(ao: np.ndarray, reference: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """The signed error map of ``ao`` against ``reference`` on ``valid`` pixels as float32
+    RGB (the add-on's images)."""
+    err = np.where(valid, ao - reference, 0.0).astype(np.float32)
+    return signed_error_rgb(err, valid=valid).astype(np.float32)
