@@ -310,7 +310,7 @@ Method vao_pp_method() {
         return vao_pp(g, s, options);
       });
   m.needs_normal = true;
-  m.needs_color = true;  // with luminance_sensitivity or color_bleeding only
+  m.needs_color = true;                // with luminance_sensitivity or color_bleeding only
   m.color_depends_on_settings = true;  // validate_vao_pp checks it
   return m;
 }
