@@ -131,10 +131,14 @@ def test_reference_end_to_end_cached_and_scored(tmp_path):
     cache = tmp_path / "cache"
     res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao")
     assert "rendered" in res.stdout
-    t0 = time.perf_counter()
-    res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao")
-    assert "cached" in res.stdout and time.perf_counter() - t0 < 1.0
     folder = next(cache.iterdir())
+    before = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
+    # Served from the cache: no render (the files are untouched). Not timed: a loaded machine
+    # can take seconds just to start Python, and speed is measured in benchmarks.
+    res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao",
+                          env=dict(os.environ, AOLAB_BLENDER="/nonexistent/blender"))
+    assert "cached" in res.stdout
+    assert {p.name: p.stat().st_mtime_ns for p in folder.iterdir()} == before
     assert not [p for p in cache.iterdir() if p.name.startswith(".")]  # no temporary leftovers
     g = aolab.load_gbuffer(folder / "reference.exr")
     side = g.sidecar
