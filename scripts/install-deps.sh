@@ -11,7 +11,7 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   # Python (Debian's /usr/bin/python3, the one Blender embeds)
   python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
-  python3-skimage python3-tqdm python3-matplotlib
+  python3-skimage python3-tqdm python3-matplotlib python3-optuna
   # headless browser: tests/python/test_report.py opens the comparison report in it
   chromium
   # Blender 3.4 (its Python is the same 3.11; `import aolab` is tested inside it)
