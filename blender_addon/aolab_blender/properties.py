@@ -101,9 +101,17 @@ def _setting_property(s: dict):
                                    max=min(s["max"], FLOAT_LIMIT), precision=4)
 
 
+def _preset_label(name: str) -> str:
+    """"low" -> "Low", "tuned-100ms" -> "Tuned 100 ms"."""
+    if name.startswith(presets.TUNED_PREFIX):
+        return f"Tuned {presets.budget_of(name):g} ms"
+    return name.title()
+
+
 def _preset_items(self, context):
-    names = [presets.DEFAULT_PRESET] + presets.preset_names(self.method_name)
-    items = [(n, n.title(), f"{self.method_name} at its {n} preset") for n in names]
+    """aolab.presets(method)'s names: default, the study's presets, the tuned ones."""
+    items = [(n, _preset_label(n), f"{self.method_name} at its {n} preset")
+             for n in presets.names(self.method_name)]
     # The enum keeps the returned strings alive only while they are referenced.
     _preset_items.cache[self.method_name] = items
     return items

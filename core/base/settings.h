@@ -139,15 +139,17 @@ bool set_setting(S& s, const SettingField<S> (&fields)[N], const std::string& na
 }
 
 /// Fills a settings struct from key/value pairs; unknown keys throw std::invalid_argument
-/// listing the valid names of `what` (a method name).
+/// listing the valid names of `what` (a method name): the fields, then `also_valid` (settings
+/// handled outside S, such as the registry's `power`, which callers take out first).
 template <class S, std::size_t N>
 S settings_from_values(const SettingValues& values, const SettingField<S> (&fields)[N],
-                       const std::string& what) {
+                       const std::string& what, const std::vector<std::string>& also_valid = {}) {
   S s;
   for (const auto& [name, value] : values) {
     if (!set_setting(s, fields, name, value)) {
       std::string valid;
       for (const auto& f : fields) valid += std::string(valid.empty() ? "" : ", ") + f.name;
+      for (const auto& n : also_valid) valid += ", " + n;
       throw std::invalid_argument("unknown setting '" + name + "' for " + what +
                                   "; valid settings: " + valid);
     }

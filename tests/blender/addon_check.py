@@ -185,6 +185,10 @@ g = getattr(s, "m_hbao")
 if "low" in r["presets"]["hbao"]:
     g.preset = "low"
     r["hbao_low"] = {name: getattr(g, name) for name in g.setting_names} | {"blur": g.use_blur}
+    for name in [n for n in r["presets"]["hbao"] if n.startswith("tuned-")][:1]:
+        g.preset = name
+        r["hbao_tuned"] = {name: getattr(g, name) for name in g.setting_names} | \
+            {"blur": g.use_blur}
     g.preset = "default"
     r["hbao_default_again"] = properties.method_settings.changed_settings(
         "hbao", {n: getattr(g, n) for n in g.setting_names})

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <random>
@@ -50,6 +51,20 @@ inline float min_valid(const Image& ao, const GBuffer& g) {
     for (int x = 0; x < ao.width(); ++x)
       if (g.valid(x, y)) m = std::min(m, ao(x, y));
   return m;
+}
+
+/// Mean |AO − closed-form reference| over the scene's geometry pixels with a finite reference
+/// (for the scenes whose Cycles AO has a closed form: ceiling, wall, crease).
+inline double mae_against_reference(const Image& ao, const SceneFixture& f) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < ao.height(); ++y)
+    for (int x = 0; x < ao.width(); ++x) {
+      const float ref = f.scene.reference(x, y);
+      if (!f.g.valid(x, y) || !std::isfinite(ref)) continue;
+      sum += std::abs(double(ao(x, y)) - ref), ++n;
+    }
+  return sum / n;
 }
 
 /// A fixture owning a fresh temporary folder, removed after the test.

@@ -25,6 +25,17 @@ double tangent_elevation_in_azimuth(const dvec3& n, double ux, double uy) {
   return std::atan(-along / (n.z * len));
 }
 
+// integral = cosine: twice the cosine-weighted solid angle between elevations t and α in the
+// azimuth û, 2 ∫_t^α (n·ω) cos φ dφ with ω = (cos φ û, sin φ), from the antiderivatives
+// 2∫cos²φ = φ + sin φ cos φ and 2∫sin φ cos φ = sin²φ.
+double cosine_band(const dvec3& n, double ux, double uy, double alpha, double t) {
+  const double a = n.x * ux + n.y * uy;
+  const auto F = [&](double phi) {
+    return a * (phi + std::sin(phi) * std::cos(phi)) + n.z * std::sin(phi) * std::sin(phi);
+  };
+  return F(alpha) - F(t);
+}
+
 }  // namespace
 
 Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
@@ -93,13 +104,28 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
                 kHbaoNormalTolerance + kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
+          if (s.integral == int(HbaoIntegral::Cosine)) {
+            // The band up to α in the sample's own azimuth, from the tangent there (per-sample
+            // tangents), or in the direction's azimuth from t(θ).
+            const double hor = std::hypot(D.x, D.y);
+            if (s.per_sample_tangent) {
+              const double ux = hor > 0 ? D.x / hor : dir_cos[k],
+                           uy = hor > 0 ? D.y / hor : dir_sin[k];
+              gain = cosine_band(n, ux, uy, alpha, tangent_elevation_in_azimuth(n, ux, uy));
+            } else {
+              gain = cosine_band(n, dir_cos[k], dir_sin[k], alpha, t_dir);
+            }
+          }
           if (gain > 0.0 && (best_r == 0.0 || gain > best_gain + kHbaoHorizonTie)) {
             rises += (gain - best_gain) * std::max(0.0, 1.0 - r / R);  // eq. 2, per rise
             best_gain = gain, best_r = r;
           }
         }
-        sum += s.incremental_attenuation ? rises
-                                         : best_gain * std::max(0.0, 1.0 - best_r / R);  // eq. 3
+        if (s.attenuation == int(HbaoAttenuation::None))
+          sum += best_gain;  // W = 1 within R
+        else
+          sum += s.incremental_attenuation ? rises
+                                           : best_gain * std::max(0.0, 1.0 - best_r / R);  // eq. 3
       }
       out(x, y) = float(std::clamp(1.0 - sum / s.directions, 0.0, 1.0));
     }

@@ -1,5 +1,6 @@
 // The straightforward HBAO: one thread, double precision, the paper's formulas with their
-// trigonometry (α = atan(D.z/|D.xy|), sin h - sin t), positions reconstructed per sample.
+// trigonometry (α = atan(D.z/|D.xy|), sin h - sin t, or the cosine band from the angles
+// themselves), positions reconstructed per sample.
 // It shares only the per-pixel sampling pattern with core/methods/hbao/hbao.cpp (so both read the
 // same texels). It is the test oracle of the fast implementation and the baseline of its speed.
 #pragma once

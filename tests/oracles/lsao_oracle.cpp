@@ -45,6 +45,8 @@ Plane sweep_plane(const CameraIntrinsics& cam, const LsaoLine& line, const Sweep
 }
 
 double falloff(double d2, double r, LsaoFalloff f) {
+  // The reference's cut-off: 1 for d ≤ R, i.e. d² ≤ r/C (r = C·R²), 0 beyond.
+  if (f == LsaoFalloff::Cutoff) return d2 <= r / double(kLsaoFalloffOffset) ? 1.0 : 0.0;
   const double rho = r / (r + d2);  // eq. 2
   if (f == LsaoFalloff::Eq2) return rho;
   const double c = kLsaoFalloffOffset;

@@ -25,13 +25,19 @@ pytestmark = [pytest.mark.blender,
                                  "(scripts/install-deps.sh installs it)")]
 
 
+#: A tuned preset of hbao that Blender is given (AOLAB_TUNED_PRESETS), as `aolab tune` writes.
+TUNED = {"directions": 4, "steps": 6, "incremental_attenuation": True, "blur": True}
+
+
 def blender_env(base: Path) -> dict:
     """Temporary Blender user folders, and the `aolab` this test imports placed first on
     Blender's path (with --python-use-system-env), so that Blender, its child processes and
     this test use one build."""
     aolab_dir = str(Path(aolab.__file__).resolve().parents[1])
+    tuned = base / "tuned_presets.json"      # the preset menu offers the tuned presets too
+    tuned.write_text(json.dumps({"methods": {"hbao": {"presets": {"tuned-100ms": TUNED}}}}))
     return dict(os.environ, BLENDER_USER_CONFIG=str(base / "config"),
-                BLENDER_USER_SCRIPTS=str(base / "scripts"),
+                BLENDER_USER_SCRIPTS=str(base / "scripts"), AOLAB_TUNED_PRESETS=str(tuned),
                 PYTHONPATH=os.pathsep.join([aolab_dir, os.environ.get("PYTHONPATH", "")]))
 
 
@@ -108,10 +114,14 @@ def test_user_errors_are_reported(flow):
     assert r["report"]["result"] == ["FINISHED"], r["report"]
     assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
     from aolab import presets
-    assert r["presets"]["hbao"] == ["default"] + presets.preset_names("hbao")
+    assert r["presets"]["hbao"] == ["default"] + presets.preset_names("hbao") + ["tuned-100ms"]
     values, blur = presets.preset_values("hbao", "low")
     for k, v in {**values, "blur": blur}.items():  # the preset's values, the rest defaults
         assert r["hbao_low"][k] == pytest.approx(v), k
+    defaults = {s["name"]: s["default"] for s in aolab.method_info("hbao")["settings"]}
+    for k, v in {**defaults, **TUNED}.items():      # a tuned preset, chosen from the menu
+        if k != "radius":
+            assert r["hbao_tuned"][k] == pytest.approx(v), k
     assert r["hbao_default_again"] == {}
     assert "no window" in r["show_image_background"]["error"]
 

@@ -29,5 +29,5 @@ def test_described_and_allowed_values():
     names = [s["name"] for s in settings.described("lsao")]
     assert "radius" not in names and "falloff" in names
     by_name = settings.by_name("lsao")
-    assert settings.describe_value(by_name["falloff"]) == "one of rational, clipped"
+    assert settings.describe_value(by_name["falloff"]) == "one of rational, clipped, cutoff"
     assert settings.describe_value(by_name["line_spacing"]) == "range [1, 64] px"

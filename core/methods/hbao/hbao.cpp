@@ -135,10 +135,32 @@ bool per_sample_candidate(const HbaoReceiver& p, float qx, float qy, float ds, f
   return true;
 }
 
+// integral = cosine: the direction's term for a counted sample at D = (dx, dy, −dd), |D| = r,
+// is the cosine band from t to the sample's elevation (hbao_cosine_band). Per-sample tangents:
+// in the sample's own azimuth û = D.xy/|D.xy|, with t the tangent plane's elevation there.
+// One tangent per direction: in the direction's azimuth (c, sn), with its t(θ).
+float cosine_gain(const HbaoReceiver& p, bool per_sample, float sin_t_dir, float c, float sn,
+                  float dx, float dy, float dd, float r) {
+  const float sin_a = -dd / r, hor = std::sqrt(dx * dx + dy * dy), cos_a = hor / r;
+  if (!per_sample) {
+    const float a = p.n.x * c + p.n.y * sn;
+    const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin_t_dir * sin_t_dir));
+    return hbao_cosine_band(a, p.n.z, sin_a, cos_a, sin_t_dir, cos_t);
+  }
+  const float ux = hor > 0.0f ? dx / hor : c, uy = hor > 0.0f ? dy / hor : sn;
+  const float a = p.n.x * ux + p.n.y * uy;
+  const float rho = std::sqrt(a * a + p.n.z * p.n.z);
+  if (!(rho > 0.0f)) return 0.0f;  // n ⟂ the whole slice: n·ω = 0 in it
+  // tan t = −a/n_z (tangent_sin_in_azimuth), t in [−π/2, π/2].
+  const float sin_t = (p.n.z < 0.0f ? a : -a) / rho, cos_t = std::abs(p.n.z) / rho;
+  return hbao_cosine_band(a, p.n.z, sin_a, cos_a, sin_t, cos_t);
+}
+
 // The sample on texel (sx, sy) at depth ds as a horizon candidate; false if it lies beyond R
-// (ignored, §3), is background (NaN) or is not above the tangent by more than rounding.
+// (ignored, §3), is background (NaN) or is not above the tangent by more than rounding. The
+// tangent test decides whether it counts; `integral` decides its gain.
 bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius2, float sin_t_dir,
-                      int sx, int sy, float ds, Candidate& out) {
+                      float c, float sn, int sx, int sy, float ds, Candidate& out) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   // D = S − P without cancellation (see elevation_sin_on_ray).
   const float dd = ds - p.d;
@@ -146,16 +168,25 @@ bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius
   const float dy = -(qy * ds + p.oy * dd) * p.inv_fy;
   const float r2 = dx * dx + dy * dy + dd * dd;
   if (!(r2 <= radius2) || r2 == 0.0f) return false;
-  if (s.per_sample_tangent) return per_sample_candidate(p, qx, qy, ds, dd, r2, out);
-  out.r = std::sqrt(r2);
-  out.gain = -dd / out.r - sin_t_dir;
-  const float tolerance =
-      kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(p.d, ds) / out.r;
-  return out.gain > tolerance;
+  bool counts;
+  if (s.per_sample_tangent) {
+    counts = per_sample_candidate(p, qx, qy, ds, dd, r2, out);
+  } else {
+    out.r = std::sqrt(r2);
+    out.gain = -dd / out.r - sin_t_dir;
+    const float tolerance =
+        kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(p.d, ds) / out.r;
+    counts = out.gain > tolerance;
+  }
+  if (counts && s.integral == int(HbaoIntegral::Cosine))
+    out.gain = cosine_gain(p, s.per_sample_tangent, sin_t_dir, c, sn, dx, dy, dd, out.r);
+  return counts;
 }
 
 // The occlusion of direction (c, s): eq. 3's (sin h − sin t)·W(r) of the horizon, or with
-// incremental_attenuation eq. 2's rises of sin h, each weighted by W of the sample that caused it.
+// incremental_attenuation eq. 2's rises of sin h, each weighted by W of the sample that caused
+// it; with integral = cosine the cosine band replaces sin h − sin t, with attenuation = none
+// W = 1.
 float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver& p, float jitter,
                       float c, float sn) {
   const float radius = s.radius, radius2 = radius * radius, inv_radius = 1.0f / radius;
@@ -173,14 +204,15 @@ float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver&
     const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
     if (sx == p.x && sy == p.y) continue;
     Candidate cand;
-    if (!sample_candidate(p, s, radius2, sin_t_dir, sx, sy, f.depth[std::size_t(sy) * f.width + sx],
-                          cand))
+    if (!sample_candidate(p, s, radius2, sin_t_dir, c, sn, sx, sy,
+                          f.depth[std::size_t(sy) * f.width + sx], cand))
       continue;
     if (cand.gain > 0.0f && (best_r == 0.0f || cand.gain > best_gain + kHbaoHorizonTie)) {
       rises += (cand.gain - best_gain) * std::max(0.0f, 1.0f - cand.r * inv_radius);
       best_gain = cand.gain, best_r = cand.r;
     }
   }
+  if (s.attenuation == int(HbaoAttenuation::None)) return best_gain;  // W = 1 within R
   return s.incremental_attenuation
              ? rises
              : best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);  // eq. 3

@@ -4,7 +4,10 @@
 // A = 1 - (1/N_d) Σ_θ (sin h(θ) - sin t(θ)) W(θ)            (eq. 3, Monte Carlo over θ, §3)
 // t(θ): tangent angle from the normal; h(θ) = max(t, α(S_i)) over N_s texel-centre samples
 // within the eye-space radius R; α(S) = atan(D.z/|D.xy|), D = S - P; W = max(0, 1 - r/R)
-// with r the distance to the horizon sample. docs/methods/hbao.md gives the details.
+// with r the distance to the horizon sample. Two settings offer the Cycles reference's
+// definition instead of the paper's: `attenuation = none` (W = 1 within R) and
+// `integral = cosine` (the band between t and h weighted by n·ω, the cosine-weighted AO).
+// docs/methods/hbao.md gives the details.
 #pragma once
 
 #include <cmath>
@@ -40,6 +43,35 @@ constexpr float kHbaoNormalTolerance = 1e-6f;
 /// sample, the first one met). 1e-5 in sine is far below any visible difference.
 constexpr float kHbaoHorizonTie = 1e-5f;
 
+/// W(r) of eq. 3: the paper's linear falloff, or none (the reference's hard cut-off at R).
+enum class HbaoAttenuation : int {
+  Linear = 0,  ///< W = max(0, 1 − r/R) (eq. 3)
+  None = 1,    ///< W = 1: every horizon within R counts fully, as in Cycles' AO pass
+};
+
+/// How the band of elevations between t(θ) and h(θ) is weighted.
+enum class HbaoIntegral : int {
+  /// Eq. 1–3: uniform over the hemisphere (1/2π ∫ dω), per direction sin h − sin t.
+  Uniform = 0,
+  /// The reference's cosine-weighted AO (1/π ∫ (n·ω) dω): per direction
+  /// a[(h − t) + sin h cos h − sin t cos t] + n_z (sin²h − sin²t), a = n.xy·û
+  /// (hbao_cosine_band; the derivation is in docs/methods/hbao.md).
+  Cosine = 1,
+};
+
+/// Twice the cosine-weighted solid angle, over 2π of azimuth, of the elevations from t to α in
+/// the view-space azimuth û: 2 ∫_t^α (n·ω) cos φ dφ with ω = (cos φ û, sin φ) and
+/// n·ω = a cos φ + n_z sin φ, a = n.xy·û. Averaged over N_d directions it is the
+/// occlusion of the cosine-weighted AO, (1/π) ∫ (n·ω) dω over the occluded directions.
+/// α − t is taken from the sines and cosines with atan2, which keeps it accurate near 0.
+inline float hbao_cosine_band(float a, float nz, float sin_alpha, float cos_alpha, float sin_t,
+                              float cos_t) {
+  const float diff =
+      std::atan2(sin_alpha * cos_t - cos_alpha * sin_t, cos_alpha * cos_t + sin_alpha * sin_t);
+  return a * (diff + sin_alpha * cos_alpha - sin_t * cos_t) +
+         nz * (sin_alpha * sin_alpha - sin_t * sin_t);
+}
+
 struct HbaoSettings {
   /// R: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
   float radius = 1.0f;
@@ -58,11 +90,19 @@ struct HbaoSettings {
   /// exactly unoccluded. false: one t(θ) per direction, from the ray one pixel along θ;
   /// snapping moves samples off θ, so a tilted plane then occludes itself slightly.
   bool per_sample_tangent = true;
-  /// Where W is evaluated. false (eq. 3, the paper's estimator): W = 1 - r/R with r the
-  /// distance of the horizon sample, so a horizon that keeps rising towards R (a wall, a
+  /// HbaoIntegral: how the elevations between t and h are weighted. 0 uniform (eq. 1–3, the
+  /// paper's: sin h − sin t), 1 cosine (the reference's cosine-weighted AO, a term of n·ω;
+  /// hbao_cosine_band). The tangent mode still decides which samples count. [0, 1].
+  int integral = int(HbaoIntegral::Uniform);
+  /// HbaoAttenuation: W of eq. 3. 0 linear (the paper's W = 1 − r/R), 1 none (W = 1 within R,
+  /// the reference's hard cut-off; incremental_attenuation then changes nothing). [0, 1].
+  int attenuation = int(HbaoAttenuation::Linear);
+  /// Where the linear W is evaluated. false (eq. 3, the paper's estimator): W = 1 - r/R with
+  /// r the distance of the horizon sample, so a horizon that keeps rising towards R (a wall, a
   /// crease) is weighted by a W near 0. true (eq. 2 discretised, W(ω) inside the elevation
-  /// integral): each rise of sin h along the march is weighted by W of the sample that
-  /// caused it — the form of NVIDIA's HBAO implementations, with stronger creases.
+  /// integral): each rise of the direction's term (sin h, or the cosine band) along the march
+  /// is weighted by W of the sample that caused it — the form of NVIDIA's HBAO
+  /// implementations, with stronger creases.
   bool incremental_attenuation = false;
   /// Seed of the per-pixel random rotation and jitter. [0, 2^31 - 1].
   int seed = 0;
@@ -79,9 +119,17 @@ inline const SettingField<HbaoSettings> kHbaoFields[] = {
     {"per_sample_tangent", &HbaoSettings::per_sample_tangent, 0, 1, "",
      "intersect each sample's own view ray with the tangent plane (exact on planes); off: "
      "one tangent per direction, as the paper words it"},
+    {"integral", &HbaoSettings::integral, 0, 1, "",
+     "weight of the elevations between tangent and horizon: uniform, the paper's sin h - sin t "
+     "(eq. 3); cosine, n.w as in the reference's cosine-weighted AO",
+     "uniform|cosine"},
+    {"attenuation", &HbaoSettings::attenuation, 0, 1, "",
+     "W(r): linear, the paper's max(0, 1 - r/R) (eq. 3); none, W = 1 within R as in the "
+     "reference",
+     "linear|none"},
     {"incremental_attenuation", &HbaoSettings::incremental_attenuation, 0, 1, "",
      "weight each rise of the horizon by W of the sample that raised it (eq. 2) instead of "
-     "W of the final horizon (eq. 3)"},
+     "W of the final horizon (eq. 3); linear attenuation only"},
     {"seed", &HbaoSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
 };
 

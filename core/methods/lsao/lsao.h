@@ -8,6 +8,7 @@
 //
 //   O_k = sin t + max(0, sin h − sin t) · ρ(|h|)                      (eq. 1, one direction)
 //   ρ(d) = r / (r + d²)  (eq. 2)   or   ρ0(d) = max(0, r(1+C)/(r + d²) − C)   (eq. 3)
+//   or, as Cycles' reference AO counts hits: ρ(d) = 1 for d ≤ R, 0 beyond (falloff `cutoff`)
 //
 // h: the vector from the receiver to that point, t: the tangent (fixed sin t = −0.85 by
 // default, §4.1 strategy 3), both as elevations from the zenith towards the eye. The values
@@ -72,6 +73,9 @@ enum class LsaoTangent : int {
 enum class LsaoFalloff : int {
   Eq2 = 2,  ///< ρ(d) = r/(r + d²): never zero, the paper's falloff for its own method
   Eq3 = 3,  ///< ρ0(d) = max(0, r(1+C)/(r + d²) − C): zero from d = √(r/C), used for HBAO (§6)
+  /// ρ(d) = 1 for d ≤ R, 0 beyond: the Cycles reference's hard cut-off (every hit within the
+  /// AO distance counts fully), not the paper's; d ≤ R is d²/r ≤ 1/C.
+  Cutoff = 4,
 };
 
 /// Pixel sampling along lines of uniform (non-aligned) directions, §5.2.
@@ -81,8 +85,9 @@ enum class LsaoSampling : int {
 };
 
 struct LsaoSettings {
-  /// R: view-space distance at which eq. 3 reaches zero; eq. 2 uses the same r = C·R²
-  /// (half weight at √C·R ≈ 0.55 R, 0.23 at R). [1e-12, 1e30] view-space units.
+  /// R: view-space distance at which eq. 3 reaches zero (and the cutoff falloff cuts off);
+  /// eq. 2 uses the same r = C·R² (half weight at √C·R ≈ 0.55 R, 0.23 at R).
+  /// [1e-12, 1e30] view-space units.
   float radius = 1.0f;
   /// K: azimuthal directions (§3). Must be 8·template_size when template_size > 0. [1, 64].
   int directions = 16;
@@ -103,7 +108,7 @@ struct LsaoSettings {
   /// also shows −0.5 and −1.0. [−1, 0].
   float tangent_sin = kLsaoPaperTangentSin;
   /// Falloff, LsaoFalloff: 2 = eq. 2 (the paper's), 3 = eq. 3 (the one it uses for HBAO,
-  /// C = 0.3). [2, 3].
+  /// C = 0.3), 4 = cutoff (ρ = 1 within R, 0 beyond: the reference's). [2, 4].
   int falloff = 2;
   /// Depth-aware gather (§5.1): a direction's value counts for a pixel only if its depth is
   /// within this fraction of the pixel's depth. [0, 1e30] (large = off).
@@ -127,7 +132,7 @@ struct LsaoSettings {
 
 inline const SettingField<LsaoSettings> kLsaoFields[] = {
     {"radius", &LsaoSettings::radius, 1e-12, 1e30, "view-space units",
-     "R, where eq. 3 reaches zero; both falloffs use r = 0.3 R^2"},
+     "R, where eq. 3 reaches zero and cutoff cuts off; eqs. 2 and 3 use r = 0.3 R^2"},
     {"directions", &LsaoSettings::directions, 1, 64, "",
      "K, azimuthal directions; 8 x template_size when template_size > 0"},
     {"template_size", &LsaoSettings::template_size, 0, 8, "",
@@ -141,9 +146,10 @@ inline const SettingField<LsaoSettings> kLsaoFields[] = {
      "the obscurance; fixed: the fixed tangent for both (the paper's)",
      "real|fixed_hull|fixed"},
     {"tangent_sin", &LsaoSettings::tangent_sin, -1, 0, "", "sin t of the fixed tangent"},
-    {"falloff", &LsaoSettings::falloff, 2, 3, "",
-     "rational: eq. 2, r/(r + d^2); clipped: eq. 3, max(0, r(1+C)/(r + d^2) - C), C = 0.3",
-     "rational|clipped"},
+    {"falloff", &LsaoSettings::falloff, 2, 4, "",
+     "rational: eq. 2, r/(r + d^2); clipped: eq. 3, max(0, r(1+C)/(r + d^2) - C), C = 0.3; "
+     "cutoff: 1 within R, 0 beyond, as in the reference",
+     "rational|clipped|cutoff"},
     {"gather_depth_tolerance", &LsaoSettings::gather_depth_tolerance, 0, 1e30, "relative",
      "a value counts for a pixel only within this fraction of its depth"},
     {"normal_aware_gather", &LsaoSettings::normal_aware_gather, 0, 1, "",
@@ -178,6 +184,10 @@ struct LsaoWeight {
 /// The falloff for q2 = d²/r (r = C·R²). An infinite q2 gives ρ = 0.
 inline LsaoWeight lsao_falloff(float q2, LsaoFalloff falloff) {
   if (!(q2 < std::numeric_limits<float>::infinity())) return {0.0f, 1.0f};
+  if (falloff == LsaoFalloff::Cutoff) {  // d ≤ R ⇔ d²/r ≤ 1/C
+    if (q2 * kLsaoFalloffOffset <= 1.0f) return {1.0f, 0.0f};
+    return {0.0f, 1.0f};
+  }
   const float rho = 1.0f / (1.0f + q2);  // eq. 2: r/(r + d²)
   const float rest = q2 * rho;           // 1 − r/(r + d²) = d²/(r + d²)
   if (falloff == LsaoFalloff::Eq2) return {rho, rest};

@@ -73,9 +73,10 @@ struct Frame {
 };
 
 // Eq. 8's term W(r)·sin α of the texel read on level l, into `weighted`; false if the texel
-// is background, at or beyond R (W = 0, eq. 7) or not above P's tangent plane.
+// is background, at or beyond R (W = 0, eq. 7; with attenuation none, beyond R) or not above
+// P's tangent plane.
 bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexel& texel, int l,
-                        float radius2, float inv_radius, float& weighted) {
+                        float radius2, float inv_radius, bool attenuate, float& weighted) {
   const float ds = texel.depth;
   // §3.4 step 2a: "restore the position in the three-dimensional space" — at the texel's
   // centroid (its centre where its footprint is whole), at the averaged depth. D = S − P
@@ -86,8 +87,9 @@ bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexe
   const float dx = (qx * ds + p.ox * dd) * p.inv_fx;
   const float dy = -(qy * ds + p.oy * dd) * p.inv_fy;
   const float r2 = dx * dx + dy * dy + dd * dd;
-  // W(r) = max(0, 1 − r/R) (eq. 7) is 0 from r = R on; background is NaN.
-  if (!(r2 < radius2) || r2 == 0.0f) return false;
+  // W(r) = max(0, 1 − r/R) (eq. 7) is 0 from r = R on; without attenuation (W = 1, the
+  // reference's hard cut-off) a texel at exactly R still counts. Background is NaN.
+  if (!(attenuate ? r2 < radius2 : r2 <= radius2) || r2 == 0.0f) return false;
   // Above the tangent plane? The plane of (P, n) meets the sample's view ray rs at depth
   // tau = d (n·r0)/(n·rs); the sample counts only if it lies nearer than that by more than
   // float32 rounding (kPyramidHbaoDepthUlps ...), so a plane never occludes itself. A ray
@@ -107,7 +109,7 @@ bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexe
   // from 0, the tangent plane).
   const float r = std::sqrt(r2);
   const float sin_alpha = std::clamp((p.n.x * dx + p.n.y * dy - p.n.z * dd) / r, 0.0f, 1.0f);
-  weighted = (1.0f - r * inv_radius) * sin_alpha;
+  weighted = attenuate ? (1.0f - r * inv_radius) * sin_alpha : sin_alpha;
   return true;
 }
 
@@ -116,6 +118,7 @@ bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexe
 float march_direction(const Frame& f, const PyramidHbaoSettings& s, const HbaoReceiver& p,
                       const PyramidHbaoDirection& dir) {
   const float radius2 = s.radius * s.radius, inv_radius = 1.0f / s.radius;
+  const bool attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
   // The view-space azimuth θ as an image direction (image y points down, view y up) and
   // the projected radius along it, at P's depth: R spans R·|e|/d pixels.
   const float ex = dir.cos_theta * f.cam.fx, ey = -dir.sin_theta * f.cam.fy;
@@ -145,7 +148,7 @@ float march_direction(const Frame& f, const PyramidHbaoSettings& s, const HbaoRe
       // Eq. 8: keep the occluder with the largest weighted contribution, instead of HBAO's
       // highest horizon.
       float weighted;
-      if (texel_contribution(f, p, level(tx, ty), l, radius2, inv_radius, weighted))
+      if (texel_contribution(f, p, level(tx, ty), l, radius2, inv_radius, attenuate, weighted))
         best = std::max(best, weighted);
     }
   }

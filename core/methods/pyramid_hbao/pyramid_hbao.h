@@ -2,7 +2,8 @@
 // Horizon-based Ambient Occlusion Method", GraphiCon 2021 (CEUR-WS Vol-3027, paper 5).
 //
 // A = 1 − (1/D) Σ_θ max_i W(r_i)·sin α_i          (eq. 8 per direction, averaged: §3.4 step 3)
-// W(r) = max(0, 1 − r/R) (eq. 7); α_i is the elevation of sample S_i above P's tangent
+// W(r) = max(0, 1 − r/R) (eq. 7; `attenuation = none`: W = 1 within R, the Cycles
+// reference's hard cut-off); α_i is the elevation of sample S_i above P's tangent
 // plane, sin α_i = n·(S_i − P)/|S_i − P| (the normal-oriented hemisphere of §2.2.1, eq. 2–5).
 // Per direction, S reads on each level of a depth pyramid
 // (core/methods/pyramid_hbao/depth_pyramid.h, §3.3), the step multiplied by K from one level to the
@@ -49,6 +50,12 @@ constexpr float kPyramidHbaoDepthUlps = 8.0f;
 constexpr float kPyramidHbaoLevelUlps = 2.0f;
 constexpr float kPyramidHbaoNormalUlps = 4.0f;
 
+/// W(r) of eq. 7, as HBAO's HbaoAttenuation.
+enum class PyramidHbaoAttenuation : int {
+  Linear = 0,  ///< W = max(0, 1 − r/R) (eq. 7, the paper's)
+  None = 1,    ///< W = 1 within R: eq. 8 becomes max_i sin α_i, as in Cycles' AO pass
+};
+
 struct PyramidHbaoSettings {
   /// R: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
   float radius = 1.0f;
@@ -65,6 +72,10 @@ struct PyramidHbaoSettings {
   /// K: reduction factor of the pyramid, and the factor of the step from one level to the
   /// next (§3.3: "K was chosen to be 3"). [2, 16].
   int reduction = kDepthPyramidDefaultReduction;
+  /// PyramidHbaoAttenuation: W(r) in eq. 8. 0 linear (eq. 7, the paper's), 1 none (W = 1
+  /// within R, the reference's hard cut-off: the highest sample above the tangent plane
+  /// within R wins). [0, 1].
+  int attenuation = int(PyramidHbaoAttenuation::Linear);
   /// Rotate the D directions per pixel by an angle from a 32×32 blue-noise texture (§3.5,
   /// first paragraph); off: no rotation.
   bool rotation = true;
@@ -94,6 +105,10 @@ inline const SettingField<PyramidHbaoSettings> kPyramidHbaoFields[] = {
      "L, pyramid levels marched including the depth buffer; 0 = as many as the radius needs"},
     {"reduction", &PyramidHbaoSettings::reduction, 2, 16, "",
      "K, pyramid reduction factor and step growth per level"},
+    {"attenuation", &PyramidHbaoSettings::attenuation, 0, 1, "",
+     "W(r) in eq. 8: linear, the paper's max(0, 1 - r/R) (eq. 7); none, W = 1 within R as in "
+     "the reference",
+     "linear|none"},
     {"rotation", &PyramidHbaoSettings::rotation, 0, 1, "",
      "rotate the directions per pixel by a 32x32 blue-noise angle"},
     {"random_directions", &PyramidHbaoSettings::random_directions, 0, 1, "",

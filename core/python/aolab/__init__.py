@@ -18,7 +18,7 @@ from . import _core
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
-    "analytic_scene", "analytic_scene_names", "vao_pp_with_stats",
+    "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets",
 ]
 
 GBuffer = _core.GBuffer
@@ -39,8 +39,8 @@ def method_info(method: str) -> dict:
 
 
 def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
-            blur: bool = False, blur_sigma: float = 1.5, blur_taps: int = 5,
-            progress: Progress | None = None, **settings) -> np.ndarray:
+            preset: str | None = None, blur: bool | None = None, blur_sigma: float = 1.5,
+            blur_taps: int = 5, progress: Progress | None = None, **settings) -> np.ndarray:
     """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1] — or (H, W, 3)
     where the method documents an RGB result (``vao_pp`` with ``color_bleeding=True``).
 
@@ -50,8 +50,18 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     Gaussian of :func:`gaussian_blur` afterwards; it is kept apart from the method so that it
     can be timed apart (1-channel results only). ``threads = 0`` uses all cores; results do
     not depend on it.
+
+    ``preset`` names one of ``presets(method)`` ("default", "low", ..., "tuned-100ms"): its
+    settings and blur switch, each overridden by an explicit ``settings`` entry or ``blur``;
+    an unknown name is a ValueError listing the method's presets.
     """
-    values = dict(settings)
+    if preset is not None:
+        values = presets.settings_of(method, preset)
+        preset_blur = bool(values.pop("blur", False))
+        values.update(settings)
+        blur = preset_blur if blur is None else blur
+    else:
+        values = dict(settings)
     values["radius"] = radius
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress)
     if blur:
@@ -148,3 +158,8 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
                  "ao_distance": params.get("radius", 1.0), "normal_space": "view",
                  "scene": f"analytic:{name}", "params": params}
     return g
+
+
+# The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
+# presets.py).
+from . import presets  # noqa: E402

@@ -6,6 +6,8 @@
     aolab bench [options]                 time a method (median of repeated runs)
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
     aolab compare [SCENE...] [options]    score every method against the references: report
+    aolab presets [METHOD...]             the named presets of each method and their settings
+    aolab tune [options]                  search each method's settings for the Pareto front
 
 INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
 """
@@ -88,9 +90,8 @@ def cmd_analytic(args) -> int:
 def cmd_run(args) -> int:
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
     settings = _key_values(args.set, args.method)
-    kwargs = dict(radius=radius, threads=args.threads, **settings)
-    if args.blur:
-        kwargs.update(blur=True, blur_sigma=args.blur_sigma, blur_taps=args.blur_taps)
+    kwargs = dict(radius=radius, threads=args.threads, preset=args.preset, blur=args.blur,
+                  blur_sigma=args.blur_sigma, blur_taps=args.blur_taps, **settings)
     t0 = time.perf_counter()
     ao = aolab.compute(args.method, g, **kwargs)
     elapsed = time.perf_counter() - t0
@@ -99,8 +100,8 @@ def cmd_run(args) -> int:
     aolab.write_image(out.with_suffix(".exr"), ao)
     aolab.write_image(out.with_suffix(".png"), ao)
     result = {"method": args.method, "input": args.input, "width": g.width, "height": g.height,
-              "radius": radius, "settings": settings, "threads": args.threads,
-              "seconds": elapsed, "output": str(out.with_suffix(".exr"))}
+              "radius": radius, "preset": args.preset, "settings": settings,
+              "threads": args.threads, "seconds": elapsed, "output": str(out.with_suffix(".exr"))}
     print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
           f"-> {out.with_suffix('.exr')}, {out.with_suffix('.png')}")
     mask = metrics_mask(g)
@@ -147,6 +148,26 @@ def cmd_reference(args) -> int:
         return 2
 
 
+def cmd_presets(args) -> int:
+    every = {m: aolab.presets(m) for m in args.methods or aolab.methods()}
+    if args.json:
+        print(json.dumps(every, indent=2))
+        return 0
+
+    def shown(v):   # floats at the single precision the methods keep
+        return f"{v:.7g}" if isinstance(v, float) else str(v)
+    for method, named in every.items():
+        print(f"{method}:")
+        for name, values in named.items():
+            print(f"  {name:<14} " + ", ".join(f"{k}={shown(v)}" for k, v in values.items()))
+    return 0
+
+
+def cmd_tune(args) -> int:
+    from . import tune
+    return tune.main(args)
+
+
 def cmd_compare(args) -> int:
     from . import compare
     return compare.main(args)
@@ -166,7 +187,8 @@ def add_compare_parser(sub) -> None:
                    help="reference_scenes/<name> folders or names (default: every scene with a "
                    "reference.exr)")
     c.add_argument("--methods", nargs="+", metavar="METHOD",
-                   help="methods to run (default: all of aolab.methods())")
+                   help="methods to run (default: every method of aolab.methods() except "
+                   "the oracles, such as screen_space_limit, which run only when named)")
     c.add_argument("--sweep", choices=("quick", "presets", "full"), default="quick")
     c.add_argument("--out", default="out/compare", help="output folder (default out/compare)")
     c.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
@@ -218,7 +240,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("input", help="G-buffer .exr (with sidecar) or analytic:NAME")
     input_options(r)
     r.add_argument("--out", help="output path without extension (default METHOD_ao)")
-    r.add_argument("--blur", action="store_true", help="apply the separable Gaussian blur")
+    r.add_argument("--preset", help="a named preset of the method (`aolab presets METHOD`: "
+                   "default, low, medium, high, ultra, tuned-...); --set and --blur/--no-blur "
+                   "override it")
+    r.add_argument("--blur", action=argparse.BooleanOptionalAction, default=None,
+                   help="apply the separable Gaussian blur (default: the preset's, else off)")
     r.add_argument("--blur-sigma", type=float, default=1.5)
     r.add_argument("--blur-taps", type=int, default=5)
     r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
@@ -261,6 +287,14 @@ def build_parser() -> argparse.ArgumentParser:
     f.set_defaults(func=cmd_reference)
 
     add_compare_parser(sub)
+
+    q = sub.add_parser("presets", help="the named presets of each method and their settings")
+    q.add_argument("methods", nargs="*", metavar="METHOD", help="methods (default: all)")
+    q.add_argument("--json", action="store_true", help="print them as JSON")
+    q.set_defaults(func=cmd_presets)
+
+    from .tune import add_tune_parser
+    add_tune_parser(sub).set_defaults(func=cmd_tune)
     return p
 
 

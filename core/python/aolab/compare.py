@@ -241,7 +241,9 @@ class Scene:
     notes: list = field(default_factory=list)
 
 
-def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
+def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
+    """(G-buffer, reference AO, R, the crop fitted to the frame or None) of a scene folder,
+    cropped to a centred ``crop`` if given."""
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     reference = np.asarray(g.reference, np.float32)
@@ -256,6 +258,11 @@ def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
         reference = crop.apply(reference)
         cropped.reference = reference
         g = cropped
+    return g, reference, radius, crop
+
+
+def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
+    g, reference, radius, crop = load_cropped(folder, crop)
     masks = region_masks(g, reference, radius)
     peers, notes = load_peers(folder, reference.shape, crop)
     return Scene(folder.name, folder, g, reference, radius, masks, peers, notes)
@@ -633,7 +640,10 @@ class Study:
         self._t0 = time.perf_counter()
         scenes_dir = opts.scenes_dir or find_scenes_dir()
         folders = resolve_scenes(opts.scenes, scenes_dir)
-        methods = opts.methods if opts.methods else aolab.methods()
+        # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
+        # when named.
+        methods = opts.methods if opts.methods else [
+            m for m in aolab.methods() if not aolab.method_info(m).get("oracle", False)]
         known = aolab.methods()
         for m in methods:
             if m not in known:

@@ -21,12 +21,22 @@ Adding a method takes a few lines::
              source="Author et al. year, Table 2")
 
 A method from ``aolab.methods()`` with no entry runs once, at its defaults ("default").
+
+The named presets of ``aolab.presets(method)`` (this module answers the call) are "default"
+(the method's own defaults), these presets, and the tuned ones that ``aolab tune`` writes to
+tuned_presets.json ("tuned-100ms": the best configuration found within 100 ms a frame;
+docs/tuning.md); ``aolab.compute(..., preset=NAME)`` applies one.
 """
 
 from __future__ import annotations
 
 import itertools
+import json
+import os
+import sys
+import types
 from dataclasses import dataclass, field
+from pathlib import Path
 
 #: Preset names, cheapest first. ``--sweep quick`` runs the first three.
 PRESET_ORDER = ("low", "medium", "high", "ultra")
@@ -111,9 +121,12 @@ def preset_names(method: str) -> list[str]:
 
 def preset_values(method: str, name: str) -> tuple[dict, bool]:
     """(the method's settings, shared blur on/off) of preset ``name`` as the study runs it:
-    the method's builtin blur switch off where the shared blur replaces it. ({}, False) for
-    DEFAULT_PRESET, an unknown name or a method without presets: its own defaults."""
+    the method's builtin blur switch off where the shared blur replaces it; a tuned preset as
+    tuned. ({}, False) for DEFAULT_PRESET, an unknown name or a method without presets: its
+    own defaults."""
     e = entry(method)
+    if name in tuned_presets(method):
+        return _split(method, tuned_presets(method)[name])
     if e is None or name not in e.presets:
         return {}, False
     values, blur = _split(method, e.presets[name])
@@ -176,6 +189,96 @@ def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
 
 
 # ---------------------------------------------------------------------------------------
+# Named presets: the method's defaults, the study's presets and the tuned ones
+
+
+#: Names of the tuned presets: TUNED_PREFIX + the time budget, e.g. "tuned-100ms".
+TUNED_PREFIX = "tuned-"
+#: The committed tuned presets (written by ``aolab tune``, docs/tuning.md), copied beside this
+#: module by the build; $AOLAB_TUNED_PRESETS names another file.
+TUNED_FILE = "tuned_presets.json"
+_tuned_cache: dict = {}
+
+
+def tuned_file() -> Path:
+    """The JSON file the tuned presets are read from."""
+    return Path(os.environ.get("AOLAB_TUNED_PRESETS") or Path(__file__).with_name(TUNED_FILE))
+
+
+def tuned_presets(method: str) -> dict:
+    """The tuned presets of ``method`` from :func:`tuned_file`, cheapest budget first
+    (name -> settings, "blur" included); {} when the file or the method's entry is absent."""
+    path = tuned_file()
+    try:
+        stamp = path.stat().st_mtime_ns
+    except OSError:
+        return {}
+    if _tuned_cache.get("key") != (str(path), stamp):
+        try:
+            data = json.loads(path.read_text())
+        except (OSError, ValueError) as e:
+            raise ValueError(f"tuned presets {path}: unreadable ({e})") from None
+        _tuned_cache.update(key=(str(path), stamp), data=data)
+    entry_ = _tuned_cache["data"].get("methods", {}).get(method, {})
+    found = entry_.get("presets", {})
+    return {n: dict(found[n]) for n in sorted(found, key=budget_of)}
+
+
+def budget_of(name: str) -> float:
+    """The time budget in ms of a tuned preset's name: "tuned-100ms" -> 100."""
+    return float(name[len(TUNED_PREFIX):].removesuffix("ms"))
+
+
+def names(method: str) -> list[str]:
+    """Every named preset of ``method``: DEFAULT_PRESET (the method's own defaults), the
+    study's presets cheapest first, then the tuned ones cheapest first."""
+    return [DEFAULT_PRESET] + preset_names(method) + list(tuned_presets(method))
+
+
+def named(method: str) -> dict:
+    """Every named preset of ``method`` as name -> settings, each with its "blur" switch:
+    DEFAULT_PRESET = every setting's default (``aolab.method_info``, R excepted); the study's
+    presets as the study runs them (a builtin blur switch off where the shared blur replaces
+    it); the tuned presets as ``aolab tune`` chose them."""
+    from .settings import described
+    out = {DEFAULT_PRESET: {s["name"]: s["default"] for s in described(method)}}
+    out[DEFAULT_PRESET]["blur"] = False
+    for name in preset_names(method):
+        values, blur = preset_values(method, name)
+        out[name] = {**values, "blur": blur}
+    out.update(tuned_presets(method))
+    return out
+
+
+def presets_of(method: str) -> dict:
+    """``aolab.presets(method)``: :func:`named`, after checking that ``method`` exists."""
+    import aolab
+    if method not in aolab.methods():
+        raise ValueError(f"method {method!r} is not one of {aolab.methods()}")
+    return named(method)
+
+
+def settings_of(method: str, name: str) -> dict:
+    """The settings of preset ``name`` ("blur" included); a ValueError naming the method's
+    presets for an unknown name."""
+    every = presets_of(method)
+    if name not in every:
+        raise ValueError(f"preset {name!r} of {method} is not one of {list(every)}")
+    return dict(every[name])
+
+
+class _CallableModule(types.ModuleType):
+    """This module is also the function ``aolab.presets(method)`` (the package attribute and
+    the submodule share the name, so the submodule answers the call)."""
+
+    def __call__(self, method: str) -> dict:
+        return presets_of(method)
+
+
+sys.modules[__name__].__class__ = _CallableModule
+
+
+# ---------------------------------------------------------------------------------------
 # HBAO — Bavoil, Sainz, Dimitrov 2008. The talk's Figure 1 uses N_d = 8 directions and
 # N_s = 8 steps (docs/methods/hbao.md, Settings); it has no table of quality levels, so low,
 # high and ultra halve and double both counts (our choice). Its per-pixel random rotation and
@@ -217,9 +320,11 @@ register(
 
 
 def _lsao_directions(point: dict) -> dict:
-    """LSAO's K must be 8 x template size (§5.2 aligned directions)."""
+    """LSAO's K must be 8 x template size (§5.2 aligned directions); template size 0 (uniform
+    directions) leaves K free."""
     point = dict(point)
-    point["directions"] = 8 * point["template_size"]
+    if point["template_size"] > 0:
+        point["directions"] = 8 * point["template_size"]
     return point
 
 
@@ -306,4 +411,24 @@ register(
     sweep={"samples": [2, 4, 8, 16, 32], "adaptive_sampling": [False, True],
            "culling": ["off", "careful"], "range_check": [False, True]},
     source="Bokšanský et al. 2017, Table 1 (2–32 samples; adaptive sampling, culling)",
+)
+
+# GTAO — Jimenez et al. 2016. The memo spreads one slice per pixel and frame over a 4x4
+# spatial and a 6-frame temporal filter and gives no quality table; XeGTAO, the reference
+# implementation, names four levels: slices 1/2/3/9 with 2/2/3/3 steps per side (its
+# QualityLevel, default "High"), which are the presets. Its own denoiser stands in for the
+# memo's filters; here the shared Gaussian does (timed apart). The full sweep adds denser
+# slices and steps, XeGTAO's tuned falloff (0.615 of R) against the memo's hard cut, and the
+# blur on and off.
+register(
+    "gtao",
+    presets={
+        "low": {"slices": 1, "steps": 2, "blur": True},
+        "medium": {"slices": 2, "steps": 2, "blur": True},
+        "high": {"slices": 3, "steps": 3, "blur": True},
+        "ultra": {"slices": 9, "steps": 3, "blur": True},
+    },
+    sweep={"slices": [1, 2, 3, 9, 16], "steps": [2, 3, 8], "falloff": [0.0, 0.615],
+           "blur": [False, True]},
+    source="XeGTAO quality levels (slices 1/2/3/9, steps 2/2/3/3); sweep ours",
 )

@@ -121,6 +121,11 @@ def border_pixels(height: int, width: int) -> np.ndarray:
     return m
 
 
+def occluded_pixels(valid: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """The ``occluded`` region: pixels of ``valid`` whose reference is below OCCLUDED_BELOW."""
+    return valid & (np.nan_to_num(reference, nan=1.0) < OCCLUDED_BELOW)
+
+
 def region_masks(g, reference: np.ndarray, radius: float) -> dict[str, np.ndarray]:
     """The boolean masks of :data:`REGIONS` for a G-buffer, its reference AO and R."""
     valid = scored_mask(g, reference)
@@ -133,7 +138,7 @@ def region_masks(g, reference: np.ndarray, radius: float) -> dict[str, np.ndarra
     depth = np.asarray(g.depth)
     masks = {
         "all": valid,
-        "occluded": valid & (np.nan_to_num(reference, nan=1.0) < OCCLUDED_BELOW),
+        "occluded": occluded_pixels(valid, reference),
         "depth_edges": valid & dilate(depth_edge_pixels(depth, g.valid_mask()), EDGE_DILATION),
         "grazing": valid & (np.nan_to_num(ndotv, nan=1.0) < GRAZING_BELOW),
         "creases": valid & crease_pixels(positions, normals, g.valid_mask(), radius),

@@ -60,6 +60,7 @@ py::dict describe(const Method& m) {
   out["paper"] = m.paper;
   out["needs_normal"] = m.needs_normal;
   out["needs_color"] = m.needs_color;
+  out["oracle"] = m.oracle;
   out["settings"] = settings;
   return out;
 }
@@ -125,15 +126,18 @@ void bind_methods(py::module_& m) {
   m.def(
       "vao_pp_with_stats",
       [](const PyGBuffer& g, const py::dict& settings, int threads, Progress* progress) {
-        const SettingValues values = to_setting_values(settings, find_method("vao_pp").settings);
+        SettingValues values = to_setting_values(settings, find_method("vao_pp").settings);
         if (!values.count("radius")) throw_invalid("radius", "is required", "nothing");
-        const VaoPpSettings s = settings_from_values(values, kVaoPpFields, "vao_pp");
+        const float power = take_power(values);  // as compute() does: after the method
+        const VaoPpSettings s =
+            settings_from_values(values, kVaoPpFields, "vao_pp", registry_setting_names());
         RunOptions options{threads, progress};
         VaoPpStats stats;
         Image ao;
         {
           py::gil_scoped_release release;
           ao = vao_pp(g.view, s, options, &stats);
+          apply_power(ao, power);
         }
         py::dict d;
         d["pixels"] = stats.pixels;

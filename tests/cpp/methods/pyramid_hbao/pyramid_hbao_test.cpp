@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <iostream>
 #include <numbers>
 #include <vector>
 
@@ -33,13 +34,15 @@ PyramidHbaoSettings no_randomness(PyramidHbaoSettings s = {}) {
   return s;
 }
 
-// Eq. 8's term for a sample at view-space position S seen from P with normal n (eq. 7 W).
+// Eq. 8's term for a sample at view-space position S seen from P with normal n (eq. 7 W;
+// with `attenuate` false W = 1 up to and including r = R, attenuation = none).
 double weighted_contribution(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& s,
-                             double radius) {
+                             double radius, bool attenuate = true) {
   const glm::dvec3 d = s - p;
   const double r = glm::length(d);
-  if (r >= radius) return 0.0;
-  return std::max(0.0, 1.0 - r / radius) * std::max(0.0, glm::dot(n, d) / r);
+  if (attenuate ? r >= radius : r > radius) return 0.0;
+  const double w = attenuate ? std::max(0.0, 1.0 - r / radius) : 1.0;
+  return w * std::max(0.0, glm::dot(n, d) / r);
 }
 
 glm::dvec3 view_point(const CameraIntrinsics& c, double px, double py, double depth) {
@@ -86,6 +89,27 @@ TEST_F(PyramidHbaoStep, LevelZeroSamplesGiveEquationEight) {
   EXPECT_EQ(ao(kEdge + 2, kRow), 1.0f);  // the slab top sees nothing above it
 }
 
+// attenuation = none (W = 1 within R, the reference's cut-off): eq. 8 keeps the highest
+// sample above the tangent plane within R, which outweighs every attenuated one.
+TEST_F(PyramidHbaoStep, WithoutAttenuationEquationEightTakesTheHighestSample) {
+  s.levels = 1;
+  s.samples = 64;
+  s.attenuation = int(PyramidHbaoAttenuation::None);
+  const int x = 250;
+  const glm::dvec3 p = position(x, kRow), n = normal(x, kRow);
+  const double reach = s.radius * f.g.camera.fx / f.scene.depth(x, kRow);
+  double best = 0, best_linear = 0;
+  for (int t = 1; t <= s.samples && t <= reach; ++t) {
+    best = std::max(best, weighted_contribution(p, n, position(x + t, kRow), s.radius, false));
+    best_linear =
+        std::max(best_linear, weighted_contribution(p, n, position(x + t, kRow), s.radius));
+  }
+  ASSERT_GT(best, best_linear + 0.05);
+  const Image ao = pyramid_hbao(f.g, s);
+  EXPECT_NEAR(ao(x, kRow), 1.0 - best / 4, 1e-5);
+  EXPECT_EQ(ao(kEdge + 2, kRow), 1.0f);
+}
+
 // Level 1 (K = 3): after S = 4 one-pixel reads, the step triples and the reads come from
 // the pyramid — each position restored at the texel's centroid and averaged depth (§3.4
 // step 2a). Texel 85 of row 10 averages floor column 255 with slab columns 256–257: a point
@@ -127,6 +151,25 @@ TEST(PyramidHbao, OcclusionGrowsWithRadiusAndStaysInRange) {
     }
     EXPECT_LT(mean(ao), previous) << "radius " << radius;
     previous = mean(ao);
+  }
+}
+
+// attenuation = none against the closed form of Cycles' AO beside a crease
+// (cycles_ao_beside_wall): W = 1 is the reference's weight, so the MAE drops; per pixel it
+// can only darken (every term of eq. 8 gains weight, and the Gaussian has positive weights).
+TEST(PyramidHbao, NoAttenuationIsCloserToCyclesBesideACrease) {
+  for (const char* scene : {"wall", "crease"}) {
+    SceneFixture f(scene, 160, 90);
+    PyramidHbaoSettings linear, none;
+    none.attenuation = int(PyramidHbaoAttenuation::None);
+    const Image a = pyramid_hbao(f.g, linear), b = pyramid_hbao(f.g, none);
+    for (std::size_t i = 0; i < a.pixels().size(); ++i)
+      ASSERT_LE(b.pixels()[i], a.pixels()[i] + 1e-6f) << scene << " pixel " << i;
+    const double e_linear = testing::mae_against_reference(a, f);
+    const double e_none = testing::mae_against_reference(b, f);
+    std::cout << "[attenuation] " << scene << " MAE linear " << e_linear << ", none " << e_none
+              << "\n";
+    EXPECT_LT(e_none, e_linear) << scene;
   }
 }
 

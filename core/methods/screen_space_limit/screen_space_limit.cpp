@@ -1,0 +1,226 @@
+#include "core/methods/screen_space_limit/screen_space_limit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "core/base/parallel.h"
+#include "core/sampling/random.h"
+
+namespace aolab {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Frame {
+  const float* depth;    // background replaced by NaN: such pixels never occlude
+  const float* normals;  // prepared, 3 per pixel
+  int width, height;
+  CameraIntrinsics cam;
+};
+
+glm::dvec3 normal_at(const Frame& f, std::size_t idx) {
+  return {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]};
+}
+
+// Shirley & Chiu's concentric map of [0, 1)² onto the unit disk (JGT 1997): equal areas to
+// equal areas with little distortion, so the square's strata stay compact on the disk.
+glm::dvec2 concentric_disk(double u1, double u2) {
+  const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
+  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
+  constexpr double quarter = std::numbers::pi / 4.0;
+  double r, phi;
+  if (std::abs(a) > std::abs(b))
+    r = a, phi = quarter * (b / a);
+  else
+    r = b, phi = 2.0 * quarter - quarter * (a / b);
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+// A tangent frame (t, b) for the unit normal n: Duff et al., "Building an Orthonormal Basis,
+// Revisited" (JCGT 2017), listing 3; no branch on a threshold, so no seam.
+void tangent_frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double c = n.x * n.y * a;
+  t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+// The pixel q's surface is its tangent plane n_q · X = c_q (through its view-space point,
+// depth at its centre, with its prepared normal), over its footprint. A point X lies behind
+// it by f = n_q·X − c_q < 0 (normals face the camera). Its depth gap behind the surface,
+// measured along X's own view ray, is g = r·(−f)/(−n_q·X) with r = X's depth (the plane
+// meets that view ray at depth r·c_q/(n_q·X)).
+struct Surface {
+  glm::dvec3 n;
+  double c;
+  double p_len;  // |P_q|, the scale of c's rounding
+};
+
+// Whether the ray X(λ) = P + λω, over λ ∈ [l0, l1] (its stretch inside q's footprint), passes
+// behind q's surface by less than T somewhere. f is linear in λ; the gap g is monotone or
+// concave over the stretch (r and −f are linear and −f/(−c − f) is concave increasing in
+// −f), so its smallest value on the part behind the surface is at that part's ends: l0, l1,
+// or where f crosses 0 (gap 0).
+bool blocked_in_pixel(const Surface& s, const glm::dvec3& p, const glm::dvec3& w, double l0,
+                      double l1, double thickness, bool unbounded) {
+  const double a = glm::dot(s.n, p) - s.c, b = glm::dot(s.n, w);
+  const double f0 = a + b * l0, f1 = a + b * l1;
+  if (f0 >= 0.0 && f1 >= 0.0) return false;  // in front all along: the common case, cheaply
+  const glm::dvec3 x0 = p + l0 * w, x1 = p + l1 * w;
+  const double tol0 = kScreenSpaceLimitPlaneTolerance * (glm::length(x0) + s.p_len);
+  const double tol1 = kScreenSpaceLimitPlaneTolerance * (glm::length(x1) + s.p_len);
+  const bool behind0 = f0 < -tol0, behind1 = f1 < -tol1;
+  if (!behind0 && !behind1) return false;
+  if (unbounded || behind0 != behind1) return true;  // crossing: the gap starts at 0 < T
+  const auto gap = [&](const glm::dvec3& x, double f) {
+    const double nx = glm::dot(s.n, x);
+    return nx < 0.0 ? -x.z * (-f) / (-nx) : kInf;
+  };
+  return std::min(gap(x0, f0), gap(x1, f1)) < thickness;
+}
+
+// Marches the ray from the receiver P (pixel (px, py), depth d) along the unit direction ω up
+// to view-space length R, over every pixel its projection crosses: a 2-D
+// Amanatides–Woo traversal of the projected segment, clipped to the image. Screen-space
+// parameter t ∈ [0, 1] maps to λ by perspective: 1/depth is linear in t, so
+// λ = L·t·r_A / ((1 − t)·r_B + t·r_A). The receiver's own pixel is skipped: its surface is P's
+// tangent plane, which no ray of the hemisphere goes behind. A ray that leaves the image
+// ends there, unoccluded (nothing is known beyond the border).
+bool ray_blocked(const Frame& f, const ScreenSpaceLimitSettings& s, int px, int py, double d,
+                 const glm::dvec3& p, const glm::dvec3& w, bool unbounded) {
+  double length = s.radius;
+  // Towards the camera the depth falls as −ω.z per unit length; stop short of the camera plane.
+  if (w.z > 0.0) length = std::min(length, d * (1.0 - kScreenSpaceLimitNearCut) / w.z);
+  const glm::dvec3 end = p + length * w;
+  const double r_a = d, r_b = -end.z;
+  const CameraIntrinsics& cam = f.cam;
+  const double ax = px + 0.5, ay = py + 0.5;
+  const double bx = cam.cx + double(cam.fx) * end.x / r_b;
+  const double by = cam.cy - double(cam.fy) * end.y / r_b;
+  const double dx = bx - ax, dy = by - ay;
+  if (!std::isfinite(dx) || !std::isfinite(dy)) return false;
+
+  // Liang–Barsky: the part of the segment inside [0, W] × [0, H]; it starts inside.
+  double t_end = 1.0;
+  if (dx > 0.0) t_end = std::min(t_end, (f.width - ax) / dx);
+  if (dx < 0.0) t_end = std::min(t_end, -ax / dx);
+  if (dy > 0.0) t_end = std::min(t_end, (f.height - ay) / dy);
+  if (dy < 0.0) t_end = std::min(t_end, -ay / dy);
+
+  const int step_x = dx > 0.0 ? 1 : -1, step_y = dy > 0.0 ? 1 : -1;
+  const double delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : kInf;
+  const double delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : kInf;
+  // The pixel centre is half a pixel from either edge.
+  double next_x = 0.5 * delta_x, next_y = 0.5 * delta_y;
+  int ix = px, iy = py;
+  double t_in = 0.0;
+  const auto lambda = [&](double t) { return length * t * r_a / ((1.0 - t) * r_b + t * r_a); };
+  // Each step enters a new pixel, and a straight segment crosses at most W + H of them.
+  for (int guard = f.width + f.height + 2; guard > 0; --guard) {
+    const double t_out = std::min({next_x, next_y, t_end});
+    if (ix != px || iy != py) {
+      const std::size_t idx = std::size_t(iy) * f.width + ix;
+      const float dq = f.depth[idx];
+      if (dq == dq) {  // background never occludes
+        const glm::dvec3 pq = glm::dvec3(cam.view_position(float(ix) + 0.5f, float(iy) + 0.5f, dq));
+        const glm::dvec3 nq = normal_at(f, idx);
+        const Surface surface{nq, glm::dot(nq, pq), glm::length(pq)};
+        if (blocked_in_pixel(surface, p, w, lambda(t_in), lambda(t_out), s.thickness, unbounded))
+          return true;
+      }
+    }
+    if (t_out >= t_end) break;
+    if (next_x < next_y)
+      ix += step_x, t_in = next_x, next_x += delta_x;
+    else
+      iy += step_y, t_in = next_y, next_y += delta_y;
+    if (ix < 0 || ix >= f.width || iy < 0 || iy >= f.height) break;
+  }
+  return false;
+}
+
+float screen_space_limit_pixel(const Frame& f, const ScreenSpaceLimitSettings& s, int x, int y,
+                               bool unbounded) {
+  const std::size_t idx = std::size_t(y) * f.width + x;
+  const float depth = f.depth[idx];
+  if (!(depth == depth)) return 1.0f;  // background
+  const double d = depth;
+  const glm::dvec3 p(f.cam.view_position(float(x) + 0.5f, float(y) + 0.5f, depth));
+  const glm::dvec3 n = normal_at(f, idx);
+  glm::dvec3 t, b;
+  tangent_frame(n, t, b);
+  // ⌊√N⌋ columns of the unit square; column c holds n_c rows, so that the N strata tile the
+  // square for any N. A ray's weight is its stratum's area 1/(columns · n_c); the weights sum
+  // to 1, and summing only the blocked ones keeps an unoccluded pixel exactly 1.
+  const int columns = std::max(1, int(std::sqrt(double(s.rays))));
+  const auto seed = std::uint32_t(s.seed);
+  double blocked = 0.0;
+  std::uint32_t k = 0;
+  for (int c = 0; c < columns; ++c) {
+    const int rows =
+        int(std::int64_t(c + 1) * s.rays / columns - std::int64_t(c) * s.rays / columns);
+    const double weight = 1.0 / (double(columns) * rows);
+    for (int r = 0; r < rows; ++r, ++k) {
+      const double u1 = (c + double(pixel_random(seed, x, y, 2 * k))) / columns;
+      const double u2 = (r + double(pixel_random(seed, x, y, 2 * k + 1))) / rows;
+      // Malley's method: a uniform point of the disk lifted to the hemisphere is
+      // cosine-distributed about n.
+      const glm::dvec2 q = concentric_disk(u1, u2);
+      const double up = std::sqrt(std::max(0.0, 1.0 - q.x * q.x - q.y * q.y));
+      const glm::dvec3 w = glm::normalize(q.x * t + q.y * b + up * n);
+      if (ray_blocked(f, s, x, y, d, p, w, unbounded)) blocked += weight;
+    }
+  }
+  return float(std::clamp(1.0 - blocked, 0.0, 1.0));
+}
+
+}  // namespace
+
+Image screen_space_limit(const GBuffer& g, const ScreenSpaceLimitSettings& s,
+                         const RunOptions& options) {
+  g.validate();
+  require_normal(g, "screen_space_limit");
+  validate_settings(s, kScreenSpaceLimitFields);
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Image normals = prepared_normals(g, threads);
+  const Frame frame{depth.data(), normals.data(), w, h, g.camera};
+  const bool unbounded = s.thickness >= kScreenSpaceLimitUnbounded;
+
+  Image out(w, h, 1, 1.0f);
+  if (options.progress) options.progress->total += h;
+  parallel_for_rows(
+      h, threads,
+      [&](int y0, int y1) {
+        // Zero thickness: no solid behind any surface, nothing occludes.
+        if (s.thickness == 0.0f) return;
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w; ++x)
+            out(x, y) = screen_space_limit_pixel(frame, s, x, y, unbounded);
+      },
+      options.progress);
+  return out;
+}
+
+Method screen_space_limit_method() {
+  Method m = registered_method(
+      "screen_space_limit", "Screen-space limit (oracle)",
+      "the reference's definition (Cycles' AO pass) evaluated on the depth buffer; an oracle, "
+      "not a published method",
+      kScreenSpaceLimitFields, screen_space_limit);
+  m.needs_normal = true;
+  m.oracle = true;
+  return m;
+}
+
+}  // namespace aolab

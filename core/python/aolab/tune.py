@@ -1,0 +1,874 @@
+"""``aolab tune``: each method's settings searched for the Pareto front of occluded-region MAE
+against time, with Optuna's multi-objective samplers; tuned presets per time budget, chosen
+and scored leave-one-scene-out (docs/tuning.md).
+
+    aolab tune [--methods M ...] [--trials N] [--scenes S ...] [--out DIR] [--seed N]
+               [--timeout S] [--sampler tpe|nsga2] [--crop WxH] [--presets-file PATH]
+
+One trial = one configuration of one method (its searched settings and the shared blur), run
+on every scene at the scene's R, timed as ``aolab compare`` times (``--warmup`` untimed run,
+median of ``--repeat``; the blur timed apart and added) and scored by its MAE on the occluded
+region (reference AO < 0.9, aolab.regions). Its two objectives are the means over the scenes
+of that MAE and of that time. Trials are stored in SQLite (DIR/tune.db, one Optuna study per
+method): Ctrl-C keeps every finished trial and the same command resumes.
+
+For each budget B of BUDGETS_MS, the preset ``tuned-<B>ms`` is the trial with the lowest mean
+MAE among those whose mean time is within B, over all scenes. Its honest score is
+leave-one-scene-out: for each scene, the trial chosen the same way on the other scenes only,
+scored on the held-out scene (:func:`leave_one_scene_out`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shlex
+import signal
+import statistics
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+import aolab
+
+from . import presets as presets_mod
+from .settings import described
+
+#: The time budgets of the tuned presets, ms per frame (method + blur) at the scenes' size.
+BUDGETS_MS = (50, 100, 200, 500)
+#: The SQLite file of the studies in --out, and each method's study name.
+DB_NAME = "tune.db"
+STUDY_PREFIX = "aolab-tune-"
+#: The committed tuned presets, relative to the checkout (presets.TUNED_FILE).
+PACKAGE_PRESETS = Path("core/python/aolab") / presets_mod.TUNED_FILE
+
+
+# ----------------------------------------------------------------------------------------
+# The search space
+
+
+@dataclass(frozen=True)
+class Param:
+    """One searched setting: an int or float range (log-uniform where it spans decades) or a
+    set of values; ``when`` (settings -> bool) makes it conditional on settings searched
+    before it (it is then absent, at its default, when false); ``why`` explains the bound."""
+    name: str
+    kind: str                         # "int", "float" or "set"
+    low: float = 0.0
+    high: float = 0.0
+    log: bool = False
+    step: int = 1
+    choices: tuple = ()
+    when: Callable | None = None
+    why: str = ""
+
+
+def _int(low, high, why, log=False, step=1, when=None):
+    return Param("", "int", low, high, log, step, (), when, why)
+
+
+def _float(low, high, why, log=False, when=None):
+    return Param("", "float", low, high, log, 1, (), when, why)
+
+
+def _set(choices, why, when=None):
+    return Param("", "set", choices=tuple(choices), when=when, why=why)
+
+
+#: Settings never searched, for every method, and why.
+NOT_SEARCHED = {
+    "radius": "the scene's R (the reference's AO distance), not a quality choice",
+    "seed": "kept at its default: every trial draws the same per-pixel randomness",
+}
+
+#: Settings of one method not searched (kept at the value given, None = its default), and why.
+#: A method's builtin switch for the shared Gaussian (presets.py builtin_blur) is added by
+#: search_space: it is off, and the shared blur is searched as `blur`, timed apart.
+FIXED = {
+    "vao_pp": {
+        "color_bleeding": (None, "an RGB result, which cannot be scored against grey AO"),
+        "bleeding_sample_step": (None, "applies to colour bleeding only"),
+        "luminance_sensitivity": (None, "an artistic effect (AO suppressed on bright "
+                                  "surfaces) that the reference's AO does not have"),
+        "luminance_threshold": (None, "applies with luminance_sensitivity only"),
+        "luminance_width": (None, "applies with luminance_sensitivity only"),
+        "luminance_sigma": (None, "applies with luminance_sensitivity only"),
+        "luminance_mode": (None, "applies with luminance_sensitivity only"),
+    },
+    "gtao": {
+        "multi_bounce": (None, "models interreflections, which Cycles' AO pass has not"),
+        "albedo": (None, "applies with multi_bounce only"),
+    },
+}
+
+
+def _on(name):
+    return lambda v: bool(v[name])
+
+
+#: Bounds of the searched settings, per method ("*": every method that has the setting).
+#: The settings' own ranges (aolab.method_info) are far wider (up to 1e30, or 512 steps):
+#: each bound below keeps the search where a configuration can fit the largest budget,
+#: 500 ms at 1280x720 on 2 cores, or where the setting still changes the result. A setting
+#: that is in no table is searched over its own range when that range is small (bools,
+#: choices, ints spanning at most 64 values, floats spanning at most 1), else kept at its
+#: default (search_space says so).
+BOUNDS = {
+    "*": {
+        "power": _float(0.25, 4.0, "AO^p after the method: 1/4 to 4 covers the exponents of "
+                        "shipping SSAO (1 to 4) and their inverses; log scale", log=True),
+    },
+    "hbao": {
+        "directions": _int(2, 32, "N_d: 32 (the ultra preset) already costs ~6 s with 32 "
+                           "steps, far past 500 ms; log scale", log=True),
+        "steps": _int(2, 32, "N_s: the same span as N_d; log scale", log=True),
+    },
+    "pyramid_hbao": {
+        "directions": _int(2, 32, "D: the paper's 8; 16 (ultra) costs ~1.4 s; log scale",
+                           log=True),
+        "samples": _int(1, 16, "S per level: presets 2-8 (Table 1 lost); log scale", log=True),
+        "levels": _int(0, 8, "L: 0 = from R (the paper); 8 levels of K >= 2 cover 256x "
+                       "the pixel, beyond any R on screen"),
+        "reduction": _int(2, 6, "K: the paper's 3, the sweep's 2-4; above 6 a level skips "
+                          "most of the depth buffer"),
+    },
+    "lsao": {
+        "template_size": _int(0, 4, "n: 0 = uniform directions; 4 = K 32, the ultra preset "
+                              "(~0.3 s); K = 8n is set from it (presets.py's constraint)"),
+        "directions": _int(4, 32, "K of uniform directions (template size 0 only): the span "
+                           "of the aligned sets; log scale", log=True,
+                           when=lambda v: v["template_size"] == 0),
+        "step": _float(1.0, 4.0, "D_S of uniform directions in px (template size 0 only): "
+                       "the paper's 2.43 inside; log scale", log=True,
+                       when=lambda v: v["template_size"] == 0),
+        "template_stride": _int(1, 3, "m (aligned sets only): the paper uses 1 and 2",
+                                when=lambda v: v["template_size"] > 0),
+        "line_spacing": _float(1.0, 4.0, "D_L in px: the paper's 1.64-2.46 inside; wider "
+                               "lines miss thin geometry; log scale", log=True),
+        "tangent_sin": _float(-1.0, 0.0, "sin t of the fixed tangent, its whole range",
+                              when=lambda v: v["tangent_strategy"] != "real"),
+        "gather_depth_tolerance": _float(0.01, 1.0, "relative: 0.1 the default, 1 = any "
+                                         "depth counts; log scale", log=True),
+        "hull_search": _int(0, 32, "stack entries: 16 removes the thin-geometry misses for "
+                            "~1.8x the time (docs/methods/lsao.md); 32 is twice that"),
+    },
+    "chebyshev": {
+        "kernel_radius": _int(1, 64, "fixed window half-width px (fixed mode only); log "
+                              "scale", log=True, when=lambda v: v["kernel_mode"] == "fixed"),
+        "max_kernel_radius": _int(4, 256, "adaptive cap px (adaptive mode only): presets "
+                                  "16-128; log scale", log=True,
+                                  when=lambda v: v["kernel_mode"] == "adaptive"),
+        "variance_bias": _float(1e-6, 1e-1, "b: the default 1e-4 two decades inside either "
+                                "way; log scale", log=True),
+    },
+    "gtao": {
+        "slices": _int(1, 16, "XeGTAO's quality levels use 1-9, the sweep 16; log scale",
+                       log=True),
+        "steps": _int(1, 16, "per side of a slice: XeGTAO 2-3, the sweep 8; log scale",
+                      log=True),
+    },
+    "vao": {
+        "samples": _int(2, 64, "n: VAO++ Table 1 measures 2-32, 64 is the method's most; "
+                        "log scale", log=True),
+    },
+    "vao_pp": {
+        "samples": _set((2, 4, 8, 16, 32), "a power of two from 2 to 32, as the method "
+                        "requires"),
+        "adaptive_min_diameter": _float(1e-3, 0.1, "image heights (adaptive sampling only): "
+                                        "the default 0.01 a decade inside; log scale",
+                                        log=True, when=_on("adaptive_sampling")),
+        "cull_threshold": _float(0.9, 1.0, "(culling on only) the default 0.998; below 0.9 "
+                                 "most occluded pixels are culled",
+                                 when=lambda v: v["culling"] != "off"),
+        "filter_taps": _int(1, 15, "odd, as the method requires (filter on only); 15 taps "
+                            "span +-7 px, past 2 sigma of the largest useful sigma", step=2,
+                            when=_on("filter")),
+        "filter_sigma": _float(0.5, 16.0, "px (filter on only): the default 4 inside; log "
+                               "scale", log=True, when=_on("filter")),
+    },
+}
+
+#: A bound for a setting in no table: ints spanning at most this many values.
+SMALL_INT_SPAN = 64
+#: The shared blur, searched for every method: presets.BLUR_SIGMA / BLUR_TAPS, timed apart.
+BLUR_PARAM = "blur"
+
+
+@dataclass
+class Space:
+    """The search space of one method: searched params (parents first), the settings kept
+    fixed (name -> value), the constraint rules of presets.py, and why each setting is
+    searched as it is or not searched."""
+    method: str
+    params: list
+    fixed: dict
+    rules: tuple
+    notes: dict
+    defaults: dict
+    builtin_blur: str | None = None
+
+
+def _generic(s: dict) -> Param | None:
+    if s["type"] == "bool":
+        return _set((False, True), "false or true")
+    if s["type"] == "choice":
+        return _set(s["choices"], "every choice")
+    lo, hi = s.get("min"), s.get("max")
+    if s["type"] == "int" and lo is not None and hi is not None and hi - lo <= SMALL_INT_SPAN:
+        return _int(int(lo), int(hi), "the setting's own range")
+    if s["type"] == "float" and lo is not None and hi is not None and hi - lo <= 1:
+        return _float(float(lo), float(hi), "the setting's own range")
+    return None
+
+
+def search_space(method: str) -> Space:
+    """The search space of ``method`` from its description and the tables above."""
+    entry = presets_mod.entry(method)
+    fixed_table = dict(FIXED.get(method, {}))
+    if entry is not None and entry.builtin_blur:
+        fixed_table[entry.builtin_blur] = (False, "the method's own Gaussian is the shared "
+                                           "blur, searched as `blur` and timed apart")
+    bounds = {**BOUNDS["*"], **BOUNDS.get(method, {})}
+    params, fixed, notes, defaults = [], {}, {}, {}
+    for s in described(method, shared=True):
+        name = s["name"]
+        defaults[name] = s["default"]
+        if name in NOT_SEARCHED:
+            notes[name] = "not searched: " + NOT_SEARCHED[name]
+        elif name in fixed_table:
+            value, why = fixed_table[name]
+            if value is not None:
+                fixed[name] = value
+            notes[name] = f"not searched ({'default' if value is None else value}): {why}"
+        else:
+            p = bounds.get(name) or _generic(s)
+            if p is None:
+                notes[name] = (f"not searched (default): its range [{s['min']:g}, "
+                               f"{s['max']:g}] has no bound in aolab.tune.BOUNDS")
+                continue
+            params.append(Param(name, p.kind, p.low, p.high, p.log, p.step, p.choices,
+                                p.when, p.why))
+            notes[name] = _describe(params[-1])
+    params.append(Param(BLUR_PARAM, "set", choices=(False, True),
+                        why=f"the shared Gaussian (sigma {presets_mod.BLUR_SIGMA}, "
+                        f"{presets_mod.BLUR_TAPS} taps), timed apart and added"))
+    notes[BLUR_PARAM] = _describe(params[-1])
+    params.sort(key=lambda p: p.when is not None)   # parents before conditional settings
+    rules = entry.constraints if entry is not None else ()
+    return Space(method, params, fixed, rules, notes, defaults,
+                 entry.builtin_blur if entry is not None else None)
+
+
+def _describe(p: Param) -> str:
+    if p.kind == "set":
+        values = ", ".join(str(c) for c in p.choices)
+        text = f"one of {values}"
+    else:
+        text = f"{p.kind} [{p.low:g}, {p.high:g}]" + (" log" if p.log else "") + \
+            (f" step {p.step}" if p.step != 1 else "")
+    return text + (" (conditional)" if p.when is not None else "") + f": {p.why}"
+
+
+def suggest(trial, space: Space) -> tuple[dict, bool]:
+    """The settings and blur switch of a trial: each active param suggested, the fixed ones
+    set, presets.py's constraint rules applied (a rule refusing the point: ValueError)."""
+    values = dict(space.defaults)
+    chosen = {}
+    for p in space.params:
+        if p.when is not None and not p.when(values):
+            continue
+        if p.kind == "int":
+            v = trial.suggest_int(p.name, int(p.low), int(p.high), step=p.step, log=p.log)
+        elif p.kind == "float":
+            v = trial.suggest_float(p.name, p.low, p.high, log=p.log)
+        else:
+            v = trial.suggest_categorical(p.name, list(p.choices))
+        values[p.name] = chosen[p.name] = v
+    blur = bool(chosen.pop(BLUR_PARAM))
+    chosen.update(space.fixed)
+    # presets.py's rules read whole points: give them every setting (defaults for those not
+    # chosen) and keep what was chosen and what a rule changed.
+    full = {**space.defaults, **chosen}
+    for rule in space.rules:
+        full = rule(full)
+        if full is None:
+            raise ValueError(f"{space.method}: the point is refused by {rule.__name__}")
+    return {k: v for k, v in full.items() if k in chosen or v != space.defaults[k]}, blur
+
+
+def preset_params(space: Space, values: dict) -> dict | None:
+    """A named preset (settings + "blur") as the trial params that reproduce it, or None when
+    one of its values lies outside the bounds (it is then not enqueued)."""
+    values = dict(values)
+    if space.builtin_blur and values.get(space.builtin_blur, space.defaults.get(
+            space.builtin_blur)):
+        values[BLUR_PARAM] = True           # the builtin Gaussian is the shared blur
+    full = {**space.defaults, **values}
+    params = {}
+    for p in space.params:
+        if p.when is not None and not p.when(full):
+            continue
+        v = full.get(p.name, False)
+        if p.kind == "set":
+            if v not in p.choices:
+                return None
+        elif not (p.low <= v <= p.high) or (p.kind == "int" and (v - p.low) % p.step):
+            return None
+        params[p.name] = v
+    return params
+
+
+# ----------------------------------------------------------------------------------------
+# Evaluating one configuration
+
+
+@dataclass
+class TuneScene:
+    name: str
+    g: object
+    radius: float
+    reference: np.ndarray
+    occluded: np.ndarray
+    valid: np.ndarray
+
+
+def load_scenes(folders: list[Path], crop) -> list[TuneScene]:
+    """The scenes as ``aolab compare`` loads them (compare.load_cropped), with the scored
+    pixels and the occluded region of aolab.regions."""
+    from .compare import load_cropped
+    from .regions import occluded_pixels
+    from .scoring import scored_mask
+    out = []
+    for folder in folders:
+        g, reference, radius, _ = load_cropped(folder, crop)
+        valid = scored_mask(g, reference)
+        out.append(TuneScene(folder.name, g, radius, reference,
+                             occluded_pixels(valid, reference), valid))
+    return out
+
+
+@dataclass
+class Timing:
+    warmup: int = 1
+    repeat: int = 3
+    threads: int = 0
+    max_ms: float = 2000.0
+
+
+def _time(fn, timing: Timing, single: bool):
+    """(first output, times in ms, single): the first run is the warm-up (or the first timed
+    run without one); over ``max_ms`` it is the only run."""
+    t0 = time.perf_counter()
+    out = fn()
+    first = (time.perf_counter() - t0) * 1000.0
+    if single or first > timing.max_ms:
+        return out, [first], True
+    times = [] if timing.warmup >= 1 else [first]
+    for i in range(max(0, timing.warmup - 1) + timing.repeat - len(times)):
+        t0 = time.perf_counter()
+        fn()
+        if i >= max(0, timing.warmup - 1):
+            times.append((time.perf_counter() - t0) * 1000.0)
+    return out, times, False
+
+
+def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
+             timing: Timing, on_scene=None) -> dict:
+    """Per scene: the median method and blur times, their sum ``ms``, and the MAE on the
+    occluded region (``mae``), on all scored pixels and the occluded bias. A configuration
+    whose first run exceeds ``timing.max_ms`` is timed by that single run (it is past every
+    budget), on every scene."""
+    out, single = {}, False
+    for sc in scenes:
+        if on_scene is not None:
+            on_scene(sc.name)
+
+        def run(sc=sc):
+            return aolab.compute(method, sc.g, radius=sc.radius, threads=timing.threads,
+                                 **settings)
+        ao, times, single = _time(run, timing, single)
+        ao = np.asarray(ao)
+        if ao.ndim != 2:
+            raise ValueError(f"{method} returned an image of shape {ao.shape}, not grey AO")
+        row = {"method_ms": statistics.median(times), "blur_ms": 0.0}
+        if blur:
+            ao, btimes, _ = _time(lambda: aolab.gaussian_blur(
+                ao, sc.g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
+                threads=timing.threads), timing, single)
+            row["blur_ms"] = statistics.median(btimes)
+        row["ms"] = row["method_ms"] + row["blur_ms"]
+        d = ao.astype(np.float64) - sc.reference
+        occ = d[sc.occluded]
+        row["mae"] = float(np.mean(np.abs(occ))) if occ.size else math.nan
+        row["bias"] = float(np.mean(occ)) if occ.size else math.nan
+        row["all_mae"] = float(np.mean(np.abs(d[sc.valid])))
+        row["runs"] = len(times)
+        out[sc.name] = row
+    return out
+
+
+# ----------------------------------------------------------------------------------------
+# Choosing within a budget, leave-one-scene-out
+
+
+def _mean(trial: dict, scenes: list[str], key: str) -> float:
+    return float(np.mean([trial["scenes"][s][key] for s in scenes]))
+
+
+def choose(table: list[dict], scenes: list[str], budget_ms: float) -> dict | None:
+    """The trial of ``table`` (dicts with "number" and "scenes": scene -> {"ms", "mae"}) with
+    the lowest mean MAE over ``scenes`` among those whose mean time over them is within
+    ``budget_ms``: the Pareto-optimal configuration at that budget (ties: the faster, then
+    the earlier trial). None when no trial fits."""
+    best, best_key = None, None
+    for t in table:
+        if not all(s in t["scenes"] for s in scenes):
+            continue
+        ms, mae = _mean(t, scenes, "ms"), _mean(t, scenes, "mae")
+        if ms > budget_ms or not math.isfinite(mae):
+            continue
+        key = (mae, ms, t["number"])
+        if best_key is None or key < best_key:
+            best, best_key = t, key
+    return best
+
+
+def leave_one_scene_out(table: list[dict], scenes: list[str], budget_ms: float) -> dict:
+    """For each scene: the trial chosen on the other scenes only (:func:`choose`) and its
+    score on the held-out scene — {"trial", "mae", "ms", "within_budget", "train_mae",
+    "train_ms"}, or None when nothing fits the budget on the other scenes (or there are
+    none)."""
+    out = {}
+    for held in scenes:
+        train = [s for s in scenes if s != held]
+        pick = choose(table, train, budget_ms) if train else None
+        if pick is None:
+            out[held] = None
+            continue
+        got = pick["scenes"][held]
+        out[held] = {"trial": pick["number"], "mae": got["mae"], "ms": got["ms"],
+                     "within_budget": got["ms"] <= budget_ms,
+                     "train_mae": _mean(pick, train, "mae"),
+                     "train_ms": _mean(pick, train, "ms")}
+    return out
+
+
+def select(table: list[dict], scenes: list[str], budgets=BUDGETS_MS) -> dict:
+    """Per budget the tuned preset: name -> {"settings" (with "blur"), "trial", "mean_ms",
+    "mean_mae" (over all scenes: how it was chosen), "held_out" (per scene, LOSO) and
+    "held_out_mean_mae" (mean over the scenes whose fold found a trial)}. A budget no trial
+    meets on the mean over all scenes is absent."""
+    out = {}
+    for b in budgets:
+        pick = choose(table, scenes, b)
+        if pick is None:
+            continue
+        held = leave_one_scene_out(table, scenes, b)
+        got = [h["mae"] for h in held.values() if h is not None]
+        out[f"{presets_mod.TUNED_PREFIX}{b:g}ms"] = {
+            "settings": dict(pick["settings"]), "trial": pick["number"],
+            "mean_ms": _mean(pick, scenes, "ms"), "mean_mae": _mean(pick, scenes, "mae"),
+            "held_out": held,
+            "held_out_mean_mae": float(np.mean(got)) if got else None,
+            "held_out_folds": len(got)}
+    return out
+
+
+# ----------------------------------------------------------------------------------------
+# The studies
+
+
+@dataclass
+class Options:
+    methods: list[str] | None = None
+    trials: int = 100
+    scenes: list[str] = field(default_factory=list)
+    out: Path = Path("out/tune")
+    seed: int = 0
+    timeout: float | None = None
+    sampler: str = "tpe"
+    crop: object = None
+    scenes_dir: Path | None = None
+    presets_file: Path | None = None
+    timing: Timing = field(default_factory=Timing)
+    progress: bool = True
+
+
+def default_methods() -> list[str]:
+    """Every method but the oracles (method_info's "oracle": True)."""
+    return [m for m in aolab.methods() if not aolab.method_info(m).get("oracle", False)]
+
+
+def _sampler(name: str, seed: int):
+    import optuna
+    if name == "nsga2":
+        return optuna.samplers.NSGAIISampler(seed=seed)
+    return optuna.samplers.TPESampler(seed=seed)
+
+
+def _protocol(opts: Options, scenes: list[TuneScene]) -> dict:
+    """What makes two trials comparable: a study keeps to one protocol."""
+    return {"scenes": [s.name for s in scenes],
+            "size": [[int(s.g.width), int(s.g.height)] for s in scenes],
+            "warmup": opts.timing.warmup, "repeat": opts.timing.repeat,
+            "threads": opts.timing.threads, "max_ms": opts.timing.max_ms}
+
+
+def open_study(opts: Options, method: str, scenes: list[TuneScene]):
+    """The method's study in opts.out/tune.db, created or loaded (its protocol must match);
+    trials left RUNNING by a killed run are marked FAIL."""
+    import optuna
+    opts.out.mkdir(parents=True, exist_ok=True)
+    storage = optuna.storages.RDBStorage(f"sqlite:///{(opts.out / DB_NAME).resolve()}")
+    study = optuna.create_study(storage=storage, study_name=STUDY_PREFIX + method,
+                                directions=["minimize", "minimize"], load_if_exists=True,
+                                sampler=_sampler(opts.sampler, opts.seed))
+    protocol = _protocol(opts, scenes)
+    known = study.user_attrs.get("protocol")
+    if known is None:
+        study.set_user_attr("protocol", protocol)
+        study.set_user_attr("method", method)
+    elif known != protocol:
+        raise ValueError(f"the study of {method} in {opts.out / DB_NAME} was made with "
+                         f"{json.dumps(known)}, this run asks for {json.dumps(protocol)}; use "
+                         "another --out, or the same scenes, crop and timing options")
+    fail_running(study)
+    # The sampler's seed moves on with the trials done, so that a resumed run does not draw
+    # the same random start again.
+    study.sampler = _sampler(opts.sampler, opts.seed + len(study.trials))
+    return study
+
+
+def counted(study) -> int:
+    """Trials that count towards --trials: complete ones and those the method refused."""
+    from optuna.trial import TrialState
+    return sum(1 for t in study.get_trials(deepcopy=False)
+               if t.state == TrialState.COMPLETE or
+               (t.state == TrialState.FAIL and "error" in t.user_attrs))
+
+
+def enqueue_presets(study, space: Space) -> int:
+    """A new study starts from the method's named presets (those inside the bounds)."""
+    n = 0
+    for name, values in presets_mod.named(space.method).items():
+        params = preset_params(space, values)
+        if params is not None:
+            study.enqueue_trial(params, user_attrs={"preset": name}, skip_if_exists=True)
+            n += 1
+    return n
+
+
+def _key(settings: dict, blur: bool) -> str:
+    return json.dumps({**settings, BLUR_PARAM: blur}, sort_keys=True)
+
+
+def table(study) -> list[dict]:
+    """The complete trials as dicts for :func:`select`."""
+    from optuna.trial import TrialState
+    return [{"number": t.number, "settings": t.user_attrs["settings"],
+             "scenes": t.user_attrs["scenes"]}
+            for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))]
+
+
+def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadline) -> dict:
+    """Trials of ``method`` until the study has opts.trials of them (or the deadline); the
+    selection from every complete trial of the study."""
+    from optuna.trial import TrialState
+    space = search_space(method)
+    study = open_study(opts, method, scenes)
+    if not study.trials:
+        enqueue_presets(study, space)
+    if bar is not None:
+        bar.update(min(counted(study), opts.trials))
+    done = {t.user_attrs["key"]: t for t in
+            study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))}
+    try:
+        _trials(opts, method, scenes, bar, deadline, study, space, done)
+    except BaseException:   # Ctrl-C: the finished trials are kept, none is left running
+        fail_running(study)
+        raise
+    return {"study": study, "space": space, "done": counted(study) >= opts.trials,
+            "selection": select(table(study), [s.name for s in scenes])}
+
+
+def fail_running(study) -> None:
+    """Marks the study's RUNNING trials failed: one process runs a study at a time, so they
+    are an interrupted trial of this run, or of a run that was killed."""
+    from optuna.trial import TrialState
+    for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+        study._storage.set_trial_user_attr(t._trial_id, "interrupted", True)
+        study._storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
+
+
+def _trials(opts, method, scenes, bar, deadline, study, space, done) -> None:
+    """The trial loop of run_method."""
+    from optuna.trial import TrialState
+    while counted(study) < opts.trials:
+        if deadline is not None and time.monotonic() >= deadline:
+            break
+        trial = study.ask()
+        if bar is not None:
+            bar.set_description(f"{method} #{trial.number}")
+        try:
+            settings, blur = suggest(trial, space)
+            key = _key(settings, blur)
+            trial.set_user_attr("settings", {**settings, BLUR_PARAM: blur})
+            trial.set_user_attr("key", key)
+            same = done.get(key)
+            if same is not None:   # the methods are deterministic: reuse, do not recompute
+                trial.set_user_attr("scenes", same.user_attrs["scenes"])
+                trial.set_user_attr("same_as", same.number)
+                study.tell(trial, list(same.values))
+            else:
+                per_scene = evaluate(method, settings, blur, scenes, opts.timing,
+                                     on_scene=None if bar is None else (
+                                         lambda s: bar.set_description(
+                                             f"{method} #{trial.number} {s}")))
+                trial.set_user_attr("scenes", per_scene)
+                values = [float(np.mean([r["mae"] for r in per_scene.values()])),
+                          float(np.mean([r["ms"] for r in per_scene.values()]))]
+                study.tell(trial, values)
+                done[key] = study.get_trials(deepcopy=False)[trial.number]
+        except ValueError as e:     # a configuration the method refuses: failed, not fatal
+            trial.set_user_attr("error", str(e))
+            study.tell(trial, state=TrialState.FAIL)
+        if bar is not None:
+            bar.update(1)
+
+
+# ----------------------------------------------------------------------------------------
+# Output
+
+
+def _shown(path: Path) -> str:
+    """``path`` relative to the current folder when it lies inside it (the presets file is
+    committed: it names no folder of the machine it was made on)."""
+    try:
+        return str(Path(path).resolve().relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)
+
+
+def command_line(opts: Options) -> str:
+    """The command that reproduces this run (its options spelled out)."""
+    parts = ["aolab", "tune", "--methods", *(opts.methods or default_methods()),
+             "--trials", str(opts.trials), "--seed", str(opts.seed),
+             "--sampler", opts.sampler, "--out", _shown(opts.out)]
+    if opts.scenes:
+        parts += ["--scenes", *opts.scenes]
+    if opts.crop is not None:
+        parts += ["--crop", f"{opts.crop.width}x{opts.crop.height}"]
+    if opts.timeout is not None:
+        parts += ["--timeout", f"{opts.timeout:g}"]
+    t = opts.timing
+    if (t.warmup, t.repeat, t.threads, t.max_ms) != (1, 3, 0, 2000.0):
+        parts += ["--warmup", str(t.warmup), "--repeat", str(t.repeat), "--threads",
+                  str(t.threads), "--max-ms", f"{t.max_ms:g}"]
+    return " ".join(shlex.quote(p) for p in parts)
+
+
+def method_entry(opts: Options, result: dict, scenes: list[TuneScene], meta: dict) -> dict:
+    """The tuned-presets JSON entry of one method."""
+    study, space, sel = result["study"], result["space"], result["selection"]
+    from optuna.trial import TrialState
+    states = [t.state for t in study.get_trials(deepcopy=False)]
+    return {
+        **meta,
+        "trials": {"complete": states.count(TrialState.COMPLETE),
+                   "failed": states.count(TrialState.FAIL),
+                   "study": study.study_name, "storage": _shown(opts.out / DB_NAME)},
+        "search_space": space.notes,
+        "presets": {name: s["settings"] for name, s in sel.items()},
+        "selection": {name: {k: v for k, v in s.items() if k != "settings"}
+                      for name, s in sel.items()},
+    }
+
+
+def write_presets(path: Path, entries: dict) -> None:
+    """Merges the methods' entries into the tuned-presets JSON at ``path`` (others kept)."""
+    from .report import atomic_write_text
+    data = {}
+    if path.exists():
+        data = json.loads(path.read_text())
+    data["about"] = ("Tuned presets of `aolab tune` (docs/tuning.md): per method and time "
+                     "budget, the configuration with the lowest mean occluded-region MAE "
+                     "within the budget over all scenes; `selection` gives its leave-one-"
+                     "scene-out scores. Loaded by aolab.presets.")
+    data.setdefault("methods", {}).update(entries)
+    data["methods"] = dict(sorted(data["methods"].items()))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps(data, indent=1, sort_keys=False) + "\n")
+
+
+def summary(method: str, sel: dict, n_trials: int) -> str:
+    lines = [f"{method}: {n_trials} complete trials"]
+    if not sel:
+        lines.append("  no configuration within any budget")
+    for name, s in sel.items():
+        held = s["held_out_mean_mae"]
+        held_text = f"{held:.4f} ({s['held_out_folds']} folds)" if held is not None else "-"
+        text = ", ".join(f"{k}={v}" for k, v in s["settings"].items())
+        lines.append(f"  {name:<13} {s['mean_ms']:7.1f} ms  occluded MAE {s['mean_mae']:.4f}  "
+                     f"held out {held_text}  trial {s['trial']}: {text}")
+    return "\n".join(lines)
+
+
+def _git_date() -> str:
+    return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
+
+
+def default_presets_file(folders: list[Path], scenes_dir: Path | None, opts: Options) -> Path:
+    """The checkout's committed tuned presets for a run on every scene of the checkout at
+    full size; DIR/tuned_presets.json for any other run (a crop, some scenes), so that a
+    quick look never replaces the committed presets."""
+    from .compare import resolve_scenes
+    if scenes_dir is not None and opts.crop is None:
+        checkout = Path(scenes_dir).resolve().parent
+        every = [f.resolve() for f in resolve_scenes([], scenes_dir)]
+        if [f.resolve() for f in folders] == every and \
+                (checkout / PACKAGE_PRESETS).parent.is_dir():
+            return checkout / PACKAGE_PRESETS
+    return opts.out / presets_mod.TUNED_FILE
+
+
+def run(opts: Options) -> dict:
+    """Every method's trials, then its tuned presets written to the presets file."""
+    import warnings
+
+    import optuna
+
+    from .compare import _git_commit, find_scenes_dir, machine_info, resolve_scenes
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
+    known = aolab.methods()
+    methods = opts.methods or default_methods()
+    for m in methods:
+        if m not in known:
+            raise ValueError(f"method {m!r} is not one of {known}")
+    if opts.trials < 1:
+        raise ValueError(f"--trials must be >= 1, got {opts.trials}")
+    scenes_dir = opts.scenes_dir or find_scenes_dir()
+    folders = resolve_scenes(opts.scenes, scenes_dir)
+    presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
+    deadline = None if opts.timeout is None else time.monotonic() + opts.timeout
+    scenes = load_scenes(folders, opts.crop)
+    meta = {"command": command_line(opts), "commit": _git_commit(folders[0]),
+            "date": _git_date(), "machine": machine_info(opts.timing.threads),
+            "scenes": [s.name for s in scenes],
+            "size": sorted({f"{s.g.width}x{s.g.height}" for s in scenes}),
+            "crop": None if opts.crop is None else f"{opts.crop.width}x{opts.crop.height}",
+            "objectives": "mean over the scenes of the occluded-region MAE (reference AO < "
+                          "0.9) and of the time in ms (method + shared blur)",
+            "timing": f"{opts.timing.warmup} warm-up + median of {opts.timing.repeat} runs "
+                      f"per scene; a configuration whose first run exceeds "
+                      f"{opts.timing.max_ms:g} ms is timed by that run alone",
+            "sampler": opts.sampler, "seed": opts.seed, "budgets_ms": list(BUDGETS_MS)}
+    bar = _progress(opts.progress, opts, methods)
+    results = {}
+    try:
+        for m in methods:
+            res = run_method(opts, m, scenes, bar, deadline)
+            results[m] = res
+            entry = method_entry(opts, res, scenes, {**meta, "date": _git_date()})
+            text = summary(m, res["selection"], entry["trials"]["complete"])
+            if res["done"]:
+                write_presets(presets_file, {m: entry})
+            else:   # --timeout: never presets from half a search
+                text += (f"\n  {counted(res['study'])} of {opts.trials} trials (--timeout): "
+                         "presets not written; run the command again to go on")
+            (print if bar is None else bar.write)(text)
+    finally:
+        if bar is not None:
+            bar.close()
+    return {"results": results, "presets_file": presets_file}
+
+
+def _progress(enabled: bool, opts: Options, methods: list[str]):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=opts.trials * len(methods), unit="trial", dynamic_ncols=True,
+                file=sys.stderr)
+
+
+def add_tune_parser(sub):
+    t = sub.add_parser(
+        "tune", help="search each method's settings: tuned presets per time budget",
+        description="Searches every setting of each method (and the shared blur) with "
+        "Optuna's multi-objective sampler for the Pareto front of occluded-region MAE against "
+        "time on the reference scenes, and writes the presets tuned-50ms ... tuned-500ms, "
+        "chosen within each budget on all scenes and scored leave-one-scene-out "
+        "(docs/tuning.md). Trials are kept in DIR/tune.db: Ctrl-C keeps them and the same "
+        "command resumes.")
+    t.add_argument("--methods", nargs="+", metavar="METHOD",
+                   help="methods to tune (default: every method that is not an oracle)")
+    t.add_argument("--trials", type=int, default=100,
+                   help="trials each method's study should have (a rerun adds the missing "
+                   "ones; default 100)")
+    t.add_argument("--scenes", nargs="+", metavar="SCENE",
+                   help="reference_scenes/<name> folders or names (default: every scene)")
+    t.add_argument("--out", default="out/tune", help="folder of tune.db (default out/tune)")
+    t.add_argument("--seed", type=int, default=0, help="the sampler's seed (default 0)")
+    t.add_argument("--timeout", type=float, metavar="S",
+                   help="start no trial after S seconds (all methods together)")
+    t.add_argument("--sampler", choices=("tpe", "nsga2"), default="tpe",
+                   help="Optuna's multi-objective TPE (default) or NSGA-II")
+    t.add_argument("--crop", metavar="WxH", help="tune on a centred crop of every scene "
+                   "(tests, quick looks: times are then not those of the full frame)")
+    t.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
+    t.add_argument("--presets-file", help="the tuned-presets JSON to update (default: the "
+                   "checkout's core/python/aolab/tuned_presets.json for a run on every scene "
+                   "at full size, else DIR/tuned_presets.json)")
+    t.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+    t.add_argument("--warmup", type=int, default=1, help="untimed runs before the timed ones")
+    t.add_argument("--repeat", type=int, default=3, help="timed runs (their median)")
+    t.add_argument("--max-ms", type=float, default=2000.0,
+                   help="a configuration whose first run takes longer is timed by that run "
+                   "alone (default 2000 ms: 4x the largest budget)")
+    t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar (default: when stderr is a terminal)")
+    return t
+
+
+def main(args) -> int:
+    """The ``aolab tune`` command (arguments from cli.py)."""
+    from .compare import parse_crop
+    opts = Options(methods=args.methods, trials=args.trials, scenes=args.scenes or [],
+                   out=Path(args.out), seed=args.seed, timeout=args.timeout,
+                   sampler=args.sampler, crop=parse_crop(args.crop),
+                   scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
+                   presets_file=Path(args.presets_file) if args.presets_file else None,
+                   timing=Timing(args.warmup, args.repeat, args.threads, args.max_ms),
+                   progress=args.progress if args.progress is not None else sys.stderr.isatty())
+    if opts.timing.repeat < 1 or opts.timing.warmup < 0:
+        raise ValueError(f"--repeat must be >= 1 and --warmup >= 0, got {opts.timing.repeat}, "
+                         f"{opts.timing.warmup}")
+    try:
+        import optuna  # noqa: F401
+    except ImportError:
+        raise ValueError("aolab tune needs Optuna: apt-get install python3-optuna") from None
+
+    def terminated(signum, frame):  # `kill` keeps the finished trials like Ctrl-C
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, terminated)
+    t0 = time.perf_counter()
+    try:
+        out = run(opts)
+    except KeyboardInterrupt:
+        print(f"\naolab tune: interrupted. Every finished trial is kept in "
+              f"{opts.out / DB_NAME}; run the same command again to resume.", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    print(f"aolab tune: {len(out['results'])} method(s) in {time.perf_counter() - t0:.0f} s; "
+          f"trials in {opts.out / DB_NAME}; presets in {out['presets_file']}")
+    return 0

@@ -1,0 +1,288 @@
+"""`aolab tune`: the search space, the leave-one-scene-out choice, the SQLite store (resume,
+Ctrl-C) and the tuned presets it writes (docs/tuning.md). Short runs on small crops of two
+committed scenes."""
+from __future__ import annotations
+
+import json
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aolab
+from aolab import cli, compare, presets, tune
+
+optuna = pytest.importorskip("optuna")
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "reference_scenes"
+CROP = "96x54"
+FAST = ["--scenes", "room", "grille", "--scenes-dir", str(SCENES), "--crop", CROP,
+        "--warmup", "0", "--repeat", "1", "--no-progress"]
+
+
+def load(out: Path, method: str):
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    return optuna.load_study(study_name=tune.STUDY_PREFIX + method,
+                             storage=f"sqlite:///{out / tune.DB_NAME}")
+
+
+def complete(study) -> dict:
+    states = (optuna.trial.TrialState.COMPLETE,)
+    return {t.number: t for t in study.get_trials(deepcopy=False, states=states)}
+
+
+# ----------------------------------------------------------------------------------------
+# The search space
+
+
+def test_search_space_covers_every_setting_of_every_method():
+    for method in tune.default_methods():
+        space = tune.search_space(method)
+        names = {p.name for p in space.params}
+        info = {s["name"] for s in aolab.method_info(method)["settings"]}
+        assert set(space.notes) == info | {"blur"}, method    # every setting accounted for
+        assert "radius" not in names and "seed" not in names
+        assert "blur" in names
+        for p in space.params:
+            if p.kind != "set":
+                assert p.low < p.high and p.why, (method, p.name)
+                assert p.high < 1e4, (method, p.name)           # bounded, not 1e30
+                if p.log:
+                    assert p.low > 0
+    lsao = tune.search_space("lsao")
+    assert "directions" in {p.name for p in lsao.params if p.when is not None}
+    assert tune.search_space("pyramid_hbao").fixed == {"gaussian_filter": False}
+    vao_pp = {p.name: p for p in tune.search_space("vao_pp").params}
+    assert vao_pp["samples"].choices == (2, 4, 8, 16, 32)
+    assert "color_bleeding" not in vao_pp and "luminance_sensitivity" not in vao_pp
+
+
+def test_suggestions_respect_the_constraints():
+    """Sampled points of LSAO keep K = 8 x template size (presets.py's rule); every method
+    accepts its sampled points (a few random trials per method, on a tiny scene)."""
+    g = aolab.analytic_scene("blocks", 48, 27)
+    for method in tune.default_methods():
+        space = tune.search_space(method)
+        study = optuna.create_study(directions=["minimize", "minimize"],
+                                    sampler=optuna.samplers.RandomSampler(seed=1))
+        for _ in range(6):
+            trial = study.ask()
+            settings, blur = tune.suggest(trial, space)
+            if method == "lsao" and settings["template_size"] > 0:   # a default is left out
+                k = settings.get("directions", space.defaults["directions"])
+                assert k == 8 * settings["template_size"]
+            aolab.compute(method, g, radius=0.5, blur=blur, **settings)
+            study.tell(trial, [0.0, 0.0])
+
+
+def test_default_methods_leave_out_oracles(monkeypatch):
+    real = aolab.method_info
+    first = aolab.methods()[0]
+    monkeypatch.setattr(aolab, "method_info",
+                        lambda m: {**real(m), "oracle": True} if m == first else real(m))
+    assert first not in tune.default_methods()
+    assert tune.default_methods() == [m for m in aolab.methods()
+                                      if m != first and not real(m).get("oracle", False)]
+
+
+def test_presets_enter_as_trials_inside_the_bounds():
+    space = tune.search_space("pyramid_hbao")
+    # the builtin Gaussian of the defaults is the shared blur of the search
+    assert tune.preset_params(space, presets.named("pyramid_hbao")["default"])["blur"] is True
+    space = tune.search_space("lsao")
+    params = tune.preset_params(space, presets.named("lsao")["low"])
+    assert params["template_size"] == 1 and "directions" not in params
+    assert tune.preset_params(space, {"line_spacing": 60.0}) is None     # out of bounds
+
+
+# ----------------------------------------------------------------------------------------
+# Timing and scoring
+
+
+def test_timing_counts_warmup_and_repeat():
+    calls = []
+    for warmup, repeat, runs, timed in ((1, 3, 4, 3), (0, 1, 1, 1), (0, 3, 3, 3), (2, 2, 4, 2)):
+        calls.clear()
+        _, times, single = tune._time(lambda: calls.append(1), tune.Timing(warmup, repeat),
+                                      False)
+        assert (len(calls), len(times), single) == (runs, timed, False)
+    calls.clear()
+    slow = tune.Timing(1, 3, max_ms=-1.0)      # every run is "over the cap": one run only
+    _, times, single = tune._time(lambda: calls.append(1), slow, False)
+    assert (len(calls), len(times), single) == (1, 1, True)
+
+
+def test_occluded_mae_is_the_studys():
+    crop = compare.parse_crop("160x90")
+    (sc,) = tune.load_scenes([SCENES / "room"], crop)
+    got = tune.evaluate("vao", {"samples": 4}, True, [sc], tune.Timing(0, 1))["room"]
+    full = compare.load_scene(SCENES / "room", crop)
+    ao = aolab.compute("vao", full.g, radius=full.radius, samples=4, blur=True)
+    want = compare.score(ao, full)["regions"]
+    assert got["mae"] == pytest.approx(want["occluded"]["mae"], abs=1e-12)
+    assert got["bias"] == pytest.approx(want["occluded"]["bias"], abs=1e-12)
+    assert got["all_mae"] == pytest.approx(want["all"]["mae"], abs=1e-12)
+    assert got["ms"] == pytest.approx(got["method_ms"] + got["blur_ms"])
+
+
+# ----------------------------------------------------------------------------------------
+# Leave-one-scene-out
+
+
+def _trial(number, ms, mae):
+    return {"number": number, "settings": {"n": number},
+            "scenes": {s: {"ms": ms[i], "mae": mae[i]} for i, s in enumerate("ABC")}}
+
+
+TABLE = [
+    _trial(0, (50, 50, 50), (0.30, 0.30, 0.30)),
+    _trial(1, (90, 90, 90), (0.10, 0.40, 0.40)),
+    _trial(2, (80, 80, 80), (0.35, 0.20, 0.20)),
+    _trial(3, (300, 60, 60), (0.05, 0.05, 0.05)),   # mean 140 ms: over 100 on all scenes
+]
+
+
+def test_choice_within_a_budget_is_the_lowest_mean_error():
+    assert tune.choose(TABLE, list("ABC"), 100)["number"] == 2
+    assert tune.choose(TABLE, list("ABC"), 50)["number"] == 0
+    assert tune.choose(TABLE, list("ABC"), 20) is None
+    assert tune.choose(TABLE, list("ABC"), 1000)["number"] == 3
+    tie = TABLE + [_trial(4, (40, 40, 40), (0.30, 0.30, 0.30))]   # same error, faster
+    assert tune.choose(tie, list("ABC"), 50)["number"] == 4
+
+
+def test_leave_one_scene_out_chooses_on_the_other_scenes_only():
+    held = tune.leave_one_scene_out(TABLE, list("ABC"), 100)
+    # A held out: on B, C trial 3 is best and fast (60 ms); on A it takes 300 ms.
+    assert held["A"] == {"trial": 3, "mae": 0.05, "ms": 300, "within_budget": False,
+                         "train_mae": pytest.approx(0.05), "train_ms": 60}
+    # B held out: on A, C trial 3 averages 180 ms, so trial 1 (0.25) beats 2 (0.275).
+    assert held["B"]["trial"] == 1 and held["B"]["mae"] == 0.40
+    assert held["C"]["trial"] == 1 and held["C"]["mae"] == 0.40
+    sel = tune.select(TABLE, list("ABC"), budgets=(20, 50, 100))
+    assert list(sel) == ["tuned-50ms", "tuned-100ms"]           # 20 ms: nobody fits
+    assert sel["tuned-100ms"]["trial"] == 2 and sel["tuned-100ms"]["settings"] == {"n": 2}
+    assert sel["tuned-100ms"]["mean_mae"] == pytest.approx(0.25)
+    assert sel["tuned-100ms"]["held_out_mean_mae"] == pytest.approx((0.05 + 0.40 + 0.40) / 3)
+    assert sel["tuned-50ms"]["held_out"]["A"]["trial"] == 0
+
+
+# ----------------------------------------------------------------------------------------
+# The command: store, resume, interruption, presets
+
+
+def test_store_resume_and_tuned_presets(tmp_path, monkeypatch, capsys):
+    out, pfile = tmp_path / "tune", tmp_path / "tuned.json"
+    args = ["tune", "--methods", "vao", "--out", str(out), "--presets-file", str(pfile), *FAST]
+    assert cli.main([*args, "--trials", "3"]) == 0
+    assert (out / tune.DB_NAME).exists()
+    first = complete(load(out, "vao"))
+    assert len(first) == 3
+    # The study starts from the presets (default, low, medium: enqueued in that order).
+    assert [first[n].user_attrs.get("preset") for n in sorted(first)] == \
+        ["default", "low", "medium"]
+    assert cli.main([*args, "--trials", "5"]) == 0
+    second = complete(load(out, "vao"))
+    assert len(second) == 5
+    for n, t in first.items():   # kept as they were: nothing recomputed
+        assert second[n].values == t.values
+        assert second[n].datetime_complete == t.datetime_complete
+    assert cli.main([*args, "--trials", "5"]) == 0             # nothing left to do
+    assert len(complete(load(out, "vao"))) == 5
+    # Another protocol (other timing) is refused, not mixed in.
+    assert cli.main([*args[:-5], "--warmup", "1", "--repeat", "1", "--no-progress",
+                     "--trials", "6"]) == 2
+    assert "another --out" in capsys.readouterr().err
+
+    data = json.loads(pfile.read_text())
+    entry = data["methods"]["vao"]
+    assert entry["command"].startswith("aolab tune --methods vao --trials 5")
+    assert entry["commit"] and entry["date"] and entry["crop"] == CROP
+    assert entry["scenes"] == ["room", "grille"] and entry["trials"]["complete"] == 5
+    assert entry["presets"], "a crop this small fits every budget"
+    for name, sel in entry["selection"].items():
+        assert set(sel["held_out"]) == {"room", "grille"}
+        assert sel["held_out_folds"] == 2
+    # The JSON round-trips into aolab.presets and compute(preset=...).
+    monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(pfile))
+    named = aolab.presets("vao")
+    assert [n for n in named if n.startswith("tuned-")] == list(entry["presets"])
+    for name, values in entry["presets"].items():
+        assert named[name] == values
+    name, values = next(iter(entry["presets"].items()))
+    g = aolab.analytic_scene("blocks", 64, 36)
+    np.testing.assert_array_equal(aolab.compute("vao", g, radius=0.5, preset=name),
+                                  aolab.compute("vao", g, radius=0.5, **values))
+
+
+def test_ctrl_c_exits_cleanly_and_keeps_the_finished_trials(tmp_path):
+    out = tmp_path / "tune"
+    cmd = [sys.executable, "-m", "aolab", "tune", "--methods", "lsao", "--trials", "100000",
+           "--out", str(out), "--presets-file", str(tmp_path / "p.json"), *FAST]
+    # A background shell starts children with SIGINT ignored; Ctrl-C needs the default.
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    db = out / tune.DB_NAME
+    deadline = time.monotonic() + 40
+    try:
+        while time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.3)
+            if not db.exists():
+                continue
+            try:
+                with sqlite3.connect(db, timeout=1) as con:
+                    n = con.execute("SELECT count(*) FROM trials WHERE state = 'COMPLETE'"
+                                    ).fetchone()[0]
+            except sqlite3.OperationalError:
+                continue
+            if n >= 3:
+                break
+        assert proc.poll() is None, proc.communicate()
+        proc.send_signal(signal.SIGINT)
+        stdout, stderr = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and str(db) in stderr and "resume" in stderr
+    assert "Traceback" not in stderr
+    study = load(out, "lsao")
+    assert len(complete(study)) >= 3
+    states = {t.state for t in study.get_trials(deepcopy=False)}
+    assert optuna.trial.TrialState.RUNNING not in states
+    assert not (tmp_path / "p.json").exists()        # no presets from an interrupted run
+
+
+def test_command_line_errors_are_clear(tmp_path, capsys):
+    base = ["tune", "--out", str(tmp_path), *FAST]
+    assert cli.main([*base, "--methods", "nope"]) == 2
+    assert "nope" in capsys.readouterr().err
+    assert cli.main([*base, "--methods", "vao", "--trials", "0"]) == 2
+    assert "--trials" in capsys.readouterr().err
+    res = subprocess.run([sys.executable, "-m", "aolab", "tune", "--help"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0 and "--trials" in res.stdout and "--timeout" in res.stdout
+
+
+def test_timeout_keeps_the_study_and_writes_no_presets(tmp_path, capsys):
+    pfile = tmp_path / "p.json"
+    assert cli.main(["tune", "--methods", "vao", "--trials", "3", "--timeout", "0", "--out",
+                     str(tmp_path), "--presets-file", str(pfile), *FAST]) == 0
+    assert "0 of 3 trials (--timeout): presets not written" in capsys.readouterr().out
+    assert (tmp_path / tune.DB_NAME).exists() and not pfile.exists()
+
+
+def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
+    """A run on a crop or on some scenes writes beside its trials, never into the package."""
+    every = compare.resolve_scenes([], SCENES)
+    opts = tune.Options(out=tmp_path)
+    assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
+    assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
+    opts.crop = compare.parse_crop(CROP)
+    assert tune.default_presets_file(every, SCENES, opts) == tmp_path / presets.TUNED_FILE
