@@ -1,6 +1,8 @@
 // The scene every method's benchmark times: `blocks` at 1280x720 (docs/benchmarks.md).
 #pragma once
 
+#include <benchmark/benchmark.h>
+
 #include "core/base/gbuffer.h"
 #include "core/scenes/analytic_scenes.h"
 
@@ -19,6 +21,12 @@ inline GBuffer blocks_gbuffer() {
   g.normal = scene.normal.view();
   g.camera = scene.camera;
   return g;
+}
+
+/// The radius studies' arguments: R scaled by 1, 2, 4 and 8, timed in wall-clock ms.
+inline void radius_scales(benchmark::internal::Benchmark* b) {
+  for (const int scale : {1, 2, 4, 8}) b->Arg(scale);
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
 }  // namespace aolab::bench

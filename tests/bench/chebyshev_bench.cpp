@@ -34,13 +34,7 @@ void BM_ChebyshevRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(chebyshev(g, s, opt));
   state.counters["radius"] = s.radius;
 }
-BENCHMARK(BM_ChebyshevRadius)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_ChebyshevRadius)->Apply(bench::radius_scales);
 
 void BM_ChebyshevFixed(benchmark::State& state) {
   const GBuffer g = bench::blocks_gbuffer();

@@ -49,12 +49,6 @@ void BM_GtaoRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(gtao(g, s, opt));
   state.counters["radius"] = s.radius;
 }
-BENCHMARK(BM_GtaoRadius)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_GtaoRadius)->Apply(bench::radius_scales);
 
 }  // namespace

@@ -49,13 +49,7 @@ void BM_HbaoRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(hbao(g, settings(scale), opt));
   state.counters["radius"] = kRadius * scale;
 }
-BENCHMARK(BM_HbaoRadius)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_HbaoRadius)->Apply(bench::radius_scales);
 
 void BM_HbaoRadiusDensity(benchmark::State& state) {
   const GBuffer g = gbuffer();
@@ -67,13 +61,7 @@ void BM_HbaoRadiusDensity(benchmark::State& state) {
   state.counters["radius"] = kRadius * float(scale);
   state.counters["steps"] = kHbaoDefaultSteps * scale;
 }
-BENCHMARK(BM_HbaoRadiusDensity)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_HbaoRadiusDensity)->Apply(bench::radius_scales);
 
 // Constant sample density in the disc of radius R: N_s and N_d both grow with R, so the
 // samples per pixel grow as R² (at x8: 64 directions x 64 steps).
@@ -88,13 +76,7 @@ void BM_HbaoRadiusArea(benchmark::State& state) {
   state.counters["radius"] = kRadius * float(scale);
   state.counters["samples"] = double(st.directions * st.steps);
 }
-BENCHMARK(BM_HbaoRadiusArea)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_HbaoRadiusArea)->Apply(bench::radius_scales);
 
 }  // namespace
 

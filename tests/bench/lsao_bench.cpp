@@ -42,13 +42,7 @@ void BM_LsaoRadius(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(lsao(g, settings(scale), opt));
   state.counters["radius"] = kRadius * scale;
 }
-BENCHMARK(BM_LsaoRadius)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_LsaoRadius)->Apply(bench::radius_scales);
 
 void BM_LsaoSweep(benchmark::State& state) {
   const GBuffer g = gbuffer();

@@ -34,22 +34,10 @@ void run_radius(benchmark::State& state, bool filter) {
 }
 
 void BM_PyramidHbaoRadius(benchmark::State& state) { run_radius(state, true); }
-BENCHMARK(BM_PyramidHbaoRadius)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_PyramidHbaoRadius)->Apply(bench::radius_scales);
 
 void BM_PyramidHbaoRaw(benchmark::State& state) { run_radius(state, false); }
-BENCHMARK(BM_PyramidHbaoRaw)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_PyramidHbaoRaw)->Apply(bench::radius_scales);
 
 void BM_DepthPyramid(benchmark::State& state) {
   const GBuffer g = gbuffer();
