@@ -55,12 +55,18 @@ float take_power(SettingValues& values) {
   return float(p);
 }
 
-void apply_power(Image& ao, float power) {
+void apply_power(Image& ao, float power, int threads) {
   if (power == 1.0f) return;  // the default: no pow at all, so no bit changes
   // In double: the square of a float is exact there, so power 2 gives exactly the float
-  // product ao·ao (powf may be an ulp off), and other powers round once, to float.
+  // product ao·ao (powf may be an ulp off), and other powers round once, to float. Rows in
+  // parallel: a pow per value is a visible part of a fast method's time at 1280×720.
   const double p = power;
-  for (float& v : ao.pixels()) v = float(std::pow(double(v), p));
+  const std::size_t row = std::size_t(ao.width()) * std::size_t(ao.channels());
+  float* data = ao.data();
+  parallel_for_rows(ao.height(), threads, [&](int y0, int y1) {
+    for (float* v = data + std::size_t(y0) * row; v != data + std::size_t(y1) * row; ++v)
+      *v = float(std::pow(double(*v), p));
+  });
 }
 
 Image compute(const std::string& method, const GBuffer& g, const SettingValues& settings,
@@ -73,7 +79,7 @@ Image compute(const std::string& method, const GBuffer& g, const SettingValues& 
   SettingValues own = settings;
   const float power = take_power(own);
   Image ao = m.run(g, own, options);
-  apply_power(ao, power);
+  apply_power(ao, power, options.threads);
   return ao;
 }
 

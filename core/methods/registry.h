@@ -62,8 +62,8 @@ float take_power(SettingValues& values);
 
 /// AO^power on every value of every channel (background's 1 stays 1), computed in double and
 /// rounded once (power 2 is exactly ao·ao); power 1 leaves `ao` untouched, so the default
-/// changes no bit.
-void apply_power(Image& ao, float power);
+/// changes no bit. Rows run on `threads` threads (0 = all cores); the bits do not depend on it.
+void apply_power(Image& ao, float power, int threads = 0);
 
 /// A registry entry for a method whose settings struct S is described by `fields`, plus the
 /// registry's own settings (registry_setting_names: described here, applied by compute()).

@@ -63,3 +63,16 @@ def test_command_line_sets_power(tmp_path):
     assert results[2]["settings"] == {"power": 2}
     # Squaring darkens: the bias against the exact reference drops.
     assert results[2]["metrics"]["bias"] < results[1]["metrics"]["bias"]
+
+
+def test_power_gives_the_same_bits_for_any_thread_count():
+    """The power step runs over rows in parallel: its bits must not depend on it."""
+    g = aolab.analytic_scene("blocks", 160, 90)
+    one = aolab.compute("hbao", g, radius=0.25, power=2.3, threads=1)
+    plain = aolab.compute("hbao", g, radius=0.25, threads=1)
+    for threads in (2, 3, 7):
+        np.testing.assert_array_equal(
+            aolab.compute("hbao", g, radius=0.25, power=2.3, threads=threads), one)
+    # One rounding from double: the float of (double AO)^p.
+    expected = (plain.astype(np.float64) ** np.float64(np.float32(2.3))).astype(np.float32)
+    np.testing.assert_array_equal(one, expected)

@@ -137,7 +137,7 @@ void bind_methods(py::module_& m) {
         {
           py::gil_scoped_release release;
           ao = vao_pp(g.view, s, options, &stats);
-          apply_power(ao, power);
+          apply_power(ao, power, threads);
         }
         py::dict d;
         d["pixels"] = stats.pixels;
