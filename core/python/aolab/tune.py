@@ -27,6 +27,7 @@ import shlex
 import signal
 import statistics
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -596,6 +597,23 @@ def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadlin
             "selection": select(table(study), [s.name for s in scenes])}
 
 
+# Ctrl-C and `kill` only ask to stop: a KeyboardInterrupt raised inside an Optuna or SQLite
+# call could leave the store half-written, so the trial loop stops at its next safe point
+# (before a trial, between scenes). A second Ctrl-C stops at once.
+_STOP = threading.Event()
+
+
+def _ask_to_stop(signum, frame) -> None:
+    if _STOP.is_set():
+        raise KeyboardInterrupt
+    _STOP.set()
+
+
+def _stop_if_asked() -> None:
+    if _STOP.is_set():
+        raise KeyboardInterrupt
+
+
 def fail_running(study) -> None:
     """Marks the study's RUNNING trials failed: one process runs a study at a time, so they
     are an interrupted trial of this run, or of a run that was killed."""
@@ -608,7 +626,14 @@ def fail_running(study) -> None:
 def _trials(opts, method, scenes, bar, deadline, study, space, done) -> None:
     """The trial loop of run_method."""
     from optuna.trial import TrialState
+
+    def next_scene(name):  # between scenes: a safe point to stop, no storage call in flight
+        _stop_if_asked()
+        if bar is not None:
+            bar.set_description(f"{method} #{trial.number} {name}")
+
     while counted(study) < opts.trials:
+        _stop_if_asked()
         if deadline is not None and time.monotonic() >= deadline:
             break
         trial = study.ask()
@@ -626,9 +651,7 @@ def _trials(opts, method, scenes, bar, deadline, study, space, done) -> None:
                 study.tell(trial, list(same.values))
             else:
                 per_scene = evaluate(method, settings, blur, scenes, opts.timing,
-                                     on_scene=None if bar is None else (
-                                         lambda s: bar.set_description(
-                                             f"{method} #{trial.number} {s}")))
+                                     on_scene=next_scene)
                 trial.set_user_attr("scenes", per_scene)
                 values = [float(np.mean([r["mae"] for r in per_scene.values()])),
                           float(np.mean([r["ms"] for r in per_scene.values()]))]
@@ -856,10 +879,9 @@ def main(args) -> int:
     except ImportError:
         raise ValueError("aolab tune needs Optuna: apt-get install python3-optuna") from None
 
-    def terminated(signum, frame):  # `kill` keeps the finished trials like Ctrl-C
-        raise KeyboardInterrupt
-
-    previous = signal.signal(signal.SIGTERM, terminated)
+    _STOP.clear()
+    # Ctrl-C and `kill` keep the finished trials alike.
+    previous = {sig: signal.signal(sig, _ask_to_stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     t0 = time.perf_counter()
     try:
         out = run(opts)
@@ -868,7 +890,8 @@ def main(args) -> int:
               f"{opts.out / DB_NAME}; run the same command again to resume.", file=sys.stderr)
         return 130
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     print(f"aolab tune: {len(out['results'])} method(s) in {time.perf_counter() - t0:.0f} s; "
           f"trials in {opts.out / DB_NAME}; presets in {out['presets_file']}")
     return 0
