@@ -42,6 +42,13 @@ from .settings import described
 
 #: The time budgets of the tuned presets, ms per frame (method + blur) at the scenes' size.
 BUDGETS_MS = (50, 100, 200, 500)
+# 60 trials per method: the TPE sampler's 10 random start-up trials, the presets, then ~45
+# guided ones. The whole default run (seven methods) then fits about an hour on 2 cores
+# (docs/tuning.md, "How long it takes"); --trials extends a study later without losing any.
+DEFAULT_TRIALS = 60
+# Twice the largest budget: a configuration whose first run is slower than that cannot be
+# within any budget even if the first run was the slow one, so it is timed by that run alone.
+DEFAULT_MAX_MS = 2.0 * BUDGETS_MS[-1]
 #: The SQLite file of the studies in --out, and each method's study name.
 DB_NAME = "tune.db"
 STUDY_PREFIX = "aolab-tune-"
@@ -358,7 +365,7 @@ class Timing:
     warmup: int = 1
     repeat: int = 3
     threads: int = 0
-    max_ms: float = 2000.0
+    max_ms: float = DEFAULT_MAX_MS
 
 
 def _time(fn, timing: Timing, single: bool):
@@ -487,7 +494,7 @@ def select(table: list[dict], scenes: list[str], budgets=BUDGETS_MS) -> dict:
 @dataclass
 class Options:
     methods: list[str] | None = None
-    trials: int = 100
+    trials: int = DEFAULT_TRIALS
     scenes: list[str] = field(default_factory=list)
     out: Path = Path("out/tune")
     seed: int = 0
@@ -833,9 +840,9 @@ def add_tune_parser(sub):
         "command resumes.")
     t.add_argument("--methods", nargs="+", metavar="METHOD",
                    help="methods to tune (default: every method that is not an oracle)")
-    t.add_argument("--trials", type=int, default=100,
+    t.add_argument("--trials", type=int, default=DEFAULT_TRIALS,
                    help="trials each method's study should have (a rerun adds the missing "
-                   "ones; default 100)")
+                   f"ones; default {DEFAULT_TRIALS})")
     t.add_argument("--scenes", nargs="+", metavar="SCENE",
                    help="reference_scenes/<name> folders or names (default: every scene)")
     t.add_argument("--out", default="out/tune", help="folder of tune.db (default out/tune)")
@@ -853,9 +860,9 @@ def add_tune_parser(sub):
     t.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
     t.add_argument("--warmup", type=int, default=1, help="untimed runs before the timed ones")
     t.add_argument("--repeat", type=int, default=3, help="timed runs (their median)")
-    t.add_argument("--max-ms", type=float, default=2000.0,
+    t.add_argument("--max-ms", type=float, default=DEFAULT_MAX_MS,
                    help="a configuration whose first run takes longer is timed by that run "
-                   "alone (default 2000 ms: 4x the largest budget)")
+                   f"alone (default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
     t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
     return t
