@@ -1,22 +1,28 @@
 #!/usr/bin/env bash
 # Re-renders the committed references: every reference_scenes/<name> (or the names given)
-# at its manifest's resolution, R and 1024 spp, into reference_scenes/<name>/reference.{exr,json}.
-# Cached renders are reused; pass --force to render again. ~6 min per small scene on 2 cores.
+# at its manifest's resolution, R and 1024 spp, into reference_scenes/<name>/reference.{exr,json},
+# then its screen-space limits (aolab limits: reference_scenes/<name>/limits/, recomputed only
+# when the reference changed). Cached renders are reused; pass --force to render again.
+# ~6 min per small scene on 2 cores, plus the limits (minutes per scene).
 #   scripts/update_references.sh                 # all scenes
 #   scripts/update_references.sh analytic room   # some
 #   scripts/update_references.sh --peers [names]  # the comparison peers instead: Cycles at
 #       1/4/16/64/256 spp (seed 1) and EEVEE's GTAO under xvfb-run, into <name>/peers/
 #       (~1/3 of a reference's time per scene)
+#   scripts/update_references.sh --limits [names] # only the screen-space limits (--force:
+#       recompute them all, after a change to the screen_space_limit method)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
 force=()
 names=()
 peers=0
+limits=0
 for a in "$@"; do
   case "$a" in
     --force) force=(--force) ;;
     --peers) peers=1 ;;
+    --limits) limits=1 ;;
     *) names+=("$a") ;;
   esac
 done
@@ -24,6 +30,10 @@ if [ ${#names[@]} -eq 0 ]; then
   for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
 fi
 for name in "${names[@]}"; do
+  if [ "$limits" = 1 ]; then
+    /usr/bin/python3 -m aolab limits "$root/reference_scenes/$name" "${force[@]}"
+    continue
+  fi
   if [ "$peers" = 1 ]; then
     /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --peers \
       --out "$root/reference_scenes/$name/peers" "${force[@]}"
@@ -31,4 +41,5 @@ for name in "${names[@]}"; do
   fi
   /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --spp 1024 \
     --out "$root/reference_scenes/$name" "${force[@]}"
+  /usr/bin/python3 -m aolab limits "$root/reference_scenes/$name"
 done

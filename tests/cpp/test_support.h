@@ -67,6 +67,20 @@ inline double mae_against_reference(const Image& ao, const SceneFixture& f) {
   return sum / n;
 }
 
+/// The mean of every pixel of a 1-channel image.
+inline double mean_value(const Image& image) {
+  double sum = 0;
+  for (float v : image.pixels()) sum += v;
+  return sum / double(image.pixels().size());
+}
+
+/// A seed moves a stochastic method's noise, not its expected value: the two runs differ and
+/// their means agree within `tolerance`.
+inline void expect_other_noise_same_mean(const Image& a, const Image& b, double tolerance) {
+  EXPECT_NE(a.pixels(), b.pixels());
+  EXPECT_NEAR(mean_value(a), mean_value(b), tolerance);
+}
+
 /// A fixture owning a fresh temporary folder, removed after the test.
 class TempDirTest : public ::testing::Test {
  protected:

@@ -70,12 +70,37 @@ def write_synthetic_peers(folder: Path, seed: int = 7) -> dict:
     return manifest
 
 
+#: The synthetic limits of write_synthetic_limits: name -> (label, darkening of the reference).
+SYNTHETIC_LIMITS = {"screen_space_limit_t0.25R": ("T = 0.25 R", 0.02),
+                    "screen_space_limit_t_inf": ("T = ∞ (height field)", 0.15)}
+
+
+def write_synthetic_limits(folder: Path) -> dict:
+    """limits/limits.json and its EXRs, as `aolab limits` writes them: the reference darkened
+    by a constant per thickness (the height field over-occludes most), so that the study's
+    choice of the best thickness is known."""
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    ref = np.asarray(g.reference, np.float64)
+    valid = g.valid_mask()
+    out = folder / "limits"
+    out.mkdir()
+    entries = []
+    for name, (label, dark) in SYNTHETIC_LIMITS.items():
+        write_y_exr(out / f"{name}.exr", np.where(valid, np.clip(ref - dark, 0, 1), 1.0))
+        entries.append({"name": name, "kind": "limit", "label": label, "file": f"{name}.exr",
+                        "render_time_s": 90.0, "rays": 256})
+    manifest = {"entries": entries}
+    (out / "limits.json").write_text(json.dumps(manifest, indent=1))
+    return manifest
+
+
 def make_scenes(tmp: Path) -> Path:
-    """tmp/scenes with room (synthetic peers) and grille (no peers)."""
+    """tmp/scenes with room (synthetic peers and limits) and grille (neither)."""
     scenes = tmp / "scenes"
     link_scene(SCENES / "room", scenes / "room")
     link_scene(SCENES / "grille", scenes / "grille")
     write_synthetic_peers(scenes / "room")
+    write_synthetic_limits(scenes / "room")
     return scenes
 
 
@@ -90,6 +115,7 @@ class PlotPoints(HTMLParser):
     def __init__(self):
         super().__init__()
         self.points, self.hlines, self.plots, self.images = [], [], [], []
+        self.bars, self.checks = [], []
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -102,6 +128,10 @@ class PlotPoints(HTMLParser):
             self.plots.append(a)
         if tag == "img":
             self.images.append(a)
+        if "bar" in classes:
+            self.bars.append(a)
+        if tag == "tr" and "data-verdict" in a:
+            self.checks.append(a)
 
 
 def parse_report(path: Path) -> PlotPoints:

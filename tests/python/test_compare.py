@@ -13,7 +13,8 @@ import pytest
 
 import aolab
 from aolab import cli, compare, presets, regions, results_doc
-from compare_support import CROP, LADDER, ROOT, make_scenes, parse_report, read_csv
+from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
+                             read_csv)
 
 
 def run_compare(scenes: Path, out: Path, *extra) -> int:
@@ -104,6 +105,91 @@ def test_peers_are_read_scored_and_shown(study):
     assert "This scene has no peers" in html
 
 
+def test_limits_are_read_the_best_is_chosen_and_methods_are_measured_against_it(study):
+    rows, info = study["rows"], study["json"]["scenes"]
+    room = {r["method"]: r for r in rows if r["scene"] == "room"}
+    for name, (label, _) in SYNTHETIC_LIMITS.items():
+        assert room[name]["kind"] == "limit" and room[name]["label"] == label
+    assert float(room["screen_space_limit_t0.25R"]["occluded_mae"]) < \
+        float(room["screen_space_limit_t_inf"]["occluded_mae"])
+    chosen = info["room"]["limit"]
+    assert chosen["name"] == "screen_space_limit_t0.25R"
+    assert chosen["occluded_mae"] == pytest.approx(
+        float(room["screen_space_limit_t0.25R"]["occluded_mae"]))
+    assert info["room"]["limits"] == list(SYNTHETIC_LIMITS) and "limit" not in info["grille"]
+    # the approximation error: EEVEE's against the chosen limit, recomputed from the files
+    g = aolab.load_gbuffer(ROOT / "reference_scenes" / "room" / "reference.exr")
+    crop = compare.parse_crop(CROP).fit(g.width, g.height)
+    scene = compare.load_scene(study["scenes"] / "room", compare.parse_crop(CROP))
+    occluded = scene.regions["occluded"]
+    eevee = compare.read_y_exr(study["scenes"] / "room" / "peers" / "eevee_gtao.exr")
+    limit = compare.read_y_exr(study["scenes"] / "room" / "limits" /
+                               "screen_space_limit_t0.25R.exr")
+    want = np.mean(np.abs(crop.apply(eevee)[occluded].astype(np.float64) -
+                          crop.apply(limit)[occluded]))
+    assert float(room["eevee_gtao"]["occluded_mae_vs_limit"]) == pytest.approx(want, rel=1e-6)
+    for r in rows:
+        if r["kind"] == "method" and r["all_mae"]:
+            assert (r["occluded_mae_vs_limit"] != "") == (r["scene"] in ("room", "ALL"))
+    # a limit line on the plots of room and ALL, none on grille
+    lines = {(h["data-key"], h["data-metric"]) for h in parse_report(study["out"] /
+                                                                     "report.html").hlines}
+    assert ("room/screen_space_limit_t0.25R/T = 0.25 R", "occluded_mae") in lines
+    assert not any(k.startswith("grille/screen_space_limit") for k, _ in lines)
+
+
+def test_the_error_split_chart_shows_its_rows(study):
+    rows = {r["key"]: r for r in study["rows"]}
+    bars = parse_report(study["out"] / "report.html").bars
+    assert bars
+    shown = {b["data-key"] for b in bars}
+    for method in studied_methods():
+        assert f"ALL/{method}/default" in shown
+    for b in bars:
+        r = rows[b["data-key"]]
+        value = float(b["data-value"])
+        if b["data-part"] == "total":
+            assert value == pytest.approx(float(r["occluded_mae"]))
+        elif b["data-part"] == "approximation":
+            assert value == pytest.approx(float(r["occluded_mae_vs_limit"]))
+        elif b["data-part"] == "definition":
+            assert value == pytest.approx(max(0.0, float(r["occluded_mae"]) -
+                                              float(r["occluded_mae_cal"])))
+        else:   # the mean over the scenes of each scene's chosen limit: room only here
+            assert b["data-part"] == "screen_space"
+            assert value == pytest.approx(study["json"]["scenes"]["room"]["limit"]["occluded_mae"])
+
+
+def test_the_check_against_eevee_states_each_verdict():
+    from aolab import report
+
+    def row(scene, kind, method, occluded):
+        return {"scene": scene, "kind": kind, "method": method, "label": method,
+                "key": f"{scene}/{method}/{method}", "metrics": {"occluded": {"mae": occluded}}}
+
+    def fold(mae, train_mae):
+        return {"trial": 3, "mae": mae, "ms": 80.0, "within_budget": True,
+                "train_mae": train_mae, "train_ms": 80.0}
+
+    rows = []
+    for scene, limit, eevee in (("P", 0.05, 0.10), ("F", 0.05, 0.10), ("L", 0.12, 0.10),
+                                ("U", 0.05, None)):
+        rows.append(row(scene, "limit", "screen_space_limit_t0.25R", limit))
+        rows.append(row(scene, "limit", "screen_space_limit_t_inf", limit + 0.2))
+        if eevee is not None:
+            rows.append(row(scene, "eevee", "eevee_gtao", eevee))
+    held = {"P": fold(0.08, 0.1), "F": fold(0.11, 0.1), "L": fold(0.2, 0.1), "U": fold(0.01, 0.1)}
+    results = {"meta": {"scenes": ["P", "F", "L", "U"]}, "rows": rows,
+               "tuned": {"methods": {"vao": {"selection": {"tuned-100ms": {"held_out": held}}}}}}
+    checks = {c["scene"]: c for c in report.eevee_check(results)}
+    assert {s: c["verdict"] for s, c in checks.items()} == \
+        {"P": "pass", "F": "fail", "L": "limit", "U": "unknown"}
+    assert checks["P"]["limit"] == 0.05 and checks["P"]["limit_label"] == \
+        "screen_space_limit_t0.25R" and checks["P"]["method"] == "vao"
+    assert all(c["verdict"] == "unknown" for c in report.eevee_check({**results, "tuned": None}))
+    assert 'data-verdict="fail"' in report.eevee_table(list(checks.values()))
+
+
 def test_baseline_scores_no_occlusion(study):
     g = aolab.load_gbuffer(ROOT / "reference_scenes" / "grille" / "reference.exr")
     crop = compare.parse_crop(CROP).fit(g.width, g.height)
@@ -141,7 +227,9 @@ def test_settings_and_timings_are_recorded(study):
                 assert r["blur_ms"] > 0
                 assert r["total_ms"] == pytest.approx(r["method_ms"] + r["blur_ms"])
             if r["method"] == "pyramid_hbao":   # the builtin Gaussian is replaced by the timed one
-                assert s["gaussian_filter"] is False and s["blur"] is True
+                assert s["gaussian_filter"] is False
+                # the paper's configurations keep it; a tuned one may go without
+                assert s["blur"] is True or r["label"].startswith(presets.TUNED_PREFIX)
     agg = [r for r in study["json"]["rows"] if r["scene"] == "ALL" and r["kind"] == "method"]
     assert all(r["n_scenes"] == 2 for r in agg)
 
@@ -254,15 +342,46 @@ def test_full_sweep_points_are_accepted_by_the_methods():
             aolab.compute(method, g, radius=0.5, **c.compute_settings())
 
 
-def test_full_sweep_runs_each_computation_once():
+def test_full_sweep_runs_each_computation_once(monkeypatch, tmp_path):
+    """Grid points never repeat each other or a named configuration; the named ones (the
+    defaults, the presets, the tuned presets) keep their names even when two compute the same
+    (lsao's defaults are its medium preset), and the study runs the method once for both."""
+    monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(tmp_path / "none.json"))
     for method in aolab.methods():
         configs = presets.settings_for(method, "full")
-        ids = {presets._identity(method, c.settings, c.blur) for c in configs}
-        assert len(ids) == len(configs), method
+        named = {presets._identity(method, c.settings, c.blur) for c in configs if c.preset}
+        grid = [presets._identity(method, c.settings, c.blur) for c in configs if not c.preset]
+        assert len(set(grid)) == len(grid) and not set(grid) & named, method
+        assert configs[0].label == "default" and configs[0].settings == {}
+        runs = compare._method_runs(method, "full")
+        assert sum(len(group) for _, group in runs) == len(configs)
+        assert len(runs) == len({json.dumps(c.compute_settings(), sort_keys=True)
+                                 for c in configs})
     full = {c.label for c in presets.settings_for("hbao", "full")}
-    assert {"low", "medium", "high", "ultra"} <= full
-    assert "directions=8,steps=8,incremental_attenuation=0,blur=1" not in full   # = medium
-    assert len(full) == 4 * 4 * 2 * 2
+    assert {"default", "low", "medium", "high", "ultra"} <= full
+    medium = "directions=8,steps=8,incremental_attenuation=0,attenuation=linear,"
+    assert medium + "integral=uniform,blur=1" not in full      # = medium, run under its name
+    assert medium + "integral=cosine,blur=1" in full           # the reference's integral
+    # 4 x 4 counts x (eq. 3 or eq. 2 attenuation, or none) x 2 integrals, blurred; the
+    # presets replace 4 of those points; "default" (no blur) is not a grid point
+    assert len(full) == 4 * 4 * 3 * 2 + 1
+    assert not [c for c in full if "attenuation=none" in c and "incremental_attenuation=1" in c]
+    lsao = {c.label: c for c in presets.settings_for("lsao", "quick")}
+    assert presets._identity("lsao", lsao["default"].settings, False) == \
+        presets._identity("lsao", lsao["medium"].settings, False)
+
+
+def test_tuned_presets_join_every_sweep(monkeypatch, tmp_path):
+    path = tmp_path / "tuned.json"
+    path.write_text(json.dumps({"methods": {"vao": {"presets": {
+        "tuned-50ms": {"samples": 6, "blur": True}, "tuned-200ms": {"samples": 20,
+                                                                    "blur": False}}}}}))
+    monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(path))
+    for sweep in ("quick", "presets", "full"):
+        got = {c.label: c for c in presets.settings_for("vao", sweep)}
+        assert got["tuned-50ms"].settings == {"samples": 6} and got["tuned-50ms"].blur
+        assert got["tuned-200ms"].settings == {"samples": 20} and not got["tuned-200ms"].blur
+    assert "tuned-50ms" not in {c.label for c in presets.settings_for("lsao", "quick")}
 
 
 def test_a_method_without_presets_runs_its_defaults_and_registering_is_checked():

@@ -173,6 +173,28 @@ def test_leave_one_scene_out_chooses_on_the_other_scenes_only():
     assert sel["tuned-50ms"]["held_out"]["A"]["trial"] == 0
 
 
+def test_best_across_methods_is_chosen_on_the_other_scenes():
+    """Per held-out scene, the method whose fold choice has the lowest training error wins,
+    whatever its score on the held-out scene itself."""
+    def fold(trial, mae, train_mae, ms=40.0):
+        return {"trial": trial, "mae": mae, "ms": ms, "within_budget": ms <= 100,
+                "train_mae": train_mae, "train_ms": 50.0}
+
+    methods = {
+        "a": {"selection": {"tuned-100ms": {"held_out": {
+            "S": fold(1, 0.30, 0.10), "T": fold(2, 0.05, 0.20), "U": None}}}},
+        "b": {"selection": {"tuned-100ms": {"held_out": {
+            "S": fold(7, 0.01, 0.15), "T": fold(8, 0.50, 0.12, ms=130.0), "U": None}}}},
+        "c": {"selection": {"tuned-50ms": {"held_out": {"S": fold(9, 0.0, 0.0)}}}},
+    }
+    best = tune.best_across_methods(methods, 100)
+    assert best["S"] == {"method": "a", **fold(1, 0.30, 0.10)}     # not b's 0.01 on S
+    assert best["T"]["method"] == "b" and best["T"]["within_budget"] is False
+    assert best["U"] is None
+    assert tune.best_across_methods(methods, 50) == {"S": {"method": "c", **fold(9, 0.0, 0.0)}}
+    assert tune.best_across_methods({}, 100) == {}
+
+
 # ----------------------------------------------------------------------------------------
 # The command: store, resume, interruption, presets
 

@@ -14,6 +14,8 @@
 // by less than `thickness` (docs/methods/screen_space_limit.md gives the details).
 #pragma once
 
+#include <vector>
+
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
@@ -75,6 +77,16 @@ inline const SettingField<ScreenSpaceLimitSettings> kScreenSpaceLimitFields[] = 
 /// normals or an invalid G-buffer; Cancelled if cancelled.
 Image screen_space_limit(const GBuffer& g, const ScreenSpaceLimitSettings& settings,
                          const RunOptions& options = {});
+
+/// The limit at several thicknesses in one pass (`settings.thickness` is not read): each ray
+/// is marched once and its smallest gap behind a crossed surface answers for every thickness,
+/// so the pass costs about one run at the thinnest of them. Image k is bit for bit
+/// screen_space_limit() with thickness = thicknesses[k]. Each thickness is validated like
+/// the setting; an empty list throws std::invalid_argument.
+std::vector<Image> screen_space_limit_thicknesses(const GBuffer& g,
+                                                  const ScreenSpaceLimitSettings& settings,
+                                                  const std::vector<float>& thicknesses,
+                                                  const RunOptions& options = {});
 
 /// The registry entry (an oracle: Method::oracle).
 Method screen_space_limit_method();

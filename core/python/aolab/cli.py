@@ -5,6 +5,7 @@
     aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
     aolab bench [options]                 time a method (median of repeated runs)
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
+    aolab limits [SCENE...] [options]     compute the screen-space limit of each scene (committed)
     aolab compare [SCENE...] [options]    score every method against the references: report
     aolab presets [METHOD...]             the named presets of each method and their settings
     aolab tune [options]                  search each method's settings for the Pareto front
@@ -168,6 +169,11 @@ def cmd_tune(args) -> int:
     return tune.main(args)
 
 
+def cmd_limits(args) -> int:
+    from . import limits
+    return limits.main(args)
+
+
 def cmd_compare(args) -> int:
     from . import compare
     return compare.main(args)
@@ -286,6 +292,8 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.set_defaults(func=cmd_reference)
 
+    from .limits import add_limits_parser
+    add_limits_parser(sub).set_defaults(func=cmd_limits)
     add_compare_parser(sub)
 
     q = sub.add_parser("presets", help="the named presets of each method and their settings")

@@ -36,6 +36,7 @@ import aolab
 
 from . import presets as presets_mod
 from .bridge.constants import PEERS_DIR, PEERS_JSON
+from .limits import LIMITS_DIR, LIMITS_JSON
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from .regions import REGIONS, region_masks
 from .report import WEAK_FRACTION, atomic_write_text
@@ -46,12 +47,15 @@ METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
 SSIM_CROP = 5
 AGGREGATE_SCENE = "ALL"
 BASELINE = "baseline_one"
+#: The kind of the rows of the committed screen-space limits (aolab limits).
+LIMIT_KIND = "limit"
 
 #: results.csv columns before the per-region metrics.
 BASE_COLUMNS = ("key", "scene", "kind", "method", "label", "preset", "settings", "threads",
                 "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
                 "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "runs",
-                "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline", "flag", "note")
+                "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
+                "occluded_mae_vs_limit", "flag", "note")
 
 
 def columns() -> list[str]:
@@ -173,8 +177,18 @@ class Peer:
 
 
 def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], list[str]]:
-    """The peers of a scene folder and notes about entries that could not be used."""
-    path = folder / PEERS_DIR / PEERS_JSON
+    """The peers of a scene folder and its committed screen-space limits (aolab limits, kind
+    "limit"), and notes about entries that could not be used."""
+    peers, notes = load_renders(folder / PEERS_DIR, PEERS_JSON, shape, crop)
+    limits, more = load_renders(folder / LIMITS_DIR, LIMITS_JSON, shape, crop)
+    return peers + limits, notes + more
+
+
+def load_renders(where: Path, json_name: str, shape: tuple[int, int],
+                 crop) -> tuple[list[Peer], list[str]]:
+    """The images listed in ``where/json_name`` ({"entries": [{name, kind, file, ...}]}),
+    cropped like the scene, and notes about entries that could not be used."""
+    path = where / json_name
     if not path.exists():
         return [], []
     notes = []
@@ -185,7 +199,7 @@ def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], 
     peers = []
     for e in entries:
         try:
-            ao = read_y_exr(folder / PEERS_DIR / e["file"])
+            ao = read_y_exr(where / e["file"])
             if crop is not None:
                 ao = crop.apply(ao)
             if ao.shape != shape:
@@ -239,6 +253,9 @@ class Scene:
     regions: dict
     peers: list = field(default_factory=list)
     notes: list = field(default_factory=list)
+    #: The scene's screen-space limit: its committed thickness with the lowest occluded MAE
+    #: (a Peer), against which each method's approximation error is measured; None without.
+    limit: object = None
 
 
 def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
@@ -367,6 +384,16 @@ def score(ao: np.ndarray, scene: Scene) -> dict:
     return {"regions": out, "calib_a": ca, "calib_b": cb}
 
 
+def vs_limit(ao: np.ndarray, scene: Scene) -> float | None:
+    """The MAE between ``ao`` and the scene's screen-space limit on the occluded region: the
+    error of a method's approximation and sampling, apart from what any screen-space method
+    loses (the limit against the reference) — docs/comparison.md, "The error split"."""
+    m = scene.regions["occluded"]
+    if scene.limit is None or not m.any():
+        return None
+    return float(np.mean(np.abs(ao[m].astype(np.float64) - scene.limit.ao[m])))
+
+
 # ----------------------------------------------------------------------------------------
 # Timing
 
@@ -444,9 +471,11 @@ def aggregate(rows: list[dict], scene_names: list[str]) -> list[dict]:
                    threads=rs[0].get("threads"),
                    note=f"mean over {len(rs)} scene(s): {', '.join(r['scene'] for r in rs)}")
         for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
-                    "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b"):
+                    "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b",
+                    "occluded_mae_vs_limit"):
             vals = [r[col] for r in rs if r.get(col) is not None]
-            if len(vals) == len(rs):
+            # against the limit: over the scenes that have one (as the split's limit line)
+            if vals and (len(vals) == len(rs) or col == "occluded_mae_vs_limit"):
                 agg[col] = float(np.mean(vals))
         metrics = {}
         for region in REGIONS:
@@ -563,7 +592,8 @@ class _Images:
 
 
 def _peer_images(scene: Scene, rows: list[dict], budget_ms: float):
-    """EEVEE, and the Cycles rung with most samples within the budget (else the cheapest)."""
+    """EEVEE, the Cycles rung with most samples within the budget (else the cheapest), and
+    the scene's screen-space limit."""
     by_name = {r["method"]: r for r in rows if r["scene"] == scene.name}
     cycles = [p for p in scene.peers if p.kind == "cycles" and p.render_time_s is not None]
     fits = [p for p in cycles if p.render_time_s * 1000 <= budget_ms]
@@ -573,6 +603,8 @@ def _peer_images(scene: Scene, rows: list[dict], budget_ms: float):
     for p in chosen:
         if p.name in by_name:
             yield by_name[p.name], p.ao, p is not pick or bool(fits)
+    if scene.limit is not None and scene.limit.name in by_name:
+        yield by_name[scene.limit.name], scene.limit.ao, True
 
 
 def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) -> dict:
@@ -624,7 +656,7 @@ class Study:
         meta["load_average_end"] = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
         meta["complete_scenes"] = list(self.complete_scenes)
         return {"meta": meta, "scenes": self.scene_info, "notes": self.notes,
-                "regions": REGION_DESCRIPTIONS, "rows": rows + agg}
+                "regions": REGION_DESCRIPTIONS, "rows": rows + agg, "tuned": tuned_results()}
 
     def write(self, partial: bool) -> dict:
         from . import report
@@ -683,7 +715,8 @@ class Study:
             "folder": str(folder), "width": scene.g.width, "height": scene.g.height,
             "radius": scene.radius,
             "region_pixels": {r: int(m.sum()) for r, m in scene.regions.items()},
-            "peers": [p.name for p in scene.peers],
+            "peers": [p.name for p in scene.peers if p.kind != LIMIT_KIND],
+            "limits": [p.name for p in scene.peers if p.kind == LIMIT_KIND],
             "title": _manifest(folder).get("title", scene.name),
         }
         images = _Images(opts.budget_ms)
@@ -737,10 +770,12 @@ class Study:
                                "not scored against the grey AO reference")
             else:
                 _add_scores(row, score(ao, scene))
+                row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
                 images.offer(row, ao)
             self.rows.append(row)
 
     def _peers(self, scene: Scene) -> None:
+        mine = []
         for p in scene.peers:
             ms = p.render_time_s * 1000 if p.render_time_s is not None else None
             settings = {k: v for k, v in p.entry.items()
@@ -750,6 +785,19 @@ class Study:
                        note=p.entry.get("note", ""))
             _add_scores(row, score(p.ao, scene))
             self.rows.append(row)
+            mine.append((p, row))
+        limits = [(p, r) for p, r in mine if p.kind == LIMIT_KIND
+                  and math.isfinite(r["metrics"]["occluded"]["mae"])]
+        if limits:
+            p, r = min(limits, key=lambda pr: pr[1]["metrics"]["occluded"]["mae"])
+            scene.limit = p
+            self.scene_info[scene.name]["limit"] = {
+                "key": r["key"], "name": p.name, "label": r["label"],
+                "thickness_r": p.entry.get("thickness_r"),
+                **{f"{reg}_mae": r["metrics"][reg]["mae"] for reg in REGIONS}}
+        for p, r in mine:
+            if p.kind != LIMIT_KIND:
+                r["occluded_mae_vs_limit"] = vs_limit(p.ao, scene)
 
     def _noise_floor(self, scene: Scene) -> None:
         """The reference's own noise floor: measured (an independent 1024-spp render), or
@@ -775,6 +823,24 @@ class Study:
                                       for reg in REGIONS}}
         else:
             info["noise_floor"] = None
+
+
+def tuned_results() -> dict | None:
+    """What the report shows of the tuned presets (aolab.presets' file): each method's entry
+    without its search-space description, and where they came from; None without any."""
+    path = presets_mod.tuned_file()
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    methods = {m: {k: v for k, v in e.items() if k != "search_space"}
+               for m, e in data.get("methods", {}).items()}
+    if not methods:
+        return None
+    runs = sorted({(e.get("command", "?"), e.get("commit", "?"), e.get("date", "?"))
+                   for e in methods.values()})
+    source = "; ".join(f"`{c}` at commit {k}, {d}" for c, k, d in runs)
+    return {"file": path.name, "source": source, "methods": methods}
 
 
 def _manifest(folder: Path) -> dict:

@@ -155,18 +155,28 @@ def _label(values: dict) -> str:
 
 
 def settings_for(method: str, sweep: str = "quick") -> list[Setting]:
-    """The configurations of ``method`` for a sweep: ``quick`` = the presets low, medium,
-    high; ``presets`` = every preset; ``full`` = every preset and every point of the grid
-    (points equal to a preset are run once, under the preset's name)."""
+    """The configurations of ``method`` for a sweep: ``quick`` = the method's own defaults
+    (DEFAULT_PRESET: the paper's), the presets low, medium, high and the tuned presets;
+    ``presets`` = the defaults and every preset, tuned ones included; ``full`` = those and
+    every point of the grid. A named configuration keeps its name even when it computes the
+    same as another (the study runs the method once for both: compare._method_runs); grid
+    points equal to a named one are left out."""
     if sweep not in ("quick", "presets", "full"):
         raise ValueError(f"sweep must be quick, presets or full, got {sweep!r}")
     e = entry(method)
+    # A method whose own filter is the shared blur runs it as the shared blur, timed apart.
+    default_blur = e is not None and e.builtin_blur is not None
+    out = [Setting(method, DEFAULT_PRESET, {}, default_blur, DEFAULT_PRESET)]
+    seen = {_identity(method, {}, default_blur)}
     if e is None:
-        return [Setting(method, DEFAULT_PRESET, {}, False, DEFAULT_PRESET)]
+        return out
     names = [p for p in PRESET_ORDER if p in e.presets and (sweep != "quick" or p in QUICK_PRESETS)]
-    out, seen = [], set()
     for name in names:
         values, blur = _split(method, e.presets[name])
+        seen.add(_identity(method, values, blur))
+        out.append(Setting(method, name, values, blur, name))
+    for name, values in tuned_presets(method).items():
+        values, blur = _split(method, values)
         seen.add(_identity(method, values, blur))
         out.append(Setting(method, name, values, blur, name))
     if sweep == "full" and e.sweep:
@@ -283,9 +293,17 @@ sys.modules[__name__].__class__ = _CallableModule
 # N_s = 8 steps (docs/methods/hbao.md, Settings); it has no table of quality levels, so low,
 # high and ultra halve and double both counts (our choice). Its per-pixel random rotation and
 # jitter trade banding for noise, which the talk leaves to a blur it does not specify: the
-# presets apply the shared Gaussian (timed apart); the full sweep has it on and off, and both
-# attenuations (eq. 3, the talk's; eq. 2, NVIDIA's incremental form), since the choice moves
-# the error more than the sample counts do (docs/methods/hbao.md, step 10b).
+# presets apply the shared Gaussian (timed apart). The full sweep crosses the counts with both
+# forms of the attenuation (eq. 3, the talk's; eq. 2, NVIDIA's incremental form), since the
+# choice moves the error more than the sample counts do (docs/methods/hbao.md, step 10b), and
+# with the reference's definitions (no attenuation, the cosine-weighted integral), blurred.
+def _hbao_attenuation(point: dict) -> dict | None:
+    """Without attenuation its two forms compute the same: keep one."""
+    if point.get("attenuation") == "none" and point.get("incremental_attenuation"):
+        return None
+    return point
+
+
 register(
     "hbao",
     presets={
@@ -295,8 +313,10 @@ register(
         "ultra": {"directions": 32, "steps": 32, "blur": True},
     },
     sweep={"directions": [4, 8, 16, 32], "steps": [4, 8, 16, 32],
-           "incremental_attenuation": [False, True], "blur": [False, True]},
+           "incremental_attenuation": [False, True], "attenuation": ["linear", "none"],
+           "integral": ["uniform", "cosine"], "blur": [True]},
     source="Bavoil et al. 2008, Figure 1 (N_d = N_s = 8); other levels halve/double (ours)",
+    constraints=(_hbao_attenuation,),
 )
 
 # Pyramid HBAO — Astapov, Gaevoy, Sergeev 2021. §4 uses D = 8 directions and K = 3; Table 1
@@ -313,7 +333,7 @@ register(
         "ultra": {"directions": 16, "samples": 8, "blur": True},
     },
     sweep={"directions": [4, 8, 16], "samples": [2, 4, 8], "reduction": [2, 3, 4],
-           "blur": [True]},
+           "attenuation": ["linear", "none"], "blur": [True]},
     source="Astapov et al. 2021, §4 (D = 8, K = 3); S per level ours (Table 1 lost)",
     builtin_blur="gaussian_filter",
 )
@@ -346,7 +366,7 @@ register(
                   "line_spacing": 1.0},
     },
     sweep={"template_size": [1, 2, 3, 4], "template_stride": [1, 2],
-           "line_spacing": [1.0, 1.64, 2.46]},
+           "line_spacing": [1.0, 1.64, 2.46], "falloff": ["rational", "cutoff"]},
     source="Timonen 2013, Figure 1 (low), Figure 11 / Table 2 (medium); high, ultra ours",
     constraints=(_lsao_directions,),
 )

@@ -37,25 +37,74 @@ def _f(v, fmt=".4f"):
 
 def _table(rows: list[dict]) -> list[str]:
     out = ["| method | setting | ms (method + blur) | MAE | SSIM | bias | MAE calibrated | "
-           "MAE occluded | occl. / AO≡1 | MAE depth edges | MAE grazing | MAE creases | "
-           "MAE border | flag |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "MAE occluded | occl. / AO≡1 | occl. vs limit | MAE depth edges | MAE grazing | "
+           "MAE creases | MAE border | flag |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     rows = sorted(rows, key=report._row_order)
     for r in rows:
         m = r.get("metrics")
         if not m:
             continue
         t = report._num(r.get("total_ms"))
-        tms = "—" if t is None else (f"{t:.1f}" if r["kind"] == "method" else f"{t:.0f} (render)")
+        tms = "—" if t is None else (f"{t:.1f}" if r["kind"] == "method" else
+                                     f"{t:.0f} (render)" if r["kind"] != "limit" else
+                                     f"{t / 1000:.0f} s (oracle)")
         flag = "**weak on occluded**" if r.get("flag") == "weak" else ""
         out.append(
             f'| {r["method"]} | {r["label"]} | {tms} | {_f(m["all"]["mae"])} | '
             f'{_f(m["all"]["ssim"])} | {_f(m["all"]["bias"], "+.4f")} | '
             f'{_f(m["all"]["mae_cal"])} | '
             f'{_f(m["occluded"]["mae"])} | {_f(r.get("occluded_mae_vs_baseline"), ".2f")} | '
+            f'{_f(r.get("occluded_mae_vs_limit"))} | '
             f'{_f(m["depth_edges"]["mae"])} | {_f(m["grazing"]["mae"])} | '
             f'{_f(m["creases"]["mae"])} | {_f(m["border"]["mae"])} | {flag} |')
     return out
+
+
+def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
+    """The error split, the tuned presets and the check against EEVEE (report.py's)."""
+    budget = report.EEVEE_CHECK_BUDGET_MS
+    out = ["## Where the error comes from", "",
+           f"Per method, at its paper defaults and its tuned preset within {budget} ms, and "
+           "EEVEE: the MAE on the occluded region and its three parts, means over the scenes "
+           "([comparison.md](comparison.md#the-error-split)). The parts overlap and need not "
+           "add up.", "",
+           f"![The error split on the occluded region]({image_dir}/results_split.svg)", ""]
+    out += ["| configuration | MAE occluded | screen-space loss | definition | approximation |",
+            "|---|---|---|---|---|"]
+    for p in report.error_split(agg, results.get("scenes", {})):
+        out.append(f'| {p["name"]} | {_f(p["total"])} | {_f(p["screen_space"])} | '
+                   f'{_f(p["definition"])} | {_f(p["approximation"])} |')
+    out += ["", "## Tuned presets", ""]
+    tuned = results.get("tuned")
+    if not tuned:
+        out += ["No tuned presets were committed when this study ran.", ""]
+    else:
+        out += [f"From `{tuned['file']}`, made by {tuned['source']}. The time is the tuning "
+                "run's; \"held out\" scores each scene with the configuration chosen on the "
+                "other scenes ([tuning.md](tuning.md#leave-one-scene-out)).", "",
+                "| method | preset | trial | ms | occluded MAE (chosen on all scenes) | "
+                "held out | folds |", "|---|---|---|---|---|---|---|"]
+        for method, entry in tuned["methods"].items():
+            for name, sel in entry.get("selection", {}).items():
+                out.append(f'| {method} | {name} | {sel.get("trial")} | '
+                           f'{_f(sel.get("mean_ms"), ".1f")} | {_f(sel.get("mean_mae"))} | '
+                           f'{_f(sel.get("held_out_mean_mae"))} | {sel.get("held_out_folds")} |')
+        out.append("")
+    words = {"pass": "below EEVEE", "fail": "**not below EEVEE**",
+             "limit": "the limit itself is not below EEVEE", "unknown": "a number is missing"}
+    out += ["## Against EEVEE", "",
+            "Occluded-region MAE per scene: the screen-space limit (at the scene's best "
+            f"thickness), EEVEE's GTAO, and the best tuned configuration within {budget} ms "
+            "chosen on the other scenes among every method's trials (held out).", "",
+            "| scene | screen-space limit | EEVEE | best tuned, held out | method, trial, ms | "
+            "verdict |", "|---|---|---|---|---|---|"]
+    for c in report.eevee_check(results):
+        who = (f'{c["method"]} #{c["trial"]}, {c["ms"]:.1f} ms'
+               + ("" if c["within_budget"] else " (over budget here)") if c["method"] else "—")
+        out.append(f'| {c["scene"]} | {_f(c["limit"])} ({c["limit_label"] or "—"}) | '
+                   f'{_f(c["eevee"])} | {_f(c["tuned"])} | {who} | {words[c["verdict"]]} |')
+    return out + [""]
 
 
 def generated(results: dict, image_dir: str = "images") -> str:
@@ -78,6 +127,7 @@ def generated(results: dict, image_dir: str = "images") -> str:
             lines.append(f"![{label} against time, all scenes]({image_dir}/results_{column}.svg)")
             lines.append("")
         lines += _table(agg) + [""]
+        lines += study_sections(results, agg, image_dir)
     for name in meta.get("scenes", []):
         mine = [r for r in rows if r["scene"] == name]
         if not mine:
@@ -103,6 +153,9 @@ def write(results_json: Path, docs: Path) -> Path:
         svg = report.svg_plot(f"results-{column}", agg, column, label, lower,
                               report.hlines_for(agg, column, None), standalone=True)
         report.atomic_write_text(images / f"results_{column}.svg", svg + "\n")
+    split = report.split_chart("results-split", report.error_split(agg, results.get("scenes", {})))
+    if split.startswith("<svg"):
+        report.atomic_write_text(images / "results_split.svg", split + "\n")
     path = docs / "results.md"
     head = ("# Results of the comparison study\n\n"
             "The current results of `aolab compare` on the committed reference scenes, "

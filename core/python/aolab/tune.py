@@ -135,6 +135,9 @@ BOUNDS = {
         "directions": _int(2, 32, "N_d: 32 (the ultra preset) already costs ~6 s with 32 "
                            "steps, far past 500 ms; log scale", log=True),
         "steps": _int(2, 32, "N_s: the same span as N_d; log scale", log=True),
+        "incremental_attenuation": _set((False, True), "eq. 2 or eq. 3: only with the linear "
+                                        "attenuation (without any, both compute the same)",
+                                        when=lambda v: v["attenuation"] == "linear"),
     },
     "pyramid_hbao": {
         "directions": _int(2, 32, "D: the paper's 8; 16 (ultra) costs ~1.4 s; log scale",
@@ -487,6 +490,27 @@ def select(table: list[dict], scenes: list[str], budgets=BUDGETS_MS) -> dict:
     return out
 
 
+def best_across_methods(methods: dict, budget_ms: float) -> dict:
+    """Leave one scene out across methods, from the tuned-presets JSON's ``methods``: for each
+    held-out scene S, the configuration with the lowest mean MAE on the other scenes among
+    every method's trials within ``budget_ms`` there — which is the method whose fold-S
+    choice (``selection[...]["held_out"][S]``) has the lowest ``train_mae`` — and its score
+    on S. Scene -> {"method", "trial", "mae", "ms", "within_budget", "train_mae"}, or None
+    when no method's fold found a trial. A method with no preset at this budget (none of its
+    trials fits it on all scenes) takes no part."""
+    name = f"{presets_mod.TUNED_PREFIX}{budget_ms:g}ms"
+    out: dict = {}
+    for method, entry in methods.items():
+        for scene, fold in entry.get("selection", {}).get(name, {}).get("held_out", {}).items():
+            out.setdefault(scene, None)
+            if fold is None:
+                continue
+            best = out[scene]
+            if best is None or (fold["train_mae"], method) < (best["train_mae"], best["method"]):
+                out[scene] = {"method": method, **fold}
+    return out
+
+
 # ----------------------------------------------------------------------------------------
 # The studies
 
@@ -696,7 +720,7 @@ def command_line(opts: Options) -> str:
     if opts.timeout is not None:
         parts += ["--timeout", f"{opts.timeout:g}"]
     t = opts.timing
-    if (t.warmup, t.repeat, t.threads, t.max_ms) != (1, 3, 0, 2000.0):
+    if (t.warmup, t.repeat, t.threads, t.max_ms) != (1, 3, 0, DEFAULT_MAX_MS):
         parts += ["--warmup", str(t.warmup), "--repeat", str(t.repeat), "--threads",
                   str(t.threads), "--max-ms", f"{t.max_ms:g}"]
     return " ".join(shlex.quote(p) for p in parts)

@@ -4,6 +4,7 @@
 
 #include <pybind11/stl.h>
 
+#include "core/methods/screen_space_limit/screen_space_limit.h"
 #include "core/methods/vao_pp/vao_pp.h"
 #include "core/python/bindings/numpy_support.h"
 
@@ -119,6 +120,31 @@ void bind_methods(py::module_& m) {
         return to_numpy(std::move(ao));
       },
       py::arg("method"), py::arg("gbuffer"), py::arg("settings"), py::kw_only(),
+      py::arg("threads") = 0, py::arg("progress") = nullptr);
+
+  // The screen-space limit at several thicknesses in one pass (aolab limits).
+  m.def(
+      "screen_space_limit_thicknesses",
+      [](const PyGBuffer& g, const py::dict& settings, const std::vector<float>& thicknesses,
+         int threads, Progress* progress) {
+        SettingValues values =
+            to_setting_values(settings, find_method("screen_space_limit").settings);
+        if (!values.count("radius")) throw_invalid("radius", "is required", "nothing");
+        const float power = take_power(values);
+        const ScreenSpaceLimitSettings s = settings_from_values(
+            values, kScreenSpaceLimitFields, "screen_space_limit", registry_setting_names());
+        RunOptions options{threads, progress};
+        std::vector<Image> images;
+        {
+          py::gil_scoped_release release;
+          images = screen_space_limit_thicknesses(g.view, s, thicknesses, options);
+          for (Image& ao : images) apply_power(ao, power, threads);
+        }
+        py::list out;
+        for (Image& ao : images) out.append(to_numpy(std::move(ao)));
+        return out;
+      },
+      py::arg("gbuffer"), py::arg("settings"), py::arg("thicknesses"), py::kw_only(),
       py::arg("threads") = 0, py::arg("progress") = nullptr);
 
   // VAO++ with what the run did (core/methods/vao_pp/vao_pp.h VaoPpStats): the culled share of §4.2

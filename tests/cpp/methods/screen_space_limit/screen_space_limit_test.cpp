@@ -16,6 +16,8 @@
 namespace aolab {
 namespace {
 
+using testing::invalid_argument_message;
+using testing::mean_value;
 using testing::min_valid;
 using testing::SceneFixture;
 
@@ -214,6 +216,37 @@ TEST(ScreenSpaceLimit, SeedChangesNoiseNotMean) {
   // 5184 pixels at N = 16: the mean's standard deviation is at most √(0.25/16/5184) ≈ 1.7e-3.
   const double pixels = double(ia.pixels().size());
   EXPECT_NEAR(mean_a / pixels, mean_b / pixels, 4 * 1.7e-3 * std::sqrt(2.0));
+}
+
+// One pass at several thicknesses gives each thickness's run bit for bit, in any order, with
+// zero (nothing occludes) and the height field among them.
+TEST(ScreenSpaceLimit, ThicknessesInOnePassEqualSeparateRuns) {
+  const SceneFixture f("blocks", 96, 54);
+  const ScreenSpaceLimitSettings s = settings(0.5f, 0.0f, 16);
+  const std::vector<float> thicknesses = {0.25f, kScreenSpaceLimitUnbounded, 0.0f, 0.05f};
+  const std::vector<Image> together = screen_space_limit_thicknesses(f.g, s, thicknesses);
+  ASSERT_EQ(together.size(), thicknesses.size());
+  for (std::size_t i = 0; i < thicknesses.size(); ++i) {
+    ScreenSpaceLimitSettings one = s;
+    one.thickness = thicknesses[i];
+    EXPECT_EQ(together[i].pixels(), screen_space_limit(f.g, one).pixels()) << thicknesses[i];
+  }
+  EXPECT_EQ(mean_value(together[2]), 1.0);                      // zero thickness: nothing occludes
+  EXPECT_LT(mean_value(together[1]), mean_value(together[0]));  // the height field occludes most
+}
+
+TEST(ScreenSpaceLimit, ThicknessesAreValidatedLikeTheSetting) {
+  const SceneFixture f("blocks", 16, 9);
+  const ScreenSpaceLimitSettings s = settings(0.5f, 0.0f, 4);
+  EXPECT_NE(invalid_argument_message([&] {
+              screen_space_limit_thicknesses(f.g, s, {});
+            }).find("thicknesses"),
+            std::string::npos);
+  const std::string negative = invalid_argument_message([&] {
+    screen_space_limit_thicknesses(f.g, s, {0.1f, -1.0f});
+  });
+  EXPECT_NE(negative.find("thickness"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("-1"), std::string::npos) << negative;
 }
 
 TEST(ScreenSpaceLimit, IsMarkedAsAnOracle) {

@@ -1,0 +1,175 @@
+"""``aolab limits``: the screen-space limit of every reference scene, computed once and
+committed beside the scene like the peers (docs/comparison.md, "The screen-space limit").
+
+    aolab limits [SCENES...] [--thickness 0.1 0.25 1 inf] [--rays 256] [--force]
+
+The limit is the ``screen_space_limit`` method (docs/methods/screen_space_limit.md): the
+reference's own definition evaluated on the depth buffer alone, with a scene that is solid
+for a thickness T behind every visible surface. It takes minutes per scene, so ``aolab
+compare`` reads it from reference_scenes/<scene>/limits/ instead of running it: one
+half-float EXR per thickness (channel Y, the peers' format) and limits.json describing each
+(thickness, rays, seed, compute time, the SHA-256 of the reference.exr it was computed from,
+the commit and date). A thickness is given as a multiple of the scene's R (``inf`` = a
+height field), so one list serves scenes of any size. The thicknesses of a scene are
+computed in one pass (``screen_space_limit_thicknesses``: each ray marched once), which
+costs about one run at the thinnest of them.
+
+An entry is recomputed only when it is missing, when its file or settings differ from the
+request, when the scene's reference.exr changed, or with ``--force`` (after a change to the
+method itself). Each EXR and limits.json are written atomically, limits.json after every
+scene, so an interrupted run keeps the scenes it finished.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+from .report import atomic_write_text
+
+LIMITS_DIR = "limits"          # reference_scenes/<scene>/limits/
+LIMITS_JSON = "limits.json"
+LIMIT_METHOD = "screen_space_limit"
+#: Thicknesses of the committed limits as multiples of R. A height field (inf) counts
+#: everything behind a visible surface as solid and over-occludes; a thin shell (0.1 R) lets
+#: rays pass behind thin objects' front faces; the scenes' objects are mostly between
+#: (docs/comparison.md shows the limit at each).
+THICKNESS_R = (0.1, 0.25, 0.5, 1.0, math.inf)
+#: Rays per pixel: the method's default (256, stratified), whose Monte-Carlo error on one
+#: pixel is at most 0.5/sqrt(256) = 0.031 and far less on a region's mean.
+RAYS = 256
+#: A height field is the method's largest thickness.
+HEIGHT_FIELD = 1e30
+
+
+def thickness_label(t_r: float) -> str:
+    return "T = ∞ (height field)" if math.isinf(t_r) else f"T = {t_r:g} R"
+
+
+def entry_name(t_r: float) -> str:
+    return f"{LIMIT_METHOD}_t_inf" if math.isinf(t_r) else f"{LIMIT_METHOD}_t{t_r:g}R"
+
+
+def parse_thickness(text: str) -> float:
+    """A thickness in multiples of R: a positive number, or inf."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not (v > 0):
+        raise ValueError(f"--thickness must be positive multiples of R or inf, got {text!r}")
+    return v
+
+
+def file_sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def read_entries(folder: Path) -> list[dict]:
+    """The entries of a scene's limits.json ([] when there is none)."""
+    path = folder / LIMITS_DIR / LIMITS_JSON
+    if not path.exists():
+        return []
+    return json.loads(path.read_text()).get("entries", [])
+
+
+def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
+    if entry is None or not (folder / LIMITS_DIR / entry.get("file", "")).exists():
+        return False
+    return all(entry.get(k) == v for k, v in want.items())
+
+
+def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: bool,
+                  log=print) -> list[dict]:
+    """Computes the missing or stale limits of one scene folder; returns its entries."""
+    from .bridge.exr import write_gray
+    from .compare import _git_commit
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    radius = float(g.sidecar["ao_distance"])
+    digest = file_sha256(folder / "reference.exr")
+    out_dir = folder / LIMITS_DIR
+    out_dir.mkdir(exist_ok=True)
+    entries = {e["name"]: e for e in read_entries(folder)}
+    todo = []
+    for t_r in thickness_r:
+        name = entry_name(t_r)
+        want = {"rays": rays, "seed": 0, "thickness_r": None if math.isinf(t_r) else t_r,
+                "reference_sha256": digest, "radius": radius}
+        if not force and _up_to_date(entries.get(name), folder, want):
+            log(f"{folder.name}: {name} up to date")
+        else:
+            todo.append((t_r, name, want))
+    if not todo:
+        return read_entries(folder)
+    # One pass for every stale thickness: each ray is marched once (docs/comparison.md).
+    thickness = [HEIGHT_FIELD if math.isinf(t_r) else t_r * radius for t_r, _, _ in todo]
+    t0 = time.perf_counter()
+    images = aolab._core.screen_space_limit_thicknesses(
+        g, {"radius": radius, "rays": rays, "seed": 0}, thickness, threads=threads)
+    seconds = time.perf_counter() - t0
+    commit, date = _git_commit(folder), time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime())
+    together = [name for _, name, _ in todo]
+    for (t_r, name, want), t, ao in zip(todo, thickness, images):
+        write_gray(str(out_dir / f"{name}.exr"), np.asarray(ao, np.float32))
+        entries[name] = {"name": name, "kind": "limit", "label": thickness_label(t_r),
+                         "file": f"{name}.exr", "thickness": t, **want,
+                         "render_time_s": seconds, "computed_with": together,
+                         "threads": threads, "aolab_commit": commit, "date": date,
+                         "note": "the screen-space limit (an oracle): the reference's AO on "
+                                 "the depth buffer alone, solid for T behind each surface; "
+                                 "render_time_s is the one pass that computed the entries of "
+                                 "computed_with"}
+    order = [entry_name(t) for t in THICKNESS_R]
+    ordered = sorted(entries.values(), key=lambda e: (
+        order.index(e["name"]) if e["name"] in order else len(order), e["name"]))
+    atomic_write_text(out_dir / LIMITS_JSON, json.dumps({"entries": ordered}, indent=1) + "\n")
+    log(f"{folder.name}: {', '.join(together)} in {seconds:.1f} s (one pass)")
+    return read_entries(folder)
+
+
+def main(args) -> int:
+    """The ``aolab limits`` command (arguments from cli.py)."""
+    from .compare import find_scenes_dir, resolve_scenes
+    thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
+    if args.rays < 1:
+        raise ValueError(f"--rays must be >= 1, got {args.rays}")
+    scenes_dir = Path(args.scenes_dir) if args.scenes_dir else find_scenes_dir()
+    for folder in resolve_scenes(args.scenes, scenes_dir):
+        compute_scene(folder, thickness, args.rays, args.threads, args.force)
+    return 0
+
+
+def add_limits_parser(sub):
+    p = sub.add_parser(
+        "limits", help="compute the screen-space limit of each reference scene (committed)",
+        description="Computes the screen_space_limit oracle on each reference scene at several "
+        "thicknesses (multiples of R) and writes reference_scenes/<scene>/limits/ "
+        "(limits.json and one EXR each), which aolab compare reads. Up-to-date entries are "
+        "kept; minutes per scene and thickness on 2 cores.")
+    p.add_argument("scenes", nargs="*", metavar="SCENE",
+                   help="reference_scenes/<name> folders or names (default: every scene)")
+    p.add_argument("--thickness", nargs="+", metavar="T",
+                   help="thicknesses in multiples of R, inf = height field (default "
+                   + " ".join(f"{t:g}" for t in THICKNESS_R) + ")")
+    p.add_argument("--rays", type=int, default=RAYS, help=f"rays per pixel (default {RAYS})")
+    p.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+    p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
+    p.add_argument("--force", action="store_true", help="recompute even if up to date")
+    return p
+
+
+if __name__ == "__main__":
+    from .cli import main as cli_main
+    sys.exit(cli_main(["limits"] + sys.argv[1:]))

@@ -1,0 +1,104 @@
+"""aolab limits: the committed screen-space limits of the reference scenes — computed like the
+method, written atomically, kept while up to date, recomputed when the scene changes."""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import aolab
+from aolab import cli, compare, limits
+
+RADIUS = 0.5
+RAYS = 16
+
+
+def analytic_folder(tmp_path, name="scene", scene="crease", width=48, height=27):
+    """A scene folder (reference.exr + sidecar) of an analytic scene, as aolab compare reads."""
+    folder = tmp_path / name
+    folder.mkdir()
+    g = aolab.analytic_scene(scene, width, height, radius=RADIUS)
+    ref = np.where(np.isfinite(g.reference), g.reference, 1.0).astype(np.float32)
+    aolab.save_gbuffer(folder / "reference.exr", g, reference=ref, sidecar=g.sidecar)
+    return folder
+
+
+def test_limits_equal_the_method_and_are_described(tmp_path):
+    folder = analytic_folder(tmp_path)
+    entries = limits.compute_scene(folder, (0.25, math.inf), RAYS, 1, False, log=lambda m: None)
+    assert [e["name"] for e in entries] == ["screen_space_limit_t0.25R", "screen_space_limit_t_inf"]
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    for e, thickness in zip(entries, (0.25 * RADIUS, limits.HEIGHT_FIELD)):
+        assert e["kind"] == "limit" and e["rays"] == RAYS and e["radius"] == RADIUS
+        assert e["thickness"] == pytest.approx(thickness)
+        assert e["reference_sha256"] == limits.file_sha256(folder / "reference.exr")
+        want = aolab.compute("screen_space_limit", g, radius=RADIUS, rays=RAYS,
+                             thickness=thickness, threads=2)
+        got = compare.read_y_exr(folder / "limits" / e["file"])
+        np.testing.assert_allclose(got, want, atol=5e-4)    # stored as half floats
+    on_disk = json.loads((folder / "limits" / "limits.json").read_text())["entries"]
+    assert on_disk == entries
+    assert not [p for p in (folder / "limits").iterdir() if "tmp" in p.name]
+
+
+def test_up_to_date_entries_are_kept_and_stale_ones_recomputed(tmp_path):
+    folder = analytic_folder(tmp_path)
+    logged = []
+    first = limits.compute_scene(folder, (0.5,), RAYS, 0, False, log=logged.append)
+    again = limits.compute_scene(folder, (0.5,), RAYS, 0, False, log=logged.append)
+    assert again == first and logged[-1].endswith("up to date")
+    more = limits.compute_scene(folder, (0.5,), RAYS * 2, 0, False, log=logged.append)
+    assert more[0]["rays"] == RAYS * 2 and "up to date" not in logged[-1]
+    forced = limits.compute_scene(folder, (0.5,), RAYS * 2, 0, True, log=logged.append)
+    assert forced[0]["date"] >= more[0]["date"] and "up to date" not in logged[-1]
+    # another reference (the scene re-rendered): its digest changes, the limit is recomputed
+    g = aolab.analytic_scene("wall", 48, 27, radius=RADIUS)
+    ref = np.where(np.isfinite(g.reference), g.reference, 1.0).astype(np.float32)
+    aolab.save_gbuffer(folder / "reference.exr", g, reference=ref, sidecar=g.sidecar)
+    fresh = limits.compute_scene(folder, (0.5,), RAYS * 2, 0, False, log=logged.append)
+    assert fresh[0]["reference_sha256"] != forced[0]["reference_sha256"]
+
+
+def test_the_limit_of_an_analytic_scene_matches_its_closed_form(tmp_path):
+    """Where the depth buffer holds all the geometry, the committed limit is the reference
+    within its Monte-Carlo error (binomial sd of RAYS rays, 4 sigma on the mean)."""
+    folder = analytic_folder(tmp_path, scene="wall", width=64, height=36)
+    (entry,) = limits.compute_scene(folder, (math.inf,), RAYS, 0, False, log=lambda m: None)
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    got = compare.read_y_exr(folder / "limits" / entry["file"]).astype(np.float64)
+    ref = np.asarray(g.reference, np.float64)
+    valid = g.valid_mask() & (ref < 1.0)
+    sd = np.sqrt(np.mean(ref[valid] * (1 - ref[valid])) / RAYS / valid.sum())
+    assert abs(np.mean(got[valid] - ref[valid])) < 4 * sd + 1e-3
+
+
+def test_command_line(tmp_path):
+    folder = analytic_folder(tmp_path)
+    assert cli.main(["limits", str(folder), "--thickness", "1", "--rays", "4",
+                     "--threads", "1"]) == 0
+    assert [e["name"] for e in limits.read_entries(folder)] == ["screen_space_limit_t1R"]
+    for bad, word in ((["--thickness", "0"], "--thickness"), (["--thickness", "x"], "--thickness"),
+                      (["--rays", "0"], "--rays")):
+        res = subprocess.run([sys.executable, "-m", "aolab", "limits", str(folder), *bad],
+                             capture_output=True, text=True)
+        assert res.returncode == 2 and word in res.stderr and "Traceback" not in res.stderr
+
+
+def test_committed_limits_are_current():
+    """Every committed limit names the reference it was computed from: a re-rendered
+    reference without `aolab limits` afterwards would leave a stale limit in the study."""
+    scenes = compare.find_scenes_dir()
+    for folder in compare.resolve_scenes([], scenes):
+        entries = limits.read_entries(folder)
+        if not entries:
+            continue
+        digest = limits.file_sha256(folder / "reference.exr")
+        side = aolab.load_gbuffer(folder / "reference.exr").sidecar
+        for e in entries:
+            assert e["reference_sha256"] == digest, (folder.name, e["name"])
+            assert e["radius"] == side["ao_distance"] and e["rays"] >= limits.RAYS
+            assert (folder / "limits" / e["file"]).exists()
