@@ -152,12 +152,23 @@ def test_the_error_split_chart_shows_its_rows(study):
             assert value == pytest.approx(float(r["occluded_mae"]))
         elif b["data-part"] == "approximation":
             assert value == pytest.approx(float(r["occluded_mae_vs_limit"]))
-        elif b["data-part"] == "definition":
-            assert value == pytest.approx(max(0.0, float(r["occluded_mae"]) -
-                                              float(r["occluded_mae_cal"])))
+        elif b["data-part"] == "definition":   # an affine fit on the region never raises it
+            assert value == pytest.approx(float(r["occluded_mae_definition"]))
+            assert 0.0 <= value <= float(r["occluded_mae"])
         else:   # the mean over the scenes of each scene's chosen limit: room only here
             assert b["data-part"] == "screen_space"
             assert value == pytest.approx(study["json"]["scenes"]["room"]["limit"]["occluded_mae"])
+
+
+def test_the_definition_part_is_what_an_affine_fit_on_the_occluded_region_removes(room):
+    occluded = room.regions["occluded"]
+    ref = room.reference.astype(np.float64)
+    # a method that computes 0.5·reference + 0.4 has the right shape and a wrong definition
+    distorted = np.where(room.regions["all"], 0.5 * ref + 0.4, 1.0).astype(np.float32)
+    got = compare.score(distorted, room)["occluded_definition"]
+    raw = np.mean(np.abs(distorted[occluded] - ref[occluded]))
+    assert got == pytest.approx(raw, abs=2e-3)        # nearly all of its error
+    assert compare.score(room.reference, room)["occluded_definition"] == pytest.approx(0.0)
 
 
 def test_the_check_against_eevee_states_each_verdict():
@@ -355,7 +366,7 @@ def test_full_sweep_runs_each_computation_once(monkeypatch, tmp_path):
         assert configs[0].label == "default" and configs[0].settings == {}
         runs = compare._method_runs(method, "full")
         assert sum(len(group) for _, group in runs) == len(configs)
-        assert len(runs) == len({json.dumps(c.compute_settings(), sort_keys=True)
+        assert len(runs) == len({presets._identity(method, c.compute_settings(), False)
                                  for c in configs})
     full = {c.label for c in presets.settings_for("hbao", "full")}
     assert {"default", "low", "medium", "high", "ultra"} <= full
@@ -369,6 +380,9 @@ def test_full_sweep_runs_each_computation_once(monkeypatch, tmp_path):
     lsao = {c.label: c for c in presets.settings_for("lsao", "quick")}
     assert presets._identity("lsao", lsao["default"].settings, False) == \
         presets._identity("lsao", lsao["medium"].settings, False)
+    (run,) = [group for _, group in compare._method_runs("lsao", "quick")
+              if "default" in [c.label for c in group]]
+    assert [c.label for c in run] == ["default", "medium"]      # one run for both
 
 
 def test_tuned_presets_join_every_sweep(monkeypatch, tmp_path):
@@ -435,7 +449,8 @@ def test_interrupt_keeps_partial_results(tmp_path, monkeypatch, capsys):
     assert "interrupted" in err and "Partial results" in err and str(out) in err
     rows = read_csv(out / "results.csv")
     assert {r["scene"] for r in rows if r["kind"] == "method"} == {"grille", "room", "ALL"}
-    assert len([r for r in rows if r["scene"] == "room" and r["kind"] == "method"]) == 2
+    first_two = sum(len(group) for _, group in compare._method_runs("lsao", "quick")[:2])
+    assert len([r for r in rows if r["scene"] == "room" and r["kind"] == "method"]) == first_two
     data = json.loads((out / "results.json").read_text())
     assert data["meta"]["partial"] is True and data["meta"]["complete_scenes"] == ["grille"]
     html = (out / "report.html").read_text(encoding="utf-8")

@@ -183,7 +183,8 @@ def add_compare_parser(sub) -> None:
     c = sub.add_parser(
         "compare", help="score every method against the Cycles references, timed: report",
         description="Runs every method (or --methods) at its quality presets (--sweep quick: "
-        "low, medium, high; presets: also ultra; full: every preset and the full parameter "
+        "the method's defaults, low, medium and the tuned presets; presets: also high and ultra; "
+        "full: every preset and the full parameter "
         "grid) on each reference scene at the scene's R, times it (warm-up, median of "
         "--repeat runs; the blur apart) and scores it against the 1024-spp Cycles reference on "
         "the whole frame and on regions, beside the AO = 1 baseline and the scene's peers "

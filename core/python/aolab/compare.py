@@ -55,7 +55,7 @@ BASE_COLUMNS = ("key", "scene", "kind", "method", "label", "preset", "settings",
                 "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
                 "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "runs",
                 "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
-                "occluded_mae_vs_limit", "flag", "note")
+                "occluded_mae_vs_limit", "occluded_mae_definition", "flag", "note")
 
 
 def columns() -> list[str]:
@@ -353,8 +353,10 @@ def score(ao: np.ndarray, scene: Scene) -> dict:
     """Metrics of ``ao`` against the scene's reference on every region, and the calibration.
 
     Returns {"regions": {region: {mae, rmse, psnr, bias, ssim, mae_cal, count}},
-    "calib_a": a, "calib_b": b}. SSIM of a region is the mean of the whole-frame SSIM map
-    (unscored pixels set to 1 in both images, as aolab.metrics does) over the region's pixels
+    "calib_a": a, "calib_b": b, "occluded_definition": the occluded MAE minus the occluded
+    MAE after the affine map fitted on the occluded region (None when it is empty)}. SSIM of
+    a region is the mean of the whole-frame SSIM map (unscored pixels set to 1 in both
+    images, as aolab.metrics does) over the region's pixels
     at least SSIM_CROP px from the edge, so that a region's score does not depend on what
     lies outside it; on "all" it equals aolab.metrics' SSIM. The calibration a, b is fitted
     once on all scored pixels and applied on every region.
@@ -371,6 +373,14 @@ def score(ao: np.ndarray, scene: Scene) -> dict:
     ca, cb = calibration(ao, ref, valid)
     d_all = ao.astype(np.float64) - ref
     d_cal = (ca * ao.astype(np.float64) + cb) - ref
+    # The error split's "definition": what an affine map fitted on the occluded region itself
+    # removes there (the whole-frame fit above is ruled by the many white pixels).
+    occ = scene.regions["occluded"]
+    definition = None
+    if occ.any():
+        oa, ob = calibration(ao, ref, occ)
+        definition = float(np.mean(np.abs(d_all[occ])) -
+                           np.mean(np.abs(oa * ao[occ].astype(np.float64) + ob - ref[occ])))
     out = {}
     for region in REGIONS:
         m = scene.regions[region]
@@ -381,7 +391,7 @@ def score(ao: np.ndarray, scene: Scene) -> dict:
         stats["ssim"] = float(np.mean(smap[pick], dtype=np.float64)) if pick.any() else math.nan
         stats["count"] = int(m.sum())
         out[region] = stats
-    return {"regions": out, "calib_a": ca, "calib_b": cb}
+    return {"regions": out, "calib_a": ca, "calib_b": cb, "occluded_definition": definition}
 
 
 def vs_limit(ao: np.ndarray, scene: Scene) -> float | None:
@@ -439,7 +449,8 @@ def _row(scene: Scene | str, kind: str, method: str, label: str, **extra) -> dic
 
 def _add_scores(row: dict, scored: dict) -> None:
     row["calib_a"], row["calib_b"] = scored["calib_a"], scored["calib_b"]
-    row["metrics"] = scored["regions"]
+    row["occluded_mae_definition"] = scored.get("occluded_definition")
+    row["metrics"] = {region: dict(m) for region, m in scored["regions"].items()}
 
 
 def flag_rows(rows: list[dict]) -> None:
@@ -472,7 +483,7 @@ def aggregate(rows: list[dict], scene_names: list[str]) -> list[dict]:
                    note=f"mean over {len(rs)} scene(s): {', '.join(r['scene'] for r in rs)}")
         for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
                     "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b",
-                    "occluded_mae_vs_limit"):
+                    "occluded_mae_vs_limit", "occluded_mae_definition"):
             vals = [r[col] for r in rs if r.get(col) is not None]
             # against the limit: over the scenes that have one (as the split's limit line)
             if vals and (len(vals) == len(rs) or col == "occluded_mae_vs_limit"):
@@ -624,11 +635,12 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) ->
 
 
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
-    """The configurations of ``method`` grouped by what the method computes: configurations
-    that differ only in the blur share one timed run of the method."""
-    groups: dict[str, tuple[dict, list]] = {}
+    """The configurations of ``method`` grouped by what the method computes (its settings over
+    the defaults, whether spelled out or not): configurations that differ only in the blur,
+    or only in their names (the defaults and a preset equal to them), share one timed run."""
+    groups: dict[tuple, tuple[dict, list]] = {}
     for s in presets_mod.settings_for(method, sweep):
-        key = json.dumps(s.compute_settings(), sort_keys=True)
+        key = presets_mod._identity(method, s.compute_settings(), False)
         groups.setdefault(key, (s.compute_settings(), []))[1].append(s)
     return list(groups.values())
 
@@ -754,23 +766,31 @@ class Study:
                                       note=f"error: {e}"))
             return
         raw = np.asarray(raw)
+        # Configurations of the group with the same blur switch give the same image: it is
+        # blurred, timed and scored once and its numbers are shared.
+        done: dict[bool, tuple] = {}
         for s in settings:
             row = _row(scene, "method", method, s.label, preset=s.preset or "",
                        settings=s.recorded_settings(), threads=threads, runs=len(times),
                        **_time_fields("method", times))
-            ao, blur_times = raw, []
-            if s.blur and raw.ndim == 2:
-                ao, blur_times = timed(lambda: aolab.gaussian_blur(
-                    raw, g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
-                    threads=threads), opts.warmup, opts.repeat)
-                row.update(_time_fields("blur", blur_times))
+            blur = bool(s.blur and raw.ndim == 2)
+            if blur not in done:
+                ao, blur_times = raw, []
+                if blur:
+                    ao, blur_times = timed(lambda: aolab.gaussian_blur(
+                        raw, g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
+                        threads=threads), opts.warmup, opts.repeat)
+                scored = None if ao.ndim != 2 else (score(ao, scene), vs_limit(ao, scene))
+                done[blur] = (ao, blur_times, scored)
+            ao, blur_times, scored = done[blur]
+            row.update(_time_fields("blur", blur_times))
             row["total_ms"] = row["method_ms"] + (row.get("blur_ms") or 0.0)
-            if ao.ndim != 2:
+            if scored is None:
                 row["note"] = (f"output has shape {ao.shape} (RGB, e.g. colour bleeding): timed, "
                                "not scored against the grey AO reference")
             else:
-                _add_scores(row, score(ao, scene))
-                row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
+                _add_scores(row, scored[0])
+                row["occluded_mae_vs_limit"] = scored[1]
                 images.offer(row, ao)
             self.rows.append(row)
 
@@ -837,9 +857,13 @@ def tuned_results() -> dict | None:
                for m, e in data.get("methods", {}).items()}
     if not methods:
         return None
-    runs = sorted({(e.get("command", "?"), e.get("commit", "?"), e.get("date", "?"))
-                   for e in methods.values()})
-    source = "; ".join(f"`{c}` at commit {k}, {d}" for c, k, d in runs)
+    runs: dict = {}     # one run writes each method's entry as it finishes: group them
+    for e in methods.values():
+        runs.setdefault((e.get("command", "?"), e.get("commit", "?")), []).append(
+            e.get("date", "?"))
+    source = "; ".join(f"`{c}` at commit {k}, "
+                       + (min(d) if min(d) == max(d) else f"{min(d)} to {max(d)}")
+                       for (c, k), d in sorted(runs.items()))
     return {"file": path.name, "source": source, "methods": methods}
 
 
