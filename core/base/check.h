@@ -5,9 +5,12 @@
 // these checks are for conditions that only a bug in AO Lab can violate.
 #pragma once
 
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace aolab::detail {
 
@@ -50,13 +53,40 @@ template <class A, class B>
 
 namespace aolab {
 
+namespace detail {
+/// `v` in %g style with as few significant digits as read back as exactly `v` (at least 6,
+/// as std::ostream prints, at most 9 for a float and 17 for a double): 0.5 stays "0.5" and
+/// 1e+30 stays "1e+30", while 2147483648 is "2147483648", never "2.14748e+09", so a value
+/// and the bound it breaks never print alike. NaN and infinities print as "nan", "inf".
+template <class T>
+std::string exact_number(T v) {
+  static_assert(std::is_floating_point_v<T>);
+  constexpr int kMaxDigits = std::is_same_v<T, float> ? 9 : 17;
+  char buf[64];
+  for (int digits = 6;; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, double(v));
+    if (digits >= kMaxDigits || v != v) break;
+    const T back =
+        std::is_same_v<T, float> ? T(std::strtof(buf, nullptr)) : T(std::strtod(buf, nullptr));
+    if (back == v) break;
+  }
+  return buf;
+}
+}  // namespace detail
+
 /// Throws std::invalid_argument("<parameter> <requirement>, got <value>"): the one way user
-/// input is rejected, so every message names the parameter and the offending value.
+/// input is rejected, so every message names the parameter and the offending value. A
+/// floating-point value is printed with enough digits to read back exactly
+/// (detail::exact_number), an integer exactly.
 template <class V>
 [[noreturn]] void throw_invalid(const std::string& parameter, const std::string& requirement,
                                 const V& value) {
   std::ostringstream s;
-  s << parameter << ' ' << requirement << ", got " << value;
+  s << parameter << ' ' << requirement << ", got ";
+  if constexpr (std::is_floating_point_v<V>)
+    s << detail::exact_number(value);
+  else
+    s << value;
   throw std::invalid_argument(s.str());
 }
 

@@ -10,8 +10,9 @@ namespace aolab {
 
 void GBuffer::validate() const {
   if (depth.empty())
-    throw_invalid("depth", "must be a non-empty H x W image",
-                  std::to_string(depth.width) + "x" + std::to_string(depth.height));
+    throw_invalid(
+        "depth", "must be a non-empty image (height and width >= 1)",
+        "height " + std::to_string(depth.height) + ", width " + std::to_string(depth.width));
   if (depth.channels != 1) throw_invalid("depth", "must have 1 channel", depth.channels);
   if (!normal.empty()) {
     if (normal.channels != 3)

@@ -49,10 +49,10 @@ struct SettingField {
 using SettingValues = std::map<std::string, double>;
 
 namespace detail {
+// Bounds with enough digits to read back exactly (2147483647, not 2.14748e+09), so that an
+// out-of-range value and the bound it breaks never print alike.
 inline std::string format_range(double lo, double hi) {
-  std::ostringstream s;
-  s << '[' << lo << ", " << hi << ']';
-  return s.str();
+  return '[' + exact_number(lo) + ", " + exact_number(hi) + ']';
 }
 
 inline std::vector<std::string> split_choices(const char* list) {

@@ -29,6 +29,40 @@ using OIIO::ImageOutput;
 using OIIO::ImageSpec;
 using OIIO::TypeDesc;
 
+void require_regular_file(const std::string& path, const std::string& what_file) {
+  std::error_code ec;
+  const fs::file_type type = fs::status(path, ec).type();
+  const char* kind = "not a regular file";
+  switch (type) {
+    case fs::file_type::regular:
+      return;
+    case fs::file_type::not_found:
+      throw FileNotFound(path, what_file);
+    case fs::file_type::none:  // status() failed for another reason (e.g. permissions)
+      throw std::invalid_argument(what_file + " " + path + " cannot be accessed: " +
+                                  (ec ? ec.message() : std::string("unknown error")));
+    case fs::file_type::directory:
+      kind = "a directory";
+      break;
+    case fs::file_type::fifo:
+      kind = "a FIFO (named pipe)";
+      break;
+    case fs::file_type::socket:
+      kind = "a socket";
+      break;
+    case fs::file_type::block:
+      kind = "a block device";
+      break;
+    case fs::file_type::character:
+      kind = "a character device";
+      break;
+    default:
+      break;
+  }
+  throw std::invalid_argument(what_file + " " + path + " is " + kind +
+                              (type == fs::file_type::unknown ? "" : ", not a regular file"));
+}
+
 namespace {
 
 std::string joined(const std::vector<std::string>& names) {
@@ -45,8 +79,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 std::unique_ptr<ImageInput> open_input(const std::string& path, const std::string& what_file) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw FileNotFound(path, what_file);
+  require_regular_file(path, what_file);
   auto in = ImageInput::open(path);
   if (!in) throw std::invalid_argument("cannot read " + path + ": " + OIIO::geterror());
   return in;

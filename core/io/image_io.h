@@ -43,6 +43,13 @@ class FileNotFound : public std::runtime_error {
   std::string path_, description_;
 };
 
+/// Checks that `path` (after following symbolic links) is a regular file before it is opened:
+/// throws FileNotFound if nothing is there, std::invalid_argument "<what_file> <path> is a
+/// directory|FIFO (named pipe)|socket|block device|character device|..., not a regular file"
+/// otherwise, so that opening a FIFO never blocks and a directory never gives a reader's
+/// obscure error.
+void require_regular_file(const std::string& path, const std::string& what_file);
+
 /// Names of all channels of the image at `path` (first subimage), in file order.
 /// Throws FileNotFound, or std::invalid_argument if the file cannot be read as an image.
 std::vector<std::string> exr_channel_names(const std::string& path);

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -47,11 +48,28 @@ const Json* optional_key(const Json& doc, const char* key) {
 }
 
 const Json& required_key(const Json& doc, const char* key, const std::string& source) {
-  const Json* value = optional_key(doc, key);
-  if (!value)
+  const auto it = doc.find(key);
+  if (it == doc.end())
     throw_invalid("sidecar " + source, "must have the required key \"" + std::string(key) + "\"",
                   "keys " + key_list(doc));
-  return *value;
+  // Present but null: say so, rather than calling a key that is there missing.
+  if (it->is_null()) bad_value(source, key, "is required and must not be null", *it);
+  return *it;
+}
+
+// A value that becomes a float in the G-buffer (fx, fy, cx, cy): 1e-50 or 1e300 are valid
+// doubles but would round to 0 or infinity there, and then be reported as "got 0" far from
+// the file that holds them.
+double float_number(double d, const Json& value, const char* key, const std::string& source,
+                    bool positive) {
+  const float f = float(d);
+  if (!std::isfinite(f) || (positive && !(f > 0)))
+    bad_value(source, key,
+              positive ? "must fit in a float: > 0 and at least 1.4e-45 (the smallest float), "
+                         "at most 3.4e38"
+                       : "must fit in a float: at most 3.4e38 in magnitude",
+              value);
+  return d;
 }
 
 double finite_number(const Json& value, const char* key, const std::string& source) {
@@ -107,7 +125,80 @@ std::array<double, 16> matrix4(const Json& value, const char* key, const std::st
   return m;
 }
 
+// The first byte of `text` that is not part of well-formed UTF-8, or npos. JSON text is
+// UTF-8 (RFC 8259 §8.1); a Latin-1 byte is the usual culprit.
+std::size_t invalid_utf8_offset(const std::string& text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const unsigned char c = byte(i);
+    int extra = 0;
+    unsigned min_code = 0;
+    unsigned code = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if ((c & 0xE0) == 0xC0) {
+      extra = 1, min_code = 0x80, code = c & 0x1Fu;
+    } else if ((c & 0xF0) == 0xE0) {
+      extra = 2, min_code = 0x800, code = c & 0x0Fu;
+    } else if ((c & 0xF8) == 0xF0) {
+      extra = 3, min_code = 0x10000, code = c & 0x07u;
+    } else {
+      return i;
+    }
+    if (i + std::size_t(extra) >= text.size()) return i;  // truncated sequence
+    for (int e = 1; e <= extra; ++e) {
+      const unsigned char t = byte(i + std::size_t(e));
+      if ((t & 0xC0) != 0x80) return i;
+      code = (code << 6) | (t & 0x3Fu);
+    }
+    if (code < min_code || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return i;
+    i += std::size_t(extra) + 1;
+  }
+  return std::string::npos;
+}
+
+// Deeper nesting than any sidecar needs (camera_to_world is 3 levels) is refused before
+// parsing: Python's json module, which turns the text into GBuffer.sidecar, would fail on
+// 100,000 nested '[' with a RecursionError.
+constexpr int kMaxNesting = 64;
+
+void require_shallow(const std::string& text, const std::string& source) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw std::invalid_argument("sidecar " + source + " nests arrays and objects deeper than " +
+                                    std::to_string(kMaxNesting) + " levels (at byte " +
+                                    std::to_string(i) + "); a camera sidecar needs 3");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 Json parse_json(const std::string& text, const std::string& source) {
+  if (const std::size_t at = invalid_utf8_offset(text); at != std::string::npos) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", unsigned(static_cast<unsigned char>(text[at])));
+    throw std::invalid_argument("sidecar " + source + " is not UTF-8 text: byte " + hex +
+                                " at offset " + std::to_string(at) +
+                                " is not valid UTF-8 (JSON must be UTF-8; was the file saved as "
+                                "Latin-1 or another 8-bit encoding?)");
+  }
+  require_shallow(text, source);
   try {
     return Json::parse(text);
   } catch (const Json::exception& e) {
@@ -140,7 +231,11 @@ std::string sidecar_path_for(const std::string& exr_path) {
   return std::filesystem::path(exr_path).replace_extension(".json").string();
 }
 
-CameraSidecar parse_sidecar(const std::string& json_text, const std::string& source) {
+CameraSidecar parse_sidecar(const std::string& raw_text, const std::string& source) {
+  // A UTF-8 byte order mark (what some Windows editors write) is accepted and dropped: JSON
+  // forbids it (RFC 8259 §8.1) and Python's json.loads refuses it.
+  const std::string json_text =
+      raw_text.rfind("\xEF\xBB\xBF", 0) == 0 ? raw_text.substr(3) : raw_text;
   const Json doc = parse_json(json_text, source);
   if (!doc.is_object())
     throw_invalid("sidecar " + source, "must be a JSON object {...}", std::string(doc.type_name()));
@@ -148,10 +243,16 @@ CameraSidecar parse_sidecar(const std::string& json_text, const std::string& sou
   CameraSidecar s;
   s.width = integer(required_key(doc, "width", source), "width", source, 1);
   s.height = integer(required_key(doc, "height", source), "height", source, 1);
-  s.fx = positive_number(required_key(doc, "fx", source), "fx", source);
-  s.fy = positive_number(required_key(doc, "fy", source), "fy", source);
-  s.cx = finite_number(required_key(doc, "cx", source), "cx", source);
-  s.cy = finite_number(required_key(doc, "cy", source), "cy", source);
+  for (const char* key : {"fx", "fy", "cx", "cy"}) {
+    const Json& value = required_key(doc, key, source);
+    const bool focal = key[0] == 'f';
+    const double d =
+        focal ? positive_number(value, key, source) : finite_number(value, key, source);
+    (key == std::string("fx")   ? s.fx
+     : key == std::string("fy") ? s.fy
+     : key == std::string("cx") ? s.cx
+                                : s.cy) = float_number(d, value, key, source, focal);
+  }
   if (const Json* v = optional_key(doc, "camera_to_world")) {
     s.camera_to_world = matrix4(*v, "camera_to_world", source);
     s.has_camera_to_world = true;
@@ -175,12 +276,7 @@ CameraSidecar parse_sidecar(const std::string& json_text, const std::string& sou
 }
 
 CameraSidecar read_sidecar(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    if (std::filesystem::exists(path, ec))
-      throw std::invalid_argument("sidecar " + path + " is not a regular file");
-    throw FileNotFound(path, "camera sidecar");
-  }
+  require_regular_file(path, "camera sidecar");
   return parse_sidecar(read_text(path), path);
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -104,10 +105,71 @@ void filter_block_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
   }
 }
 
+// Eq. (13) from the moments, clamped to [−1, 1] (which it cannot leave mathematically; the
+// clamp only removes rounding).
+double ssim_value(double ua, double ub, double va, double vb, double vab, const SsimConstants& k) {
+  const double a1 = 2 * ua * ub + k.c1;
+  const double a2 = 2 * vab + k.c2;
+  const double b1 = ua * ua + ub * ub + k.c1;
+  const double b2 = va + vb + k.c2;
+  return std::clamp((a1 * a2) / (b1 * b2), -1.0, 1.0);
+}
+
+// The moments as the fast path computes them, E[a²] − E[a]², lose every digit when the
+// values are large compared with their spread within the window (a constant 1e20 gives a
+// variance of rounding noise around 1e24 instead of 0, and SSIM(+1e20, −1e20) came out 1).
+// Their rounding error is at most about kCancellation · (E[a²] + E[b²]); where that is not
+// negligible against the denominator σa² + σb² + C2 the pixel is recomputed by exact_ssim.
+// For AO in [0, 1] (E[a²] + E[b²] <= 2, denominator >= C2 = 9e-4) this never happens, so
+// the fast path's bits are unchanged there.
+constexpr double kCancellation = 64 * std::numeric_limits<double>::epsilon();
+constexpr double kTolerance = 1e-9;
+
+bool needs_exact(double uaa, double ubb, double va, double vb, const SsimConstants& k) {
+  const double denominator = std::max(va, 0.0) + std::max(vb, 0.0) + k.c2;
+  return !(kCancellation * (uaa + ubb) <= kTolerance * denominator);
+}
+
+// S at (x, y) straight from the window, with the values taken relative to the window's
+// centre pixel: the moments of the differences have no cancellation against the values'
+// magnitude (a constant window has differences exactly 0), so S is accurate for any finite
+// float input, however large. Same reflection and mask rule as the fast path.
+double exact_ssim(ConstImageView a, ConstImageView b, ConstImageView mask,
+                  const std::vector<double>& w, const SsimConstants& k, int x, int y) {
+  const auto value = [&](ConstImageView image, int sx, int sy) {
+    if (!mask.empty() && mask.row(sy)[sx] == 0.0f) return 1.0;
+    return double(image.row(sy)[sx]);
+  };
+  const double ca = value(a, x, y), cb = value(b, x, y);
+  const int r = k.radius;
+  double da = 0, db = 0, daa = 0, dbb = 0, dab = 0;
+  for (int ty = -r; ty <= r; ++ty) {
+    const int sy = reflect(y + ty, a.height);
+    const double wy = w[std::size_t(ty + r)];
+    for (int tx = -r; tx <= r; ++tx) {
+      const int sx = reflect(x + tx, a.width);
+      const double wt = wy * w[std::size_t(tx + r)];
+      const double pa = value(a, sx, sy) - ca, pb = value(b, sx, sy) - cb;
+      da += wt * pa;
+      db += wt * pb;
+      daa += wt * (pa * pa);
+      dbb += wt * (pb * pb);
+      dab += wt * (pa * pb);
+    }
+  }
+  const double va = std::max(0.0, daa - da * da);
+  const double vb = std::max(0.0, dbb - db * db);
+  const double bound = std::sqrt(va) * std::sqrt(vb);  // Cauchy–Schwarz: |σab| <= σa σb
+  const double vab = std::clamp(dab - da * db, -bound, bound);
+  return ssim_value(ca + da, cb + db, va, vb, vab, k);
+}
+
 // One row of S from a block's horizontally filtered planes: the vertical pass over the taps
-// starting at block row `e0`, then eq. (13) per pixel, in skimage's order of operations.
+// starting at block row `e0`, then eq. (13) per pixel, in skimage's order of operations;
+// pixels whose moments cancelled (needs_exact) are recomputed by exact_ssim.
 // acc: scratch of 5·width.
-void ssim_row(const std::vector<double>& h, std::size_t plane, int width, int e0,
+void ssim_row(ConstImageView a, ConstImageView b, ConstImageView mask, int y,
+              const std::vector<double>& h, std::size_t plane, int width, int e0,
               const std::vector<double>& w, const SsimConstants& k, std::vector<double>& acc,
               double* s) {
   std::fill(acc.begin(), acc.end(), 0.0);
@@ -130,11 +192,9 @@ void ssim_row(const std::vector<double>& h, std::size_t plane, int width, int e0
     const double va = uaa[x] - ua[x] * ua[x];
     const double vb = ubb[x] - ub[x] * ub[x];
     const double vab = uab[x] - ua[x] * ub[x];
-    const double a1 = 2 * ua[x] * ub[x] + k.c1;
-    const double a2 = 2 * vab + k.c2;
-    const double b1 = ua[x] * ua[x] + ub[x] * ub[x] + k.c1;
-    const double b2 = va + vb + k.c2;
-    s[std::size_t(x)] = (a1 * a2) / (b1 * b2);
+    s[std::size_t(x)] = needs_exact(uaa[x], ubb[x], va, vb, k)
+                            ? exact_ssim(a, b, mask, w, k, x, y)
+                            : ssim_value(ua[x], ub[x], va, vb, vab, k);
   }
 }
 
@@ -164,7 +224,7 @@ void compute_ssim_rows(ConstImageView a, ConstImageView b, ConstImageView mask,
     std::vector<double> acc(std::size_t(width) * kPlanes);
     std::vector<double> s(static_cast<std::size_t>(width));
     for (int y = y0; y < y1; ++y) {
-      ssim_row(h, plane, width, y - y0, w, k, acc, s.data());
+      ssim_row(a, b, mask, y, h, plane, width, y - y0, w, k, acc, s.data());
       row_done(y, s.data());
     }
   });

@@ -64,8 +64,13 @@ SsimConstants ssim_constants(const SsimSettings& settings);
 /// eqs. (14)–(16). The weights are exp(−x² / 2σ²) for integer x in [−radius, radius], normalised
 /// to unit sum, applied separably; outside the image it uses scipy's 'reflect' extension
 /// (half-sample symmetric: d c b a | a b c d | d c b a, repeated for images narrower than the
-/// window). `a` and `b` are 1-channel images of the same size with finite values; the result is
-/// 1 channel, the size of `a`, S ≤ 1, symmetric in a and b, and 1 where a = b.
+/// window). `a` and `b` are 1-channel images of the same size with finite values (a NaN or
+/// infinity is std::invalid_argument naming the image and the pixel); the result is
+/// 1 channel, the size of `a`, −1 ≤ S ≤ 1, symmetric in a and b, and 1 where a = b.
+/// It is accurate for any finite float input, however large: where E[a²] − E[a]² would cancel
+/// (values large against their spread in the window, e.g. a constant 1e20) the pixel's moments
+/// are recomputed relative to the window's centre value, so SSIM(+1e20, −1e20) is −1, not 1.
+/// AO in [0, 1] never needs that and gets the same bits as scikit-image's formula.
 /// `threads` = 0 uses all cores; the result does not depend on it.
 Image ssim_map(ConstImageView a, ConstImageView b, const SsimSettings& settings = {},
                int threads = 0);

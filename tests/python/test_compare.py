@@ -431,6 +431,8 @@ def test_rgb_outputs_and_errors_are_recorded_not_scored(room, monkeypatch):
 
 
 def test_interrupt_keeps_partial_results(tmp_path, monkeypatch, capsys):
+    """An interrupted study leaves its partial results in the staging folder <out>.partial/
+    beside the output folder, says so, and writes nothing into the output folder."""
     scenes = make_scenes(tmp_path)
     calls = {"n": 0}
     real = compare.Study._run_config
@@ -444,18 +446,22 @@ def test_interrupt_keeps_partial_results(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(compare.Study, "_run_config", interrupting)
     out = tmp_path / "out"
+    staging = tmp_path / "out.partial"
     assert run_compare(scenes, out, "--methods", "lsao", "hbao") == 130
     err = capsys.readouterr().err
-    assert "interrupted" in err and "Partial results" in err and str(out) in err
-    rows = read_csv(out / "results.csv")
+    assert "interrupted" in err and "Partial results" in err and f"{staging}/" in err
+    assert f"nothing was written to {out}/" in err
+    assert not out.exists() or not list(out.iterdir())
+    rows = read_csv(staging / "results.csv")
     assert {r["scene"] for r in rows if r["kind"] == "method"} == {"grille", "room", "ALL"}
     first_two = sum(len(group) for _, group in compare._method_runs("lsao", "quick")[:2])
     assert len([r for r in rows if r["scene"] == "room" and r["kind"] == "method"]) == first_two
-    data = json.loads((out / "results.json").read_text())
+    data = json.loads((staging / "results.json").read_text())
     assert data["meta"]["partial"] is True and data["meta"]["complete_scenes"] == ["grille"]
-    html = (out / "report.html").read_text(encoding="utf-8")
+    html = (staging / "report.html").read_text(encoding="utf-8")
     assert "PARTIAL results" in html
-    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+    assert sorted(p.name for p in staging.iterdir()) == ["report.html", "results.csv",
+                                                         "results.json"]
 
 
 def test_command_line_errors_are_clear(tmp_path):
@@ -501,3 +507,63 @@ def test_choice_settings_are_named_in_presets_sweeps_and_results():
             row = {"settings": s.recorded_settings()}
             assert json.loads(compare.flat(row)["settings"]) == s.recorded_settings()
     assert named > 0
+
+
+# ---------------------------------------------------------------------------------------
+# Hostile scenes: refused with a ValueError naming the scene, before any work
+
+
+def small_scene(folder: Path, reference=None, sidecar=None) -> Path:
+    """A scene folder with a 64x36 analytic G-buffer as reference.exr (R 0.25 unless the
+    sidecar says otherwise)."""
+    folder.mkdir(parents=True)
+    g = aolab.analytic_scene("blocks", 64, 36, radius=0.25)
+    if reference is None:   # the closed form where the scene has one, else 1
+        reference = np.nan_to_num(np.asarray(g.reference, np.float32), nan=1.0)
+    aolab.save_gbuffer(folder / "reference.exr", g, reference=reference,
+                       sidecar={"ao_distance": 0.25} if sidecar is None else sidecar)
+    return folder
+
+
+def compare_cli(scenes: Path, out: Path, *extra) -> int:
+    return cli.main(["compare", *extra, "--scenes-dir", str(scenes), "--out", str(out),
+                     "--methods", "lsao", "--repeat", "1", "--warmup", "0", "--threads", "2",
+                     "--no-progress"])
+
+
+def test_a_sidecar_without_ao_distance_is_refused_naming_the_scene_and_key(tmp_path, capsys):
+    small_scene(tmp_path / "scenes" / "a_good")
+    small_scene(tmp_path / "scenes" / "no_radius", sidecar={"title": "no R"})
+    with pytest.raises(ValueError, match=r"scene 'no_radius'.*'ao_distance'"):
+        compare.load_cropped(tmp_path / "scenes" / "no_radius")
+    out = tmp_path / "out"
+    assert compare_cli(tmp_path / "scenes", out) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("aolab: scene 'no_radius'") and "ao_distance" in err
+    # refused before any work: the good scene (sorted first) was not run either
+    assert not out.exists() and not (tmp_path / "out.partial").exists()
+
+
+@pytest.mark.parametrize("value", [0, -1, "far", None])
+def test_an_invalid_ao_distance_is_refused(tmp_path, value):
+    folder = small_scene(tmp_path / "bad_r")
+    side = json.loads((folder / "reference.json").read_text())
+    (folder / "reference.json").write_text(json.dumps(dict(side, ao_distance=value)))
+    with pytest.raises(ValueError, match=r"bad_r.*ao_distance|ao_distance.*bad_r"):
+        compare.load_cropped(folder)
+
+
+def test_an_all_nan_reference_is_refused_naming_the_scene(tmp_path, capsys):
+    small_scene(tmp_path / "scenes" / "nan_ref", reference=np.full((36, 64), np.nan, np.float32))
+    with pytest.raises(ValueError, match=r"scene 'nan_ref'.*no finite value on any geometry"):
+        compare.load_cropped(tmp_path / "scenes" / "nan_ref")
+    assert compare_cli(tmp_path / "scenes", tmp_path / "out", "nan_ref") == 2
+    err = capsys.readouterr().err
+    assert "scene 'nan_ref'" in err and "NaN" in err
+    # a reference that is NaN in part is scored on its finite pixels
+    part = np.asarray(aolab.analytic_scene("blocks", 64, 36, radius=0.25).reference)
+    part = np.nan_to_num(part, nan=1.0).astype(np.float32)
+    part[:, :32] = np.nan
+    small_scene(tmp_path / "half_nan", reference=part)
+    g, ref, radius, _ = compare.load_cropped(tmp_path / "half_nan")
+    assert radius == 0.25 and np.isnan(ref).any()

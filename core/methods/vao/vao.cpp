@@ -110,12 +110,17 @@ VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
 namespace {
 
 // The tangent sphere of P (§3), radius r = R/2 and centre C = P + r·n, as every sample of the
-// pixel sees it.
+// pixel sees it. In double: R goes up to 1e30, and float's b² (b ~ r) overflows beyond 1e19
+// while its rounding of P + r·n loses P beyond ~1e7 times the depth.
 struct Sphere {
-  float r;
-  glm::vec3 c;
-  float dc, inv_dc;  // C's depth and its inverse
-  float c_term;      // |C|² − r² = |P|² + 2r P·n
+  double r;
+  glm::dvec3 c;
+  double dc, inv_dc;  // C's depth and its inverse
+  double c_term;      // |C|² − r² = |P|² + 2r P·n
+  // What rounding the float inputs P and n (relative 2^-24) moves c_term and b = v·C by,
+  // over 2^-24 and per unit |v| for b.
+  double c_term_error, b_error;
+  double inv_fx, inv_fy;  // of the camera, for the texels' view rays
 };
 
 // One sample's pipe through the sphere, its full length and the depth tolerance of its test.
@@ -126,24 +131,42 @@ struct SamplePipe {
 
 // The view ray X = δ v through the centre of texel (ix, iy) meets |X − C| = r at
 // δ = (b ± sqrt(b² − a·c_term))/a, a = |v|², b = v·C; δ is planar depth. False if the ray
-// misses the sphere (no pipe).
+// misses the sphere in front of the camera (no pipe). The two roots are formed without
+// cancellation (their product is c_term/a): for b < 0 the far one is −c_term/(sq − b), which
+// is where a ray from a camera inside a huge sphere leaves it through the tangent plane.
 bool view_ray_pipe(const CameraIntrinsics& cam, const Sphere& sp, int ix, int iy, float ds,
                    SamplePipe& out) {
-  const float inv_fx = 1.0f / cam.fx, inv_fy = 1.0f / cam.fy;
-  const glm::vec3 v((float(ix) + 0.5f - cam.cx) * inv_fx, -(float(iy) + 0.5f - cam.cy) * inv_fy,
-                    -1.0f);
-  const float a = glm::dot(v, v), b = glm::dot(v, sp.c);
-  const float disc = b * b - a * sp.c_term;
-  if (!(disc > 0.0f)) return false;
-  const float sq = std::sqrt(disc);
-  if (!(b + sq > 0.0f) || !std::isfinite(b + sq)) return false;
-  out.pipe.back = (b + sq) / a;
-  out.pipe.front = std::max(0.0f, sp.c_term / (b + sq));  // the camera may be inside
-  out.full = out.pipe.back - out.pipe.front;
-  // Rounding of b, c_term (and of P and n in them) moves δ by ~ε (|b| + sq + (b² +
-  // |a c_term|)/sq)/a: ill-conditioned for rays grazing the sphere (small sq).
-  out.tolerance = kFloatEpsilon * kVaoDepthUlps *
-                  (std::abs(ds) + (std::abs(b) + sq + (b * b + std::abs(a * sp.c_term)) / sq) / a);
+  const glm::dvec3 v((double(ix) + 0.5 - cam.cx) * sp.inv_fx,
+                     -(double(iy) + 0.5 - cam.cy) * sp.inv_fy, -1.0);
+  const double a = glm::dot(v, v), b = glm::dot(v, sp.c);
+  const double disc = b * b - a * sp.c_term;
+  if (!(disc > 0.0)) return false;
+  const double sq = std::sqrt(disc);
+  double back, front, tolerance;
+  if (b >= 0.0) {
+    const double s = b + sq, inv_a = 1.0 / a;
+    back = s * inv_a;
+    front = sp.c_term / s;
+    // Rounding of b, c_term (and of P and n in them) moves δ by ~ε (|b| + sq + (b² +
+    // |a c_term|)/sq)/a: ill-conditioned for rays grazing the sphere (small sq).
+    tolerance = std::abs(ds) + (b + sq + (b * b + std::abs(a * sp.c_term)) / sq) * inv_a;
+  } else {
+    const double t = sq - b;  // > 0
+    back = -sp.c_term / t;
+    front = -t / a;
+    // back = −c_term/t: its relative error is c_term's plus t's (t = sq + |b|, moved by at
+    // most twice b's error plus sqrt's share of c_term's); both grow where the ray or the
+    // view of P grazes the tangent plane.
+    const double b_error = sp.b_error * std::sqrt(a);
+    tolerance = std::abs(ds) + std::abs(back) * (sp.c_term_error / std::abs(sp.c_term) +
+                                                 (2.0 * b_error + a * sp.c_term_error / sq) / t);
+  }
+  if (!(back > 0.0) || !std::isfinite(back)) return false;
+  front = std::max(0.0, front);  // the camera may be inside
+  out.pipe.back = float(back);
+  out.pipe.front = float(front);
+  out.full = float(back - front);
+  out.tolerance = float(std::min(double(kFloatEpsilon) * kVaoDepthUlps * tolerance, 1e38));
   return true;
 }
 
@@ -164,7 +187,7 @@ void add_bleeding(const VaoFrame& f, const glm::vec3& nrm, float r, float ox, fl
 }  // namespace
 
 VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y, const float* sx,
-                       const float* sy, const float* sh, int n) {
+                       const float* sy, const float* sh, int n_samples) {
   VaoPixelSums out;
   const int w = f.width, h = f.height;
   const std::size_t idx = std::size_t(y) * w + x;
@@ -172,36 +195,41 @@ VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y
   const glm::vec3 nrm(f.normals.data()[3 * idx], f.normals.data()[3 * idx + 1],
                       f.normals.data()[3 * idx + 2]);
   const CameraIntrinsics& cam = f.camera;
-  const float inv_fx = 1.0f / cam.fx, inv_fy = 1.0f / cam.fy;
-  const glm::vec3 v0((float(x) + 0.5f - cam.cx) * inv_fx, -(float(y) + 0.5f - cam.cy) * inv_fy,
-                     -1.0f);
-  const glm::vec3 p = d * v0;
+  const glm::dvec3 v0((double(x) + 0.5 - cam.cx) / cam.fx, -(double(y) + 0.5 - cam.cy) / cam.fy,
+                      -1.0);
+  const glm::dvec3 n(nrm);
+  const glm::dvec3 p = double(d) * v0;
   Sphere sp;
-  sp.r = 0.5f * o.radius;  // the tangent sphere (§3)
-  sp.c = p + sp.r * nrm;
+  sp.r = 0.5 * double(o.radius);  // the tangent sphere (§3)
+  sp.c = p + sp.r * n;
   sp.dc = -sp.c.z;
-  if (!(sp.dc > 0.0f) || !std::isfinite(sp.dc)) return out;  // the disc is not in front
-  sp.inv_dc = 1.0f / sp.dc;
-  // |C|² - r² = |P|² + 2r P·n, without forming r² (no cancellation, no overflow first).
-  sp.c_term = d * d * glm::dot(v0, v0) + 2.0f * sp.r * d * glm::dot(v0, nrm);
-  const float inv_radius = 1.0f / o.radius;
+  if (!(sp.dc > 0.0) || !std::isfinite(sp.dc)) return out;  // the disc is not in front
+  sp.inv_dc = 1.0 / sp.dc;
+  sp.inv_fx = 1.0 / cam.fx;
+  sp.inv_fy = 1.0 / cam.fy;
+  // |C|² - r² = |P|² + 2r P·n, without forming r² (no cancellation).
+  const double p_len = glm::length(p);
+  sp.c_term = glm::dot(p, p) + 2.0 * sp.r * glm::dot(p, n);
+  sp.c_term_error = p_len * p_len + 4.0 * sp.r * p_len;
+  sp.b_error = p_len + 2.0 * sp.r;
+  const float r = float(sp.r), inv_radius = 1.0f / o.radius;
 
-  for (int i = 0; i < n; ++i) {
-    const float ox = sp.r * sx[i], oy = sp.r * sy[i];
-    const float px = cam.cx + cam.fx * (sp.c.x + ox) * sp.inv_dc;
-    const float py = cam.cy - cam.fy * (sp.c.y + oy) * sp.inv_dc;
+  for (int i = 0; i < n_samples; ++i) {
+    const double ox = sp.r * sx[i], oy = sp.r * sy[i];
+    const double px = cam.cx + cam.fx * (sp.c.x + ox) * sp.inv_dc;
+    const double py = cam.cy - cam.fy * (sp.c.y + oy) * sp.inv_dc;
     // Off-screen samples carry no information: left out (the test also rejects NaN).
-    if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
+    if (!(px >= 0.0 && px < double(w) && py >= 0.0 && py < double(h))) continue;
     const int ix = int(px), iy = int(py);
     const float ds = f.depth[std::size_t(iy) * w + ix];
     SamplePipe sample;
     if (o.view_ray_pipes) {
       if (!view_ray_pipe(cam, sp, ix, iy, ds, sample)) continue;
     } else {
-      const float half = sp.r * sh[i];  // half the pipe parallel to the view axis
-      sample.pipe = {sp.dc - half, sp.dc + half};
-      sample.full = 2.0f * half;  // Σ full = R Σ h_i: F of eq. 2
-      sample.tolerance = kFloatEpsilon * kVaoDepthUlps * (std::abs(ds) + d + sp.r);
+      const double half = sp.r * sh[i];  // half the pipe parallel to the view axis
+      sample.pipe = {float(sp.dc - half), float(sp.dc + half)};
+      sample.full = float(2.0 * half);  // Σ full = R Σ h_i: F of eq. 2
+      sample.tolerance = float(double(kFloatEpsilon) * kVaoDepthUlps * (std::abs(ds) + d + sp.r));
     }
     if (!(sample.full > 0.0f)) continue;
     float open;
@@ -214,7 +242,7 @@ VaoPixelSums vao_pixel(const VaoFrame& f, const VaoPixelOptions& o, int x, int y
     out.open += open;
     out.full += sample.full;
     if (o.bleeding_step > 0 && i % o.bleeding_step == 0 && ds == ds)
-      add_bleeding(f, nrm, sp.r, ox, oy, inv_radius, ix, iy, out);
+      add_bleeding(f, nrm, r, float(ox), float(oy), inv_radius, ix, iy, out);
   }
   return out;
 }

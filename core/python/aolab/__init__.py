@@ -54,7 +54,11 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     ``preset`` names one of ``presets(method)`` ("default", "low", ..., "tuned-100ms"): its
     settings and blur switch, each overridden by an explicit ``settings`` entry or ``blur``;
     an unknown name is a ValueError listing the method's presets.
+
+    ``blur`` must be a bool (``True``, ``False``, a numpy bool) or None (the preset's switch,
+    else off); anything else, ``"no"`` or ``1`` included, is a ValueError naming ``blur``.
     """
+    _require_bool_or_none("blur", blur)
     if preset is not None:
         values = presets.settings_of(method, preset)
         preset_blur = bool(values.pop("blur", False))
@@ -73,6 +77,13 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     return ao
 
 
+def _require_bool_or_none(name: str, value) -> None:
+    """A switch is a real bool: a string such as "no" is truthy, and 0/1 hide a mistake."""
+    if value is not None and not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a bool (True or False) or None, got {value!r} "
+                         f"({type(value).__name__})")
+
+
 def gaussian_blur(ao: np.ndarray, gbuffer: GBuffer, *, sigma: float = 1.5, taps: int = 5,
                   threads: int = 0) -> np.ndarray:
     """Separable Gaussian low-pass of an AO image over the G-buffer's valid pixels:
@@ -85,6 +96,10 @@ def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = Non
     """Accuracy of ``ao`` against ``reference`` over ``mask`` (non-zero = scored pixel; all
     pixels when None): dict with ``mae``, ``rmse``, ``psnr``, ``bias`` (mean of ao - reference:
     positive = under-occlusion), ``ssim`` and ``count`` (docs/metrics.md).
+
+    Every metric is finite for finite input, and ``ssim`` lies in [-1, 1] for any finite
+    values however large (SSIM of constant +1e20 against -1e20 is -1); a NaN or infinity on a
+    scored pixel is a ValueError naming the array and the pixel.
 
     An RGB result (``vao_pp`` with colour bleeding, (H, W, 3)) is refused with a ValueError:
     it is not an AO value and there is no indirect-diffuse reference to score it against
@@ -113,7 +128,15 @@ def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
 def load_gbuffer(path) -> GBuffer:
     """A G-buffer from a Blender multilayer EXR and its camera sidecar JSON (``<stem>.json``):
     depth, normals, colour (DiffCol) and emission (Emit) where the file has them.
-    The returned GBuffer also carries ``reference`` (the AO pass, or None) and ``sidecar``."""
+    The returned GBuffer also carries ``reference`` (the AO pass, or None) and ``sidecar``.
+
+    ``reference`` is the AO pass as stored, NaN included: an AO pass that is all NaN is still
+    returned (an array of NaN, not None), and scoring it selects no pixel (``aolab run`` then
+    says the AO pass is all NaN). ``path`` and its sidecar must be regular files: a directory,
+    FIFO or device is a ValueError naming the path and what it is (a FIFO is never opened, so
+    the call cannot block). The sidecar must be UTF-8 JSON (a leading byte order mark is
+    accepted), nest at most 64 levels, and hold fx, fy, cx, cy that fit a float32; any other
+    sidecar is a ValueError naming the file (docs/file_formats.md)."""
     data = _core.load_gbuffer_arrays(str(path))
     side = data["sidecar"]
     g = GBuffer(data["depth"], data["normal"], data["color"], fx=side["fx"], fy=side["fy"],

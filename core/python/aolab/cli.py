@@ -11,14 +11,24 @@
     aolab tune [options]                  search each method's settings for the Pareto front
 
 INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
+
+Errors: bad input never shows a traceback. A bad option value is refused when the command
+line is read (the usage line, then ``argument --OPT: --OPT must be ..., got VALUE``; exit
+status 2); any error while a command runs prints one line ``aolab: <message>`` (the
+exception's type name when it has no message) on stderr and exits with status 2. Ctrl-C
+exits with status 130 (compare, tune and reference keep their partial work first).
+``aolab --debug COMMAND ...`` shows the Python traceback instead.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
+import re
+import stat
 import statistics
 import sys
 import time
@@ -32,13 +42,171 @@ from .scoring import metrics_mask
 from .settings import describe_value, parse_assignments
 
 
-def _key_values(pairs: list[str], method: str | None = None) -> dict:
-    """--set / --param KEY=VALUE items as a dict: numbers, bools, and a choice setting's name
-    (or any other text, which aolab.compute then rejects, naming what is valid)."""
+# --- option values, validated when the command line is read --------------------------------
+
+#: The largest analytic scene side and report image width (16384 = 16K; a 100000-pixel side
+#: would need tens of gigabytes).
+MAX_SIDE = 16384
+#: The most worker threads an option accepts (0 = all cores; a computation uses at most one
+#: per band of 4 rows).
+MAX_THREADS = 4096
+#: The most timed or warm-up runs per configuration.
+MAX_RUNS = 1000
+#: The most samples per pixel Cycles accepts.
+MAX_SAMPLES = 16777216
+
+
+def _shown(text: str) -> str:
+    """An option's text for a message: repr, shortened to keep the message one short line."""
+    return repr(text) if len(text) <= 60 else repr(text[:57]) + "..."
+
+
+def int_option(name: str, lo: int | None = None, hi: int | None = None, *,
+               odd: bool = False, what: str = ""):
+    """An argparse ``type=`` for an integer option in [lo, hi] (either end open when None),
+    odd if ``odd``: the int, or argparse.ArgumentTypeError naming the option and the text."""
+    if lo is not None and hi is not None:
+        need = f"an integer in [{lo}, {hi}]"
+    elif lo is not None:
+        need = f"an integer >= {lo}"
+    elif hi is not None:
+        need = f"an integer <= {hi}"
+    else:
+        need = "an integer"
+    need = ("an odd " + need[3:]) if odd else need
+    need += f" ({what})" if what else ""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except (ValueError, TypeError):   # also an integer of more than 4300 digits
+            raise argparse.ArgumentTypeError(
+                f"{name} must be {need}, got {_shown(text)}") from None
+        if ((lo is not None and value < lo) or (hi is not None and value > hi)
+                or (odd and value % 2 == 0)):
+            shown = str(value) if len(str(value)) <= 30 else f"{str(value)[:27]}..."
+            raise argparse.ArgumentTypeError(f"{name} must be {need}, got {shown}")
+        return value
+    parse.__name__ = name   # argparse's own messages name the type
+    return parse
+
+
+def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
+                 lo_inclusive: bool = False, allow_inf: bool = False, unit: str = ""):
+    """An argparse ``type=`` for a float option: finite (or +inf when ``allow_inf``), > lo
+    (>= lo when ``lo_inclusive``) and <= hi: the float, or argparse.ArgumentTypeError naming
+    the option and the text."""
+    unit = f" {unit}" if unit else ""
+    if math.isinf(hi):
+        need = f"{'>=' if lo_inclusive else '>'} {lo:g}{unit}"
+    else:
+        need = f"in {'[' if lo_inclusive else '('}{lo:g}, {hi:g}]{unit}"
+    need = f"a number {need}" + (" or inf" if allow_inf else "")
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text.strip())
+        except (ValueError, TypeError, OverflowError):
+            value = math.nan
+        ok = (value >= lo if lo_inclusive else value > lo) and value <= hi
+        if not ok or (math.isinf(value) and not allow_inf):
+            raise argparse.ArgumentTypeError(f"{name} must be {need}, got {_shown(text)}")
+        return value
+    parse.__name__ = name
+    return parse
+
+
+def threads_option():
+    return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
+
+
+def add_timing_options(q, *, repeat: int, warmup: int, repeat_help: str = "timed runs",
+                       warmup_help: str = "untimed runs before them") -> None:
+    """--threads, --repeat and --warmup with their ranges (bench, compare, tune)."""
+    q.add_argument("--threads", type=threads_option(), default=0,
+                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
+    q.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=repeat,
+                   help=f"{repeat_help}, 1 to {MAX_RUNS} (default {repeat})")
+    q.add_argument("--warmup", type=int_option("--warmup", 0, MAX_RUNS), default=warmup,
+                   help=f"{warmup_help}, 0 to {MAX_RUNS} (default {warmup})")
+
+
+# --- errors ---------------------------------------------------------------------------------
+
+def error_message(e: BaseException) -> str:
+    """One line for ``aolab: <message>``: the exception's message with its lines joined; an
+    OSError as its reason and file; the type name in front unless the exception is a plain
+    ValueError (the library's errors), an OSError or a SystemExit, and alone when there is no
+    message (a MemoryError)."""
+    if isinstance(e, OSError) and e.strerror:
+        files = [f for f in (e.filename, getattr(e, "filename2", None)) if f is not None]
+        text = e.strerror + "".join(
+            f": {os.fsdecode(f) if isinstance(f, bytes) else str(f)!r}" for f in files)
+    elif isinstance(e, SystemExit):
+        text = "" if e.code is None else str(e.code)
+    else:
+        try:
+            text = str(e)
+        except Exception:   # a __str__ that fails itself
+            text = ""
+    text = " ".join(text.split())   # one line
+    if text.startswith("aolab: "):
+        text = text[len("aolab: "):]
+    if not text:
+        return type(e).__name__
+    if type(e) is ValueError or isinstance(e, (OSError, SystemExit)):
+        return text
+    return f"{type(e).__name__}: {text}"
+
+
+def _report(message: str) -> None:
+    """``aolab: message`` on stderr, whatever the terminal's encoding."""
+    line = f"aolab: {message}\n"
+    encoding = getattr(sys.stderr, "encoding", None) or "utf-8"
     try:
-        return parse_assignments(pairs, method)
-    except ValueError as e:
-        raise SystemExit(f"aolab: {e}") from None
+        line = line.encode(encoding, "backslashreplace").decode(encoding)
+    except LookupError:
+        pass
+    sys.stderr.write(line)
+    sys.stderr.flush()
+
+
+def _key_values(pairs: list[str] | None, method: str | None = None) -> dict:
+    """--set / --param KEY=VALUE items as a dict: numbers, bools, and a choice setting's name
+    (or any other text, which aolab.compute then rejects, naming what is valid). With a
+    method, a setting's text that is no value of its type is a ValueError naming it, and so
+    is a key that is one of the command's own options (--set radius=2: use --radius)."""
+    values = parse_assignments(pairs, method)
+    if method is not None:
+        for key in values:
+            if key in _OWN_OPTIONS:
+                raise ValueError(f"--set {key}=...: {key} is not set with --set; use "
+                                 f"{_OWN_OPTIONS[key]}")
+    return values
+
+
+#: Keywords of aolab.compute that the commands set from their own options.
+_OWN_OPTIONS = {"radius": "--radius", "threads": "--threads", "preset": "--preset",
+                "blur": "--blur / --no-blur", "blur_sigma": "--blur-sigma",
+                "blur_taps": "--blur-taps", "progress": "no option (it is not a setting)"}
+
+
+def _regular_file(spec: str, what: str) -> Path:
+    """``spec`` as a Path after checking, without opening it, that it is a regular file: a
+    folder, a FIFO or a device is refused (opening a FIFO would wait forever)."""
+    try:
+        st = os.stat(spec)
+    except FileNotFoundError:
+        raise FileNotFoundError(f"no such {what} file: {spec}") from None
+    except NotADirectoryError:
+        raise ValueError(f"no such {what} file: {spec} (a part of the path is a file, not a "
+                         "folder)") from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = ("a folder" if stat.S_ISDIR(st.st_mode) else
+                "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else
+                "a socket" if stat.S_ISSOCK(st.st_mode) else "a device or special file")
+        raise ValueError(f"{what} must be a regular file, got {spec!r}, which is {kind}")
+    return Path(spec)
 
 
 def _load_input(spec: str, radius: float | None, width: int, height: int):
@@ -47,15 +215,60 @@ def _load_input(spec: str, radius: float | None, width: int, height: int):
         params = {"radius": radius} if radius is not None else {}
         g = aolab.analytic_scene(spec.split(":", 1)[1], width, height, **params)
         return g, radius if radius is not None else 1.0
-    path = Path(spec)
-    if not path.exists():
-        raise SystemExit(f"aolab: no such G-buffer file: {spec}")
+    path = _regular_file(spec, "G-buffer")
     g = aolab.load_gbuffer(path)
     if radius is None:
         radius = g.sidecar.get("ao_distance")
-        if radius is None or not np.isfinite(radius):
-            raise SystemExit("aolab: the sidecar has no ao_distance; pass --radius")
+        if not isinstance(radius, (int, float)) or not (np.isfinite(radius) and radius > 0):
+            raise ValueError(f"the sidecar of {spec} has no ao_distance > 0 (got {radius!r}); "
+                             "pass --radius")
     return g, float(radius)
+
+
+#: What aolab run writes: one image per suffix.
+OUT_SUFFIXES = (".exr", ".png")
+
+
+def _existing_ancestor_is_not_a_folder(path: Path) -> Path | None:
+    """The first existing ancestor of ``path`` (itself excluded) that is not a folder."""
+    for parent in path.parents:
+        if parent.exists():
+            return None if parent.is_dir() else parent
+        if parent.is_symlink():   # a dangling link
+            return parent
+    return None
+
+
+def _output_stem(out: str | None, method: str) -> Path:
+    """The path aolab run writes STEM.exr and STEM.png to: METHOD_ao by default, inside
+    ``out`` when it is an existing folder or ends in a slash, else ``out`` without its .exr
+    or .png suffix; another suffix (out.txt) is a ValueError naming it, and so is a path
+    under a file. Creates the folders."""
+    default = f"{method}_ao"
+    if not out:
+        return Path(default)
+    if out.endswith(("/", os.sep)) or Path(out).is_dir():
+        folder, stem = Path(out), Path(out) / default
+    else:
+        stem = Path(out)
+        suffix = stem.suffix
+        if suffix.lower() in OUT_SUFFIXES:
+            stem = stem.with_suffix("")
+        elif re.fullmatch(r"\.[A-Za-z][A-Za-z0-9]*", suffix):
+            raise ValueError(f"--out is the output path without extension (aolab run writes "
+                             f"OUT.exr and OUT.png), got {out!r} with the suffix {suffix!r}")
+        folder = stem.parent
+        if stem.is_dir():
+            raise ValueError(f"--out {out!r}: {stem} is a folder")
+    blocker = _existing_ancestor_is_not_a_folder(stem)
+    if blocker is not None:
+        raise ValueError(f"--out {out!r}: {blocker} is a file, not a folder")
+    for suffix in OUT_SUFFIXES:
+        target = stem.parent / (stem.name + suffix)
+        if target.is_dir():
+            raise ValueError(f"--out {out!r}: {target} is a folder")
+    folder.mkdir(parents=True, exist_ok=True)
+    return stem
 
 
 def cmd_methods(args) -> int:
@@ -79,8 +292,13 @@ def cmd_analytic(args) -> int:
     params = _key_values(args.param)
     if args.radius is not None:
         params["radius"] = args.radius
-    g = aolab.analytic_scene(args.name, args.width, args.height, **params)
     out = Path(args.output)
+    blocker = _existing_ancestor_is_not_a_folder(out)
+    if blocker is not None:
+        raise ValueError(f"output {args.output!r}: {blocker} is a file, not a folder")
+    if out.is_dir() or args.output.endswith(("/", os.sep)):
+        raise ValueError(f"output must be an .exr file path, got {args.output!r}, a folder")
+    g = aolab.analytic_scene(args.name, args.width, args.height, **params)
     out.parent.mkdir(parents=True, exist_ok=True)
     aolab.save_gbuffer(out, g, reference=g.reference, sidecar=g.sidecar)
     print(f"wrote {out} and {out.with_suffix('.json')} ({args.width}x{args.height}, "
@@ -89,22 +307,24 @@ def cmd_analytic(args) -> int:
 
 
 def cmd_run(args) -> int:
-    g, radius = _load_input(args.input, args.radius, args.width, args.height)
     settings = _key_values(args.set, args.method)
+    if args.json and (args.json.endswith(("/", os.sep)) or Path(args.json).is_dir()):
+        raise ValueError(f"--json must be a file path, got {args.json!r}, a folder")
+    g, radius = _load_input(args.input, args.radius, args.width, args.height)
+    out = _output_stem(args.out, args.method)
+    exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
     kwargs = dict(radius=radius, threads=args.threads, preset=args.preset, blur=args.blur,
                   blur_sigma=args.blur_sigma, blur_taps=args.blur_taps, **settings)
     t0 = time.perf_counter()
     ao = aolab.compute(args.method, g, **kwargs)
     elapsed = time.perf_counter() - t0
-    out = Path(args.out) if args.out else Path(f"{args.method}_ao")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    aolab.write_image(out.with_suffix(".exr"), ao)
-    aolab.write_image(out.with_suffix(".png"), ao)
+    aolab.write_image(exr, ao)
+    aolab.write_image(png, ao)
     result = {"method": args.method, "input": args.input, "width": g.width, "height": g.height,
               "radius": radius, "preset": args.preset, "settings": settings,
-              "threads": args.threads, "seconds": elapsed, "output": str(out.with_suffix(".exr"))}
+              "threads": args.threads, "seconds": elapsed, "output": str(exr)}
     print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
-          f"-> {out.with_suffix('.exr')}, {out.with_suffix('.png')}")
+          f"-> {exr}, {png}")
     mask = metrics_mask(g)
     if ao.ndim == 3:
         print("  RGB result (colour bleeding): written as an image, not scored")
@@ -114,16 +334,20 @@ def cmd_run(args) -> int:
         print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
               f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
               f"bias {m['bias']:+.4f}")
+    elif getattr(g, "reference", None) is not None:
+        print("  the input's AO pass has no finite value on a geometry pixel (all NaN): "
+              "nothing to score")
     else:
         print("  no reference AO in the input: nothing to score")
     if args.json:
-        Path(args.json).write_text(json.dumps(result, indent=2, default=float))
+        from .report import atomic_write_text
+        atomic_write_text(Path(args.json), json.dumps(result, indent=2, default=float))
     return 0
 
 
 def cmd_bench(args) -> int:
-    g, radius = _load_input(args.input, args.radius, args.width, args.height)
     settings = _key_values(args.set, args.method)
+    g, radius = _load_input(args.input, args.radius, args.width, args.height)
     for _ in range(args.warmup):
         aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
     times = []
@@ -198,16 +422,16 @@ def add_compare_parser(sub) -> None:
                    "the oracles, such as screen_space_limit, which run only when named)")
     c.add_argument("--sweep", choices=("quick", "presets", "full"), default="quick")
     c.add_argument("--out", default="out/compare", help="output folder (default out/compare)")
-    c.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
-    c.add_argument("--repeat", type=int, default=3, help="timed runs per configuration")
-    c.add_argument("--warmup", type=int, default=1, help="untimed runs before them")
-    c.add_argument("--budget-ms", type=float, default=1000.0,
-                   help="time budget for the images: each method's best setting within it")
+    add_timing_options(c, repeat=3, warmup=1, repeat_help="timed runs per configuration")
+    c.add_argument("--budget-ms", type=float_option("--budget-ms", unit="ms"), default=1000.0,
+                   help="time budget for the images: each method's best setting within it "
+                   "(ms > 0, default 1000)")
     c.add_argument("--crop", metavar="WxH", help="score a centred crop of every scene (quick "
                    "looks, tests)")
     c.add_argument("--scenes-dir", help="folder of the scenes (default: ./reference_scenes or "
                    "the checkout's, or $AOLAB_SCENES)")
-    c.add_argument("--image-width", type=int, default=480, help="width of the report's images")
+    c.add_argument("--image-width", type=int_option("--image-width", 1, MAX_SIDE), default=480,
+                   help=f"width of the report's images, 1 to {MAX_SIDE} px (default 480)")
     c.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
     c.set_defaults(func=cmd_compare)
@@ -216,28 +440,42 @@ def add_compare_parser(sub) -> None:
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="aolab", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--debug", action="store_true",
+                   help="show the Python traceback of an error instead of the one-line "
+                   "'aolab: <message>' (give it before the command: aolab --debug run ...)")
     sub = p.add_subparsers(dest="command", required=True)
+    radius = float_option("--radius", unit="view-space units")
+    side = {name: int_option(name, 1, MAX_SIDE) for name in ("--width", "--height")}
 
     m = sub.add_parser("methods", help="list the methods and their settings")
     m.add_argument("--json", action="store_true", help="print the descriptions as JSON")
     m.set_defaults(func=cmd_methods)
 
-    def input_options(q):
-        q.add_argument("--radius", type=float, help="view-space radius R (default: the "
-                       "sidecar's ao_distance; 1 for analytic scenes)")
-        q.add_argument("--width", type=int, default=1280, help="analytic scenes: width")
-        q.add_argument("--height", type=int, default=720, help="analytic scenes: height")
-        q.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+    def input_options(q, threads=True):
+        q.add_argument("--radius", type=radius, help="view-space radius R, finite > 0 "
+                       "(default: the sidecar's ao_distance; 1 for analytic scenes)")
+        q.add_argument("--width", type=side["--width"], default=1280,
+                       help=f"analytic scenes: width, 1 to {MAX_SIDE} (default 1280)")
+        q.add_argument("--height", type=side["--height"], default=720,
+                       help=f"analytic scenes: height, 1 to {MAX_SIDE} (default 720)")
+        if threads:
+            q.add_argument("--threads", type=threads_option(), default=0,
+                           help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
         q.add_argument("--set", action="append", metavar="KEY=VALUE",
                        help="a method setting, e.g. --set directions=16; a choice by "
-                       "name, e.g. --set falloff=clipped (repeatable)")
+                       "name, e.g. --set falloff=clipped (repeatable; `aolab methods` lists "
+                       "them). R is not a setting here: --set radius=... is refused, use "
+                       "--radius")
 
     a = sub.add_parser("analytic", help="write an analytic scene's G-buffer EXR and sidecar")
     a.add_argument("name", choices=aolab.analytic_scene_names())
     a.add_argument("output", help="output .exr path (the sidecar goes beside it)")
-    a.add_argument("--width", type=int, default=1280)
-    a.add_argument("--height", type=int, default=720)
-    a.add_argument("--radius", type=float, help="R of the closed-form reference (default 1)")
+    a.add_argument("--width", type=side["--width"], default=1280,
+                   help=f"1 to {MAX_SIDE} (default 1280)")
+    a.add_argument("--height", type=side["--height"], default=720,
+                   help=f"1 to {MAX_SIDE} (default 720)")
+    a.add_argument("--radius", type=radius, help="R of the closed-form reference, finite > 0 "
+                   "(default 1)")
     a.add_argument("--param", action="append", metavar="KEY=VALUE",
                    help="scene parameter, e.g. --param tilt=60 (repeatable)")
     a.set_defaults(func=cmd_analytic)
@@ -246,23 +484,28 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("method", choices=aolab.methods())
     r.add_argument("input", help="G-buffer .exr (with sidecar) or analytic:NAME")
     input_options(r)
-    r.add_argument("--out", help="output path without extension (default METHOD_ao)")
+    r.add_argument("--out", help="output path without extension: writes OUT.exr and OUT.png "
+                   "(a trailing .exr or .png is dropped; another extension, such as .txt, is "
+                   "refused); an existing folder or a path ending in / gets METHOD_ao.exr and "
+                   ".png inside it (default METHOD_ao in the current folder)")
     r.add_argument("--preset", help="a named preset of the method (`aolab presets METHOD`: "
                    "default, low, medium, high, ultra, tuned-...); --set and --blur/--no-blur "
                    "override it")
     r.add_argument("--blur", action=argparse.BooleanOptionalAction, default=None,
                    help="apply the separable Gaussian blur (default: the preset's, else off)")
-    r.add_argument("--blur-sigma", type=float, default=1.5)
-    r.add_argument("--blur-taps", type=int, default=5)
+    sigma = float_option("--blur-sigma", 0.1, 64, lo_inclusive=True, unit="px")
+    r.add_argument("--blur-sigma", type=sigma, default=1.5,
+                   help="the blur's standard deviation, 0.1 to 64 px (default 1.5)")
+    r.add_argument("--blur-taps", type=int_option("--blur-taps", 1, 129, odd=True), default=5,
+                   help="the blur's taps per pass, odd, 1 to 129 (default 5)")
     r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
     r.set_defaults(func=cmd_run)
 
     b = sub.add_parser("bench", help="median time of a method over repeated runs")
     b.add_argument("method", choices=aolab.methods())
     b.add_argument("input", nargs="?", default="analytic:blocks")
-    input_options(b)
-    b.add_argument("--repeat", type=int, default=7)
-    b.add_argument("--warmup", type=int, default=1)
+    input_options(b, threads=False)
+    add_timing_options(b, repeat=7, warmup=1, repeat_help="timed runs (their median)")
     b.set_defaults(func=cmd_bench)
 
     f = sub.add_parser("reference", help="render Cycles AO references with Blender (cached)",
@@ -271,15 +514,18 @@ def build_parser() -> argparse.ArgumentParser:
                        "folder) in Blender in the background, into a cache; a repeated call is "
                        "served from the cache and an interrupted batch resumes.")
     f.add_argument("scenes", nargs="+", metavar="SCENE")
-    f.add_argument("--spp", type=int, help="reference samples (default: manifest, else 1024)")
-    f.add_argument("--radius", type=float, help="AO distance R (default: manifest, else the "
-                   "scene world's AO distance)")
+    f.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES),
+                   help=f"reference samples, 1 to {MAX_SAMPLES} (default: manifest, else 1024)")
+    f.add_argument("--radius", type=radius, help="AO distance R, finite > 0 (default: "
+                   "manifest, else the scene world's AO distance)")
     f.add_argument("--methods", nargs="*", help="methods the G-buffer is for (default: all); "
                    "they decide the passes")
     f.add_argument("--passes", help="explicit G-buffer passes, e.g. depth,normal")
     f.add_argument("--resolution", help="WxH, overriding the scene's")
     f.add_argument("--camera", help="camera object to render from (default: the scene camera)")
-    f.add_argument("--gbuffer-samples", type=int, default=1)
+    f.add_argument("--gbuffer-samples", type=int_option("--gbuffer-samples", 1, MAX_SAMPLES),
+                   default=1, help=f"samples of the G-buffer passes, 1 to {MAX_SAMPLES} "
+                   "(default 1)")
     f.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or "
                    "~/.cache/aolab/references)")
     f.add_argument("--out", help="also copy reference.exr/.json here (one folder per scene "
@@ -308,9 +554,35 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    """The aolab command: the exit status. A bad option value returns 2 after argparse's usage
+    line and message; an exception from a command prints ``aolab: <message>`` (one line) and
+    returns 2, Ctrl-C returns 130, and ``--debug`` re-raises instead (docs/conventions.md,
+    Errors)."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as e:   # a bad option value (2), --help (0): argparse printed why
+        return e.code if isinstance(e.code, int) else 2
     try:
         return args.func(args)
-    except (ValueError, FileNotFoundError) as e:
-        print(f"aolab: {e}", file=sys.stderr)
+    except KeyboardInterrupt:
+        if args.debug:
+            raise
+        _report("interrupted")
+        return 130
+    except BrokenPipeError:   # aolab methods | head: the reader left; say nothing
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 141   # 128 + SIGPIPE, what a shell shows for a process the pipe ended
+    except SystemExit as e:
+        if e.code is None or isinstance(e.code, int) or args.debug:
+            raise
+        _report(error_message(e))   # SystemExit("message") from a command
+        return 2
+    except Exception as e:
+        if args.debug:
+            raise
+        _report(error_message(e))
         return 2

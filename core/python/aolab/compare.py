@@ -10,8 +10,10 @@ configuration has one) is timed apart in the same way. The output is scored agai
 1024-spp reference on the scored pixels and on each region of aolab.regions, beside the
 "AO = 1" baseline and the peers of reference_scenes/<name>/peers/ (Cycles at fewer samples,
 an independent 1024-spp render, EEVEE's GTAO). Results go to DIR/results.csv,
-DIR/results.json and DIR/report.html, rewritten atomically after every scene; Ctrl-C keeps
-what is done.
+DIR/results.json and DIR/report.html. While the study runs they are written to the staging
+folder DIR.partial/ beside DIR (atomically, after every scene) and moved into DIR only when the
+study is complete: Ctrl-C keeps what is done in DIR.partial/ and leaves the results of an
+earlier complete run in DIR untouched (docs/conventions.md, "Output folders").
 """
 
 from __future__ import annotations
@@ -262,7 +264,20 @@ def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
     """(G-buffer, reference AO, R, the crop fitted to the frame or None) of a scene folder,
     cropped to a centred ``crop`` if given."""
     g = aolab.load_gbuffer(folder / "reference.exr")
-    radius = float(g.sidecar["ao_distance"])
+    sidecar = g.sidecar or {}
+    if "ao_distance" not in sidecar:
+        raise ValueError(f"scene {folder.name!r}: its sidecar ({folder / 'reference.json'}) "
+                         "has no 'ao_distance', the R the reference was rendered with, which "
+                         "the study runs every method at; render it with `aolab reference`")
+    try:
+        radius = float(sidecar["ao_distance"])
+    except (TypeError, ValueError):
+        radius = math.nan
+    if not (math.isfinite(radius) and radius > 0):
+        raise ValueError(f"scene {folder.name!r}: ao_distance must be a finite number > 0, got "
+                         f"{sidecar['ao_distance']!r}")
+    if g.reference is None:
+        raise ValueError(f"scene {folder.name!r}: reference.exr has no AO pass to score against")
     reference = np.asarray(g.reference, np.float32)
     if crop is not None:
         crop = crop.fit(g.width, g.height)
@@ -275,6 +290,15 @@ def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
         reference = crop.apply(reference)
         cropped.reference = reference
         g = cropped
+    where = "" if crop is None else f" in the {crop.width}x{crop.height} crop"
+    valid = np.asarray(g.valid_mask(), bool)
+    if not valid.any():
+        raise ValueError(f"scene {folder.name!r}: reference.exr has no geometry pixel{where} "
+                         "(its depth is background everywhere), so there is nothing to score")
+    if not np.isfinite(reference[valid]).any():
+        raise ValueError(f"scene {folder.name!r}: the AO pass of reference.exr has no finite "
+                         f"value on any geometry pixel{where} (all NaN or infinite), so there is "
+                         "nothing to score against; render the reference again")
     return g, reference, radius, crop
 
 
@@ -534,6 +558,39 @@ def _json_safe(v):
     return v
 
 
+#: The files a study writes, in the order publish() moves them (results.json, which says
+#: whether the study is complete, last).
+OUTPUT_FILES = ("results.csv", "report.html", "results.json")
+#: The suffix of the staging folder beside the output folder (staging_folder).
+STAGING_SUFFIX = ".partial"
+
+
+def staging_folder(out: Path) -> Path:
+    """``<out>.partial``, beside the output folder: the study writes its files there while it
+    runs (after every scene) and moves them into ``out`` only when it is complete, so an
+    interrupted or failed run leaves the complete results of an earlier run in ``out``
+    untouched and its own partial results in the staging folder."""
+    out = Path(out)
+    if out.name in ("", ".", ".."):    # name it by its absolute path
+        out = Path(os.path.abspath(out))
+    return out.with_name(out.name + STAGING_SUFFIX)
+
+
+def check_out(out: Path) -> None:
+    """A ValueError unless ``out`` and its staging folder can be folders: neither, nor any
+    folder above them, is an existing file (or anything else that is not a folder)."""
+    out = Path(out)
+    if out.resolve() == Path(out.resolve().anchor):
+        raise ValueError(f"--out must be a folder below the file-system root (the study "
+                         f"stages its files beside it), got {str(out)!r}")
+    for path, what in ((out, "the output folder"), (staging_folder(out), "its staging folder")):
+        for p in [path, *path.parents]:
+            if p.exists() and not p.is_dir():
+                raise ValueError(f"--out must be a folder, got {str(out)!r}: {what} "
+                                 f"{str(path)!r} cannot be made because {str(p)!r} is an "
+                                 "existing file, not a folder")
+
+
 def write_results(out: Path, results: dict) -> None:
     """results.csv and results.json, each written to a temporary file and renamed."""
     buf = io.StringIO()
@@ -656,6 +713,8 @@ class Study:
         self.images: dict[str, dict] = {}
         self.notes: list[str] = []
         self.meta: dict = {}
+        #: Every scene is done and the staging folder holds the complete results.
+        self.complete = False
 
     def results(self, partial: bool) -> dict:
         rows = list(self.rows)
@@ -670,20 +729,45 @@ class Study:
         return {"meta": meta, "scenes": self.scene_info, "notes": self.notes,
                 "regions": REGION_DESCRIPTIONS, "rows": rows + agg, "tuned": tuned_results()}
 
+    @property
+    def staging(self) -> Path:
+        """Where the study's files are written while it runs (staging_folder)."""
+        return staging_folder(Path(self.opts.out))
+
     def write(self, partial: bool) -> dict:
+        """results.csv, results.json and report.html into the staging folder, each atomically
+        (publish() moves them into the output folder once the study is complete)."""
         from . import report
-        out = Path(self.opts.out)
-        out.mkdir(parents=True, exist_ok=True)
+        staging = self.staging
+        staging.mkdir(parents=True, exist_ok=True)
         results = self.results(partial)
-        write_results(out, results)
-        report.write_report(out / "report.html", results, self.images)
+        write_results(staging, results)
+        report.write_report(staging / "report.html", results, self.images)
         return results
+
+    def publish(self) -> None:
+        """Moves the complete study's files from the staging folder into the output folder,
+        each with an atomic rename (results.json, which says whether the study is complete,
+        last), and removes the staging folder. Other files in the output folder are left
+        alone."""
+        out, staging = Path(self.opts.out), self.staging
+        out.mkdir(parents=True, exist_ok=True)
+        for name in OUTPUT_FILES:
+            if (staging / name).exists():   # (a publish that was interrupted moved some)
+                os.replace(staging / name, out / name)
+        try:
+            staging.rmdir()
+        except OSError:  # someone put something else there: leave it
+            pass
 
     def run(self) -> dict:
         opts = self.opts
         self._t0 = time.perf_counter()
+        check_out(Path(opts.out))
         scenes_dir = opts.scenes_dir or find_scenes_dir()
         folders = resolve_scenes(opts.scenes, scenes_dir)
+        for folder in folders:  # every scene's errors before any work
+            load_cropped(folder, opts.crop)
         # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
         # when named.
         methods = opts.methods if opts.methods else [
@@ -715,7 +799,10 @@ class Study:
         finally:
             if bar is not None:
                 bar.close()
-        return self.write(partial=False)
+        results = self.write(partial=False)
+        self.complete = True
+        self.publish()
+        return results
 
     def _run_scene(self, folder: Path, plan: dict, threads: int, bar) -> None:
         opts = self.opts
@@ -908,12 +995,20 @@ def main(args) -> int:
             print("aolab compare: interrupted before the first scene; nothing written",
                   file=sys.stderr)
             return 130
+        if study.complete:   # interrupted while moving the complete results: finish that
+            study.publish()
+            print(f"\naolab compare: interrupted after the study was complete; its results "
+                  f"are in {opts.out}/", file=sys.stderr)
+            return 130
         study.write(partial=True)
         done = len(study.complete_scenes)
+        kept = [n for n in OUTPUT_FILES if (opts.out / n).is_file()]
+        earlier = (f"the results of an earlier run in {opts.out}/ are untouched"
+                   if kept else f"nothing was written to {opts.out}/")
         print(f"\naolab compare: interrupted. Partial results ({len(study.rows)} rows, "
-              f"{done} of {len(study.meta['scenes'])} scenes complete) are in {opts.out}/ "
-              "(results.csv, results.json, report.html marked PARTIAL); run the command again "
-              "for the full study.", file=sys.stderr)
+              f"{done} of {len(study.meta['scenes'])} scenes complete) are in "
+              f"{study.staging}/ (results.csv, results.json, report.html marked PARTIAL); "
+              f"{earlier}. Run the command again for the full study.", file=sys.stderr)
         return 130
     finally:
         signal.signal(signal.SIGTERM, previous)

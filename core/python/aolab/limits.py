@@ -152,6 +152,7 @@ def main(args) -> int:
 
 
 def add_limits_parser(sub):
+    from .cli import MAX_THREADS, float_option, int_option, threads_option
     p = sub.add_parser(
         "limits", help="compute the screen-space limit of each reference scene (committed)",
         description="Computes the screen_space_limit oracle on each reference scene at several "
@@ -161,10 +162,13 @@ def add_limits_parser(sub):
     p.add_argument("scenes", nargs="*", metavar="SCENE",
                    help="reference_scenes/<name> folders or names (default: every scene)")
     p.add_argument("--thickness", nargs="+", metavar="T",
-                   help="thicknesses in multiples of R, inf = height field (default "
+                   type=float_option("--thickness", allow_inf=True),
+                   help="thicknesses in multiples of R, > 0, inf = height field (default "
                    + " ".join(f"{t:g}" for t in THICKNESS_R) + ")")
-    p.add_argument("--rays", type=int, default=RAYS, help=f"rays per pixel (default {RAYS})")
-    p.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
+    p.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RAYS,
+                   help=f"rays per pixel, 1 to 65536 (default {RAYS})")
+    p.add_argument("--threads", type=threads_option(), default=0,
+                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
     p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
     p.add_argument("--force", action="store_true", help="recompute even if up to date")
     return p

@@ -33,6 +33,10 @@ SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build
 #: Python: batch.py puts it first on sys.path, so Blender uses the same build.
 PACKAGE_PATH_ENV = "AOLAB_PACKAGE_PATH"
 _SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
+#: The largest render width or height (16384 = 16K, the largest side the rest of aolab
+#: accepts, cli.MAX_SIDE): one 100000x100000 frame of G-buffer passes would take hundreds of
+#: gigabytes and Cycles would render it for days.
+MAX_RESOLUTION = 16384
 
 
 class ReferenceError(Exception):
@@ -181,6 +185,8 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
         raise ReferenceError(f"spp must be >= 1, got {spp}")
     if resolution is None and m.get("resolution"):
         resolution = tuple(m["resolution"])
+    if resolution is not None:
+        resolution = check_resolution(resolution)
     return Plan(scene, spp, radius, passes, resolution, camera or m.get("camera"), gbuffer_samples)
 
 
@@ -313,15 +319,38 @@ def copy_result(plan: Plan, folder: Path, out: Path) -> None:
         os.replace(tmp, out / src.name)
 
 
+def check_resolution(resolution, name: str = "resolution") -> tuple[int, int]:
+    """(width, height) as integers in [1, MAX_RESOLUTION]; else a ValueError naming ``name``
+    and the value."""
+    try:
+        w, h = resolution
+        ok = all(not isinstance(v, bool) and int(v) == v and 1 <= v <= MAX_RESOLUTION
+                 for v in (w, h))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be a width and a height, integers in [1, "
+                         f"{MAX_RESOLUTION}], got {resolution!r}")
+    return int(w), int(h)
+
+
+def parse_resolution(text: str) -> tuple[int, int]:
+    """--resolution WxH: width and height integers in [1, MAX_RESOLUTION], else a ValueError
+    naming --resolution and the value."""
+    message = (f"--resolution must be WxH with integers in [1, {MAX_RESOLUTION}], "
+               f"got {text!r}")
+    parts = str(text).strip().lower().split("x")
+    if len(parts) != 2 or not all(p.strip().isascii() and p.strip().isdigit() for p in parts):
+        raise ValueError(message)
+    w, h = (int(p) for p in parts)
+    if not (1 <= w <= MAX_RESOLUTION and 1 <= h <= MAX_RESOLUTION):
+        raise ValueError(message)
+    return w, h
+
+
 def main(args) -> int:
     """The `aolab reference` command (arguments from cli.py)."""
-    resolution = None
-    if args.resolution:
-        try:
-            w, h = (int(v) for v in args.resolution.lower().split("x"))
-        except ValueError:
-            raise ReferenceError(f"--resolution must be WxH, got {args.resolution!r}") from None
-        resolution = (w, h)
+    resolution = parse_resolution(args.resolution) if args.resolution else None
     scenes = [resolve_scene(s) for s in args.scenes]  # every error before any render
     plans = [make_plan(s, spp=args.spp, radius=args.radius, methods=args.methods,
                        passes=args.passes.split(",") if args.passes else None,

@@ -58,17 +58,30 @@ def parse_value(text: str, setting: dict | None = None):
     return text
 
 
+#: What a number or bool setting's text must be, for the message naming a bad one.
+_KIND = {"int": "an integer", "float": "a number",
+         "bool": "true or false (on/off, yes/no, 1/0)"}
+
+
 def parse_assignments(pairs: list[str] | None, method: str | None = None) -> dict:
     """``["directions=16", "falloff=clipped"]`` -> a settings dict, each value read by
     parse_value with the method's description of that setting (when ``method`` is given).
-    Raises ValueError for an item without ``=``."""
+    Raises ValueError for an item without ``=`` or without a key, and, when ``method``
+    describes the setting, for text that is no value of its type (``directions=abc``,
+    ``directions=``), naming the setting and the text. Ranges are left to aolab.compute."""
     known = by_name(method) if method is not None else {}
     out = {}
     for pair in pairs or []:
         if "=" not in pair:
             raise ValueError(f"expected KEY=VALUE, got {pair!r}")
         key, value = (part.strip() for part in pair.split("=", 1))
-        out[key] = parse_value(value, known.get(key))
+        if not key:
+            raise ValueError(f"expected KEY=VALUE, got {pair!r}")
+        setting = known.get(key)
+        parsed = parse_value(value, setting)
+        if setting is not None and isinstance(parsed, str) and setting["type"] in _KIND:
+            raise ValueError(f"{key} must be {_KIND[setting['type']]}, got {value!r}")
+        out[key] = parsed
     return out
 
 

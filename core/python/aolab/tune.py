@@ -854,6 +854,8 @@ def _progress(enabled: bool, opts: Options, methods: list[str]):
 
 
 def add_tune_parser(sub):
+    from .cli import add_timing_options, float_option, int_option
+    max_trials = 100000
     t = sub.add_parser(
         "tune", help="search each method's settings: tuned presets per time budget",
         description="Searches every setting of each method (and the shared blur) with "
@@ -864,15 +866,18 @@ def add_tune_parser(sub):
         "command resumes.")
     t.add_argument("--methods", nargs="+", metavar="METHOD",
                    help="methods to tune (default: every method that is not an oracle)")
-    t.add_argument("--trials", type=int, default=DEFAULT_TRIALS,
-                   help="trials each method's study should have (a rerun adds the missing "
-                   f"ones; default {DEFAULT_TRIALS})")
+    t.add_argument("--trials", type=int_option("--trials", 1, max_trials),
+                   default=DEFAULT_TRIALS,
+                   help=f"trials each method's study should have, 1 to {max_trials} (a rerun "
+                   f"adds the missing ones; default {DEFAULT_TRIALS})")
     t.add_argument("--scenes", nargs="+", metavar="SCENE",
                    help="reference_scenes/<name> folders or names (default: every scene)")
     t.add_argument("--out", default="out/tune", help="folder of tune.db (default out/tune)")
-    t.add_argument("--seed", type=int, default=0, help="the sampler's seed (default 0)")
-    t.add_argument("--timeout", type=float, metavar="S",
-                   help="start no trial after S seconds (all methods together)")
+    t.add_argument("--seed", type=int_option("--seed", 0, 2**32 - 1), default=0,
+                   help="the sampler's seed, 0 to 2^32 - 1 (default 0)")
+    t.add_argument("--timeout", type=float_option("--timeout", lo_inclusive=True, unit="s"),
+                   metavar="S", help="start no trial after S seconds, S >= 0 (all methods "
+                   "together)")
     t.add_argument("--sampler", choices=("tpe", "nsga2"), default="tpe",
                    help="Optuna's multi-objective TPE (default) or NSGA-II")
     t.add_argument("--crop", metavar="WxH", help="tune on a centred crop of every scene "
@@ -881,12 +886,11 @@ def add_tune_parser(sub):
     t.add_argument("--presets-file", help="the tuned-presets JSON to update (default: the "
                    "checkout's core/python/aolab/tuned_presets.json for a run on every scene "
                    "at full size, else DIR/tuned_presets.json)")
-    t.add_argument("--threads", type=int, default=0, help="worker threads (0 = all cores)")
-    t.add_argument("--warmup", type=int, default=1, help="untimed runs before the timed ones")
-    t.add_argument("--repeat", type=int, default=3, help="timed runs (their median)")
-    t.add_argument("--max-ms", type=float, default=DEFAULT_MAX_MS,
+    add_timing_options(t, repeat=3, warmup=1, repeat_help="timed runs (their median)",
+                       warmup_help="untimed runs before the timed ones")
+    t.add_argument("--max-ms", type=float_option("--max-ms", unit="ms"), default=DEFAULT_MAX_MS,
                    help="a configuration whose first run takes longer is timed by that run "
-                   f"alone (default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
+                   f"alone (ms > 0; default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
     t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
     return t

@@ -14,25 +14,19 @@ namespace {
 // `keep` holds.
 ConstImageView optional_rgb(const py::object& value, const char* name, py::object& keep) {
   if (value.is_none()) return {};
-  FloatArray a = FloatArray::ensure(value);
-  if (!a)
-    throw_invalid(name, "must be a float array (H, W, 3|4) or None",
-                  py::str(value).cast<std::string>());
+  FloatArray a = real_array(value, name, "an array (H, W, 3|4) or None");
   const ConstImageView view = view_of(a, name, 3, 4);
   keep = a;
   return view;
 }
 
-PyGBuffer make_gbuffer(FloatArray depth, py::object normal, py::object color, float fx, float fy,
-                       float cx, float cy, float background_depth, py::object emission) {
+PyGBuffer make_gbuffer(const py::object& depth, py::object normal, py::object color, float fx,
+                       float fy, float cx, float cy, float background_depth, py::object emission) {
   PyGBuffer g;
-  g.depth = std::move(depth);
+  g.depth = real_array(depth, "depth", "an array (H, W)");
   g.view.depth = view_of(g.depth, "depth", 0);
   if (!normal.is_none()) {
-    FloatArray n = FloatArray::ensure(normal);
-    if (!n)
-      throw_invalid("normal", "must be a float array (H, W, 3) or None",
-                    py::str(normal).cast<std::string>());
+    FloatArray n = real_array(normal, "normal", "an array (H, W, 3) or None");
     g.view.normal = view_of(n, "normal", 3);
     g.normal = n;
   }

@@ -48,6 +48,22 @@ std::string dumps(const py::object& sidecar) {
   }
 }
 
+// The sidecar text (validated by the core: UTF-8, no BOM, shallow) as a dict through Python's
+// json module. Should the two parsers ever disagree, the error still names the file rather
+// than surfacing as a bare JSONDecodeError, RecursionError or UnicodeDecodeError.
+py::object sidecar_dict(const std::string& text, const std::string& path) {
+  try {
+    const auto decoded = py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(text.data(), py::ssize_t(text.size()), "strict"));
+    if (!decoded.ptr()) throw py::error_already_set();
+    return py::module_::import("json").attr("loads")(decoded);
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_ValueError) && !e.matches(PyExc_RecursionError)) throw;
+    throw std::invalid_argument("sidecar " + path + " cannot be read as JSON by Python: " +
+                                py::str(e.value()).cast<std::string>());
+  }
+}
+
 py::object array_or_none(Image&& image) {
   if (image.pixels().empty()) return py::none();
   return to_numpy(std::move(image));
@@ -73,7 +89,7 @@ void bind_image_io(py::module_& m) {
           data = load_gbuffer(path, view_layer);
         }
         py::dict out;
-        out["sidecar"] = py::module_::import("json").attr("loads")(data.sidecar.json_text);
+        out["sidecar"] = sidecar_dict(data.sidecar.json_text, sidecar_path_for(path));
         out["channels"] = py::cast(data.channels);
         out["depth"] = to_numpy(std::move(data.depth));
         out["normal"] = array_or_none(std::move(data.normal));

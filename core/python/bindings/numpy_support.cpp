@@ -17,8 +17,30 @@ std::string shape_string(const py::array& a) {
 }
 }  // namespace
 
+FloatArray real_array(const py::object& value, const std::string& name,
+                      const std::string& expected) {
+  if (value.is_none()) throw_invalid(name, "must be " + expected, "None");
+  py::array array;
+  try {
+    array = py::module_::import("numpy").attr("asarray")(value);
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_ValueError) && !e.matches(PyExc_TypeError)) throw;
+    throw_invalid(name, "must be " + expected,
+                  std::string(py::str(py::type::of(value).attr("__name__"))) + " (" +
+                      py::str(e.value()).cast<std::string>() + ")");
+  }
+  const char kind = array.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw_invalid(name, "must be " + expected + " of real numbers (an integer or floating dtype)",
+                  "dtype " + py::str(array.dtype()).cast<std::string>());
+  return FloatArray::ensure(array);
+}
+
 ConstImageView view_of(const FloatArray& a, const std::string& name, int channels,
                        int alt_channels) {
+  // An empty array is named by its shape as the caller wrote it: "(0, 5)", not "5x0".
+  if (a.ndim() >= 2 && (a.shape(0) == 0 || a.shape(1) == 0))
+    throw_invalid(name, "must not be empty (height and width >= 1)", shape_string(a));
   if (channels == 0) {
     if (a.ndim() != 2) throw_invalid(name, "must be a 2-D array (H, W)", shape_string(a));
     return {a.data(), int(a.shape(1)), int(a.shape(0)), 1};

@@ -19,6 +19,14 @@ namespace py = pybind11;
 /// float32 C-contiguous arrays pass through untouched.
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
+/// `value` as a FloatArray, provided it is an array (or nested sequence) of real numbers:
+/// integer or floating-point dtype. None, bool, complex, datetime/timedelta, bytes/str, object
+/// and structured dtypes are refused with std::invalid_argument naming `name` and the dtype
+/// (numpy would otherwise cast some of them silently, a structured array to zeros).
+/// float32 C-contiguous arrays pass through untouched.
+FloatArray real_array(const py::object& value, const std::string& name,
+                      const std::string& expected);
+
 /// Checks ndim/shape and returns a view. `channels` = 0 means a 2-D (H, W) array; otherwise
 /// (H, W, channels) — or any of `channels` and `alt_channels` when alt_channels > 0.
 ConstImageView view_of(const FloatArray& a, const std::string& name, int channels,

@@ -122,5 +122,17 @@ TEST(PreparedNormals, OnePixelImage) {
   EXPECT_FLOAT_EQ(n(0, 0, 2), 1.0f);  // towards the camera
 }
 
+// Hostile inputs: an empty depth names its height and width, in that order.
+TEST(GBufferValidate, EmptyDepthSaysHeightAndWidth) {
+  Image depth(5, 0, 1);
+  GBuffer g;
+  g.depth = depth.view();
+  g.depth.width = 5;
+  g.depth.height = 0;
+  g.camera = CameraIntrinsics{1, 1, 0, 0};
+  const std::string msg = testing::invalid_argument_message([&] { g.validate(); });
+  EXPECT_NE(msg.find("height 0, width 5"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace aolab

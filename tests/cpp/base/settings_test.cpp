@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -98,6 +100,38 @@ TEST(Settings, EveryChoiceCoversItsRangeAndEveryDefaultIsInside) {
         EXPECT_EQ(choice_value(s, s.choices[i]), s.min + double(i)) << s.choices[i];
     }
   }
+}
+
+// Hostile inputs: an out-of-range value and its bound print with every digit, so that 2^31
+// (one past seed's maximum) is not shown as 2.14748e+09 beside a maximum of 2.14748e+09.
+TEST(Settings, OutOfRangeMessagesPrintValueAndBoundExactly) {
+  auto msg = testing::invalid_argument_message([] {
+    settings_from_values<HbaoSettings>({{"seed", 2147483648.0}}, kHbaoFields, "hbao");
+  });
+  EXPECT_NE(msg.find("[0, 2147483647]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got 2147483648"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("e+09"), std::string::npos) << msg;
+  // A float just above a bound keeps the digits that make it differ from the bound.
+  msg = testing::invalid_argument_message([] {
+    settings_from_values<HbaoSettings>({{"radius", 1.0000000000000002e30}}, kHbaoFields, "hbao");
+  });
+  EXPECT_NE(msg.find("got 1.0000000000000002e+30"), std::string::npos) << msg;
+  // Short values keep their short form.
+  msg = testing::invalid_argument_message([] {
+    settings_from_values<HbaoSettings>({{"directions", 0.5}}, kHbaoFields, "hbao");
+  });
+  EXPECT_NE(msg.find("got 0.5"), std::string::npos) << msg;
+}
+
+TEST(Settings, ExactNumberReadsBack) {
+  EXPECT_EQ(detail::exact_number(2147483648.0), "2147483648");
+  EXPECT_EQ(detail::exact_number(1e30), "1e+30");
+  EXPECT_EQ(detail::exact_number(0.1f), "0.1");
+  EXPECT_EQ(detail::exact_number(0.1), "0.1");
+  EXPECT_EQ(detail::exact_number(16777217.0), "16777217");
+  EXPECT_EQ(detail::exact_number(std::nextafter(1.0f, 2.0f)), "1.0000001");
+  EXPECT_EQ(detail::exact_number(std::numeric_limits<double>::quiet_NaN()), "nan");
+  EXPECT_EQ(detail::exact_number(-std::numeric_limits<double>::infinity()), "-inf");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "core/io/image_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -393,6 +394,29 @@ TEST_F(ImageIo, AtomicWritesLeaveNoTemporaryFiles) {
   EXPECT_FALSE(fs::exists(temporary));
   EXPECT_EQ(files(), (std::set<std::string>{"a.png", "a.exr", "g.exr", "g.json"}));
   EXPECT_EQ(read_image(path("a.exr")).pixels(), t.ao.pixels());
+}
+
+// Hostile inputs: a path that is not a regular file is refused before it is opened (a FIFO
+// would block the reader forever).
+TEST_F(ImageIo, NonRegularFilesAreRefusedByKind) {
+  const std::string fifo = path("x.exr");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  std::string msg = testing::invalid_argument_message([&] { load_gbuffer(fifo); });
+  EXPECT_NE(msg.find(fifo), std::string::npos) << msg;
+  EXPECT_NE(msg.find("FIFO"), std::string::npos) << msg;
+  fs::create_directory(path("d.exr"));
+  msg = testing::invalid_argument_message([&] { load_gbuffer(path("d.exr")); });
+  EXPECT_NE(msg.find("directory"), std::string::npos) << msg;
+  msg = testing::invalid_argument_message([&] { read_image("/dev/null"); });
+  EXPECT_NE(msg.find("character device"), std::string::npos) << msg;
+  // The sidecar too.
+  TestGBuffer t;
+  save_gbuffer(path("g.exr"), t.g, {}, "");
+  fs::remove(path("g.json"));
+  ASSERT_EQ(mkfifo(path("g.json").c_str(), 0600), 0);
+  msg = testing::invalid_argument_message([&] { load_gbuffer(path("g.exr")); });
+  EXPECT_NE(msg.find("g.json"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("FIFO"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -257,5 +257,61 @@ TEST(Sidecar, JsonForAGBufferSetsItsCameraAndKeepsOtherKeys) {
   EXPECT_EQ(parse_sidecar(sidecar_json_for(g, ""), "empty.json").width, 3);
 }
 
+// Hostile inputs (the issue "Hostile inputs"): each gives a message naming the file.
+TEST(SidecarHostile, Latin1ByteNamesTheFileAndTheEncoding) {
+  const std::string text = R"({"width": 7, "height": 5, "fx": 6.5, "fy": 6.5, "cx": 3.5,)"
+                           " \"cy\": 2.5, \"note\": \"caf\xE9\"}";
+  const std::string msg = invalid_message([&] { parse_sidecar(text, "latin.json"); });
+  EXPECT_NE(msg.find("latin.json"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("UTF-8"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("0xE9"), std::string::npos) << msg;
+  // The message itself is valid UTF-8 (it reaches Python as a str).
+  for (unsigned char c : msg) EXPECT_LT(c, 0x80) << msg;
+}
+
+TEST(SidecarHostile, ByteOrderMarkIsAcceptedAndDropped) {
+  const CameraSidecar s = parse_sidecar(std::string("\xEF\xBB\xBF") + kMinimal, "bom.json");
+  EXPECT_EQ(s.width, 7);
+  EXPECT_EQ(s.json_text, kMinimal);
+}
+
+TEST(SidecarHostile, NullRequiredKeyIsCalledNullNotMissing) {
+  const std::string msg = invalid_message([] {
+    parse_sidecar(R"({"width": 7, "height": 5, "fx": null, "fy": 6.5, "cx": 3.5, "cy": 2.5})",
+                  "null.json");
+  });
+  EXPECT_NE(msg.find("\"fx\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("null.json"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got null"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("must have the required key"), std::string::npos) << msg;
+}
+
+TEST(SidecarHostile, FocalLengthThatRoundsToZeroInAFloatIsRefusedAsWritten) {
+  std::string msg = invalid_message([] {
+    parse_sidecar(R"({"width": 7, "height": 5, "fx": 1e-50, "fy": 6.5, "cx": 3.5, "cy": 2.5})",
+                  "tiny.json");
+  });
+  EXPECT_NE(msg.find("tiny.json"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("\"fx\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got 1e-50"), std::string::npos) << msg;
+  msg = invalid_message([] {
+    parse_sidecar(R"({"width": 7, "height": 5, "fx": 6.5, "fy": 6.5, "cx": 1e300, "cy": 2.5})",
+                  "huge.json");
+  });
+  EXPECT_NE(msg.find("\"cx\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got 1e+300"), std::string::npos) << msg;
+}
+
+TEST(SidecarHostile, DeepNestingIsRefusedBeforeParsing) {
+  const std::string deep(100000, '[');
+  std::string msg = invalid_message([&] { parse_sidecar(deep, "deep.json"); });
+  EXPECT_NE(msg.find("deep.json"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("64"), std::string::npos) << msg;
+  // 64 levels inside an extra key are fine; brackets inside strings do not count.
+  std::string ok = R"({"width": 7, "height": 5, "fx": 6.5, "fy": 6.5, "cx": 3.5, "cy": 2.5, "x": )";
+  ok += std::string(63, '[') + std::string(63, ']') + R"(, "s": "[[[[[[[[\"[[[[[[[[[[[[[[[[[[[["})";
+  EXPECT_EQ(parse_sidecar(ok, "ok.json").width, 7);
+}
+
 }  // namespace
 }  // namespace aolab

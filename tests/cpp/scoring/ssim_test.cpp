@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -215,6 +216,56 @@ TEST(Ssim, RejectsBadInput) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "settings.sigma must be finite and > 0, got 0");
   }
+}
+
+// Hostile inputs: SSIM stays accurate and in [-1, 1] for any finite float input. E[a²] − E[a]²
+// cancelled for large values: two constant images of +1e20 and −1e20 scored 1.
+TEST(SsimHostile, HugeConstantsOfOppositeSignScoreMinusOne) {
+  const Image a(16, 16, 1, 1e20f), b(16, 16, 1, -1e20f);
+  EXPECT_NEAR(mean_ssim(a.view(), b.view()), -1.0, 1e-12);
+  const Image s = ssim_map(a.view(), b.view());
+  for (float v : s.pixels()) EXPECT_NEAR(v, -1.0f, 1e-6f);
+  EXPECT_EQ(mean_ssim(a.view(), a.view()), 1.0);
+}
+
+TEST(SsimHostile, LargeOffsetKeepsTheStructureTerm) {
+  // A constant 1e6 against 1e6 + a ±1 checkerboard: the means agree to 1e-12 and the
+  // contrast term is C2 / (1 + C2), about 9e-4; the cancelling formula gave noise.
+  Image a(16, 16, 1, 1e6f), b(16, 16, 1, 1e6f);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) b(x, y) += ((x + y) % 2 ? 1.0f : -1.0f);
+  const double s = mean_ssim(a.view(), b.view());
+  EXPECT_GT(s, 0.0);
+  EXPECT_LT(s, 0.01);
+}
+
+TEST(SsimHostile, ExtremeFiniteValuesGiveFiniteSsimInRange) {
+  std::mt19937 rng(7);
+  const float big = std::numeric_limits<float>::max();
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int trial = 0; trial < 20; ++trial) {
+    Image a(13, 12, 1), b(13, 12, 1);
+    for (float& v : a.pixels()) v = big * u(rng);
+    for (float& v : b.pixels()) v = (trial % 2 ? big : 1e-30f) * u(rng);
+    if (trial % 3 == 0) b.pixels()[5] = big;
+    const double m = mean_ssim(a.view(), b.view());
+    EXPECT_TRUE(std::isfinite(m));
+    EXPECT_GE(m, -1.0);
+    EXPECT_LE(m, 1.0);
+    const Image map = ssim_map(a.view(), b.view());
+    for (float v : map.pixels()) {
+      ASSERT_TRUE(std::isfinite(v));
+      ASSERT_GE(v, -1.0f);
+      ASSERT_LE(v, 1.0f);
+    }
+  }
+}
+
+TEST(SsimHostile, NonFiniteInputIsInvalidArgument) {
+  Image a(12, 12, 1, 0.5f), b(12, 12, 1, 0.5f);
+  b(3, 4) = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(ssim_map(a.view(), b.view()), std::invalid_argument);
+  EXPECT_THROW(mean_ssim(a.view(), b.view()), std::invalid_argument);
 }
 
 }  // namespace

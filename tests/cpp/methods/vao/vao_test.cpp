@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "tests/cpp/methods/vao/convex_room.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {
@@ -102,6 +103,25 @@ TEST(Vao, OccludesCreases) {
   s.radius = 1.0f;
   SceneFixture crease("crease", 160, 90);
   EXPECT_LT(testing::min_valid(vao(crease.g, s), crease.g), 0.6f);
+}
+
+// Beyond the scene's extent a larger R cannot change the occlusion: the tangent sphere is then
+// the half-space in front of the tangent plane at any R. R = 1e6 times the scene's depth and
+// R up to the accepted maximum 1e30 must agree (float arithmetic on the sphere overflowed b² at
+// R ~ 1e19 and drifted to 1: 0.90 at 1e19, 0.99 at 1e20, 1 at 1e22).
+TEST(Vao, LargeRadiiBeyondTheSceneGiveTheSameAo) {
+  testing::ConvexRoom room;
+  for (bool view_ray_pipes : {true, false}) {
+    VaoSettings s;
+    s.view_ray_pipes = view_ray_pipes;
+    testing::expect_large_radii_agree(
+        room,
+        [&](float radius) {
+          s.radius = radius;
+          return vao(room.g, s);
+        },
+        0.95, "view_ray_pipes = " + std::to_string(view_ray_pipes));
+  }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "core/methods/registry.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/bilateral.h"
+#include "tests/cpp/methods/vao/convex_room.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {
@@ -236,6 +237,24 @@ TEST(VaoPp, RejectsBadInputNamingTheSetting) {
   EXPECT_NE(message({{"radius", 1}, {"luminance_sensitivity", 1}}).find("color is required"),
             std::string::npos);
   EXPECT_TRUE(find_method("vao_pp").needs_color);
+}
+
+// Beyond the scene's extent a larger R cannot change the occlusion (Vao.LargeRadii...): VAO++
+// runs VAO's per-sample code, with and without the range check, which weighs occlusion by
+// the distance in units of R.
+TEST(VaoPp, LargeRadiiBeyondTheSceneGiveTheSameAo) {
+  testing::ConvexRoom room;
+  for (bool range_check : {false, true}) {
+    VaoPpSettings s;
+    s.range_check = range_check;
+    testing::expect_large_radii_agree(
+        room,
+        [&](float radius) {
+          s.radius = radius;
+          return vao_pp(room.g, s);
+        },
+        0.999, "range_check = " + std::to_string(range_check));
+  }
 }
 
 }  // namespace

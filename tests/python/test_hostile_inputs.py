@@ -1,0 +1,266 @@
+"""Hostile inputs at the Python boundary (the issue "Hostile inputs"): each is refused with a
+ValueError naming the parameter (or file) and the value, or handled as documented.
+
+Covered here: SSIM on any finite input, the ``blur`` switch of ``compute``, the dtypes and
+shapes of G-buffer arrays, camera sidecars that are not clean UTF-8 JSON, paths that are not
+regular files, and out-of-range settings whose value and bound must not print alike.
+"""
+
+import json
+import os
+import re
+import signal
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+import aolab
+from aolab import _core
+
+
+def plane(h=8, w=8, depth=2.0):
+    d = np.full((h, w), depth, np.float32)
+    n = np.zeros((h, w, 3), np.float32)
+    n[..., 2] = 1
+    return aolab.GBuffer(d, n, fx=8.0, fy=8.0, cx=w / 2, cy=h / 2)
+
+
+# --- 1. SSIM is numerically stable for any finite input ----------------------------------
+
+def test_ssim_of_opposite_huge_constants_is_not_one():
+    a = np.full((16, 16), 1e20, np.float32)
+    b = np.full((16, 16), -1e20, np.float32)
+    ssim = aolab.metrics(a, b)["ssim"]
+    assert ssim != 1.0
+    assert ssim == pytest.approx(-1.0, abs=1e-12)
+    assert np.allclose(_core.ssim_map(a, b), -1.0, atol=1e-6)
+    assert aolab.metrics(a, a)["ssim"] == 1.0
+
+
+finite_images = hnp.arrays(
+    np.float32, st.tuples(st.integers(1, 14), st.integers(1, 14)),
+    elements=st.floats(width=32, allow_nan=False, allow_infinity=False))
+
+
+@settings(max_examples=200, deadline=None)
+@given(data=st.data(), image=finite_images)
+def test_ssim_of_random_finite_images_is_finite_and_in_range(data, image):
+    other = data.draw(hnp.arrays(np.float32, image.shape,
+                                 elements=st.floats(width=32, allow_nan=False,
+                                                    allow_infinity=False)))
+    m = aolab.metrics(image, other)
+    assert np.isfinite(m["ssim"]) and -1.0 <= m["ssim"] <= 1.0, m
+    for key in ("mae", "rmse", "bias"):
+        assert np.isfinite(m[key]), m
+    s = _core.ssim_map(image, other)
+    assert np.all(np.isfinite(s)) and np.all(s >= -1) and np.all(s <= 1)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_ssim_of_non_finite_input_is_valueerror(bad):
+    a = np.full((12, 12), 0.5, np.float32)
+    b = a.copy()
+    b[3, 4] = bad
+    with pytest.raises(ValueError, match=r"reference must be finite"):
+        aolab.metrics(a, b)
+    with pytest.raises(ValueError, match=r"^b must be finite"):
+        _core.ssim_map(a, b)
+
+
+# --- 2. blur is a real bool ---------------------------------------------------------------
+
+@pytest.mark.parametrize("blur", ["no", "yes", "", 1, 0, 1.0, np.float64(1), [True]])
+def test_blur_must_be_a_bool(blur):
+    with pytest.raises(ValueError, match=r"^blur must be a bool .*got " + re.escape(repr(blur))):
+        aolab.compute("hbao", plane(), radius=1.0, blur=blur)
+
+
+@pytest.mark.parametrize("blur", [True, False, None, np.bool_(True), np.bool_(False)])
+def test_blur_accepts_bools_and_numpy_bools(blur):
+    ao = aolab.compute("hbao", plane(), radius=1.0, blur=blur)
+    assert ao.shape == (8, 8)
+
+
+# --- 3. G-buffer arrays: real numeric dtypes, shapes as written ------------------------------
+
+BAD_DTYPES = {
+    "structured": lambda shape: np.zeros(shape, dtype=[("a", "<f4")]),
+    "datetime64": lambda shape: np.zeros(shape, dtype="datetime64[s]"),
+    "timedelta64": lambda shape: np.zeros(shape, dtype="timedelta64[s]"),
+    "bytes": lambda shape: np.full(shape, b"2", dtype="S1"),
+    "str": lambda shape: np.full(shape, "2", dtype="U1"),
+    "bool": lambda shape: np.ones(shape, dtype=bool),
+    "complex": lambda shape: np.full(shape, 2 + 0j, dtype=np.complex64),
+    "object": lambda shape: np.full(shape, 2.0, dtype=object),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BAD_DTYPES))
+def test_depth_of_a_non_numeric_dtype_is_refused(kind):
+    depth = BAD_DTYPES[kind]((4, 4))
+    with pytest.raises(ValueError, match=r"^depth must be .*real numbers.*got dtype") as e:
+        aolab.GBuffer(depth, fx=1.0, fy=1.0, cx=2.0, cy=2.0)
+    assert str(depth.dtype) in str(e.value)
+
+
+@pytest.mark.parametrize("name", ["normal", "color", "emission"])
+@pytest.mark.parametrize("kind", ["structured", "bool", "complex", "datetime64"])
+def test_other_passes_of_a_non_numeric_dtype_are_refused(name, kind):
+    depth = np.full((4, 4), 2.0, np.float32)
+    args = {name: BAD_DTYPES[kind]((4, 4, 3))}
+    with pytest.raises(ValueError, match=rf"^{name} must be .*got dtype"):
+        aolab.GBuffer(depth, fx=1.0, fy=1.0, cx=2.0, cy=2.0, **args)
+
+
+@pytest.mark.parametrize("dtype", [np.float16, np.float32, np.float64, np.int32, np.uint8,
+                                   np.int64])
+def test_real_numeric_dtypes_are_accepted(dtype):
+    g = aolab.GBuffer(np.full((4, 4), 2, dtype), fx=1.0, fy=1.0, cx=2.0, cy=2.0)
+    assert g.depth.dtype == np.float32 and np.all(g.depth == 2)
+
+
+def test_float32_depth_is_still_used_in_place():
+    depth = np.full((4, 4), 2.0, np.float32)
+    g = aolab.GBuffer(depth, fx=1.0, fy=1.0, cx=2.0, cy=2.0)
+    assert np.shares_memory(g.depth, depth)
+
+
+def test_depth_none_says_none():
+    with pytest.raises(ValueError, match=r"^depth must be an array \(H, W\), got None$"):
+        aolab.GBuffer(None, fx=1.0, fy=1.0, cx=0.0, cy=0.0)
+
+
+@pytest.mark.parametrize("shape", [(0, 5), (5, 0), (0, 0)])
+def test_empty_depth_names_its_shape_as_written(shape):
+    with pytest.raises(ValueError) as e:
+        aolab.GBuffer(np.zeros(shape, np.float32), fx=1.0, fy=1.0, cx=0.0, cy=0.0)
+    assert str(e.value).startswith("depth must not be empty")
+    assert str(e.value).endswith(f"got {shape}")
+
+
+# --- 4. Camera sidecars ---------------------------------------------------------------------
+
+@pytest.fixture
+def saved(tmp_path):
+    """A saved G-buffer: (exr path, sidecar path, the sidecar as a dict)."""
+    exr = tmp_path / "scene.exr"
+    aolab.save_gbuffer(exr, plane(4, 6))
+    side = tmp_path / "scene.json"
+    return exr, side, json.loads(side.read_text())
+
+
+def test_sidecar_with_a_latin1_byte_names_the_file_and_the_encoding(saved):
+    exr, side, doc = saved
+    doc["note"] = "caf\u00e9"
+    side.write_bytes(json.dumps(doc, ensure_ascii=False).encode("latin-1"))
+    with pytest.raises(ValueError) as e:
+        aolab.load_gbuffer(exr)
+    message = str(e.value)
+    assert str(side) in message and "UTF-8" in message and "0xE9" in message, message
+
+
+def test_sidecar_with_a_byte_order_mark_loads(saved):
+    exr, side, doc = saved
+    doc["note"] = "caf\u00e9"
+    side.write_bytes(b"\xef\xbb\xbf" + json.dumps(doc, ensure_ascii=False).encode("utf-8"))
+    g = aolab.load_gbuffer(exr)
+    assert g.sidecar["note"] == "caf\u00e9" and g.width == 6
+
+
+def test_sidecar_null_fx_is_called_null(saved):
+    exr, side, doc = saved
+    doc["fx"] = None
+    side.write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match=r'^sidecar key "fx" in .*scene\.json .*null, got null'):
+        aolab.load_gbuffer(exr)
+
+
+@pytest.mark.parametrize("key, value, shown", [("fx", 1e-50, "1e-50"), ("fy", 1e-46, "1e-46"),
+                                               ("cx", 1e300, "1e+300")])
+def test_sidecar_value_that_does_not_fit_a_float_is_shown_as_written(saved, key, value, shown):
+    exr, side, doc = saved
+    doc[key] = value
+    side.write_text(json.dumps(doc))
+    with pytest.raises(ValueError) as e:
+        aolab.load_gbuffer(exr)
+    message = str(e.value)
+    assert f'"{key}"' in message and str(side) in message, message
+    assert message.endswith(f"got {shown}"), message
+
+
+def test_sidecar_nested_100000_deep_is_a_clear_valueerror(saved):
+    exr, side, _ = saved
+    side.write_text("[" * 100_000)
+    with pytest.raises(ValueError, match=r"nests arrays and objects deeper than 64 levels"):
+        aolab.load_gbuffer(exr)
+
+
+def test_all_nan_ao_pass_is_loaded_as_nan(tmp_path):
+    exr = tmp_path / "nan.exr"
+    aolab.save_gbuffer(exr, plane(4, 6), reference=np.full((4, 6), np.nan, np.float32))
+    g = aolab.load_gbuffer(exr)
+    assert g.reference is not None and g.reference.shape == (4, 6)
+    assert np.all(np.isnan(g.reference))
+
+
+# --- 5. Paths that are not regular files ------------------------------------------------------
+
+@pytest.fixture
+def no_hang():
+    """Fails a test that blocks (opening a FIFO) instead of hanging the suite."""
+    def timeout(*_):
+        raise TimeoutError("the call blocked")
+    old = signal.signal(signal.SIGALRM, timeout)
+    signal.alarm(10)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
+def test_fifo_named_exr_is_refused_without_blocking(tmp_path, no_hang):
+    fifo = tmp_path / "x.exr"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match=r"x\.exr is a FIFO \(named pipe\), not a regular file"):
+        aolab.load_gbuffer(fifo)
+
+
+def test_directory_named_exr_is_refused(tmp_path):
+    (tmp_path / "d.exr").mkdir()
+    with pytest.raises(ValueError, match=r"d\.exr is a directory, not a regular file"):
+        aolab.load_gbuffer(tmp_path / "d.exr")
+
+
+def test_fifo_sidecar_is_refused_without_blocking(saved, no_hang):
+    exr, side, _ = saved
+    side.unlink()
+    os.mkfifo(side)
+    with pytest.raises(ValueError, match=r"scene\.json is a FIFO"):
+        aolab.load_gbuffer(exr)
+
+
+def test_missing_file_is_still_filenotfound(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        aolab.load_gbuffer(tmp_path / "absent.exr")
+
+
+# --- 6. Out-of-range values and their bounds never print alike -------------------------------
+
+def test_seed_beyond_the_bound_prints_both_exactly():
+    with pytest.raises(ValueError) as e:
+        aolab.compute("hbao", plane(), radius=1.0, seed=2**31)
+    message = str(e.value)
+    assert "2147483647]" in message and message.endswith("got 2147483648"), message
+    assert "e+09" not in message
+
+
+def test_float_just_past_a_bound_keeps_its_digits():
+    info = {s["name"]: s for s in aolab.method_info("hbao")["settings"]}
+    hi = info["radius"]["max"]
+    value = float(np.nextafter(hi, np.inf))
+    with pytest.raises(ValueError) as e:
+        aolab.compute("hbao", plane(), radius=value)
+    message = str(e.value)
+    assert message.endswith(f"got {value!r}"), message
