@@ -341,3 +341,16 @@ def test_debug_shows_the_traceback(capsys, tmp_path):
     assert "Traceback" in res.stderr and "directions must be an integer" in res.stderr
     res = aolab_cmd("run", "hbao", "analytic:plane", "--set", "directions=abc")
     assert res.returncode == 2 and "Traceback" not in res.stderr
+
+
+def test_run_on_an_all_nan_ao_pass_says_so(capsys, tmp_path):
+    """A G-buffer whose AO pass is all NaN is computed, and the output says why it is not
+    scored (not that the input has no AO pass)."""
+    import numpy as np
+    g = aolab.analytic_scene("wall", 16, 9, radius=1.0)
+    path = tmp_path / "nan.exr"
+    aolab.save_gbuffer(path, g, reference=np.full((9, 16), np.nan, np.float32),
+                       sidecar=g.sidecar)
+    assert cli.main(["run", "hbao", str(path), "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "all NaN" in out and "no reference AO" not in out
