@@ -36,24 +36,60 @@ if os.environ.get("AOLAB_PACKAGE_PATH"):
 import bpy  # noqa: E402
 from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
+from aolab.cli import MAX_SAMPLES, Parser, float_option, int_option  # noqa: E402
+from aolab.reference import parse_resolution  # noqa: E402
 
 from aolab_blender import export, peers  # noqa: E402
 
 
+def _argument(parse, name: str):
+    """An argparse ``type=`` from a parser that raises ValueError naming the option."""
+    def convert(text: str):
+        try:
+            return parse(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+    convert.__name__ = name
+    return convert
+
+
+def _ladder(text: str) -> list[int]:
+    sample = int_option("--ladder", 1, MAX_SAMPLES)
+    try:
+        return [sample(v) for v in text.split(",")]
+    except argparse.ArgumentTypeError:
+        raise ValueError(f"--ladder must be comma-separated integers in [1, {MAX_SAMPLES}], "
+                         f"got {text!r}") from None
+
+
+def _extra(text: str) -> dict:
+    try:
+        value = json.loads(text)
+    except ValueError as e:
+        raise ValueError(f"--extra must be a JSON object, got {text[:60]!r} ({e})") from None
+    if not isinstance(value, dict):
+        raise ValueError(f"--extra must be a JSON object, got {type(value).__name__}")
+    return value
+
+
 def parse(argv):
-    p = argparse.ArgumentParser(prog="aolab_blender.batch")
+    """The options, each checked with its range when read (argparse's usage line and
+    `argument --OPT: ...`, exit status 2), as `aolab reference` checks its own."""
+    p = Parser(prog="aolab_blender.batch")
     p.add_argument("--scene", required=True)
     p.add_argument("--kind", choices=("blend", "script"), required=True)
     p.add_argument("--out", required=True)
-    p.add_argument("--radius", type=float)
-    p.add_argument("--spp", type=int, default=1024)
-    p.add_argument("--gbuffer-samples", type=int, default=1)
-    p.add_argument("--passes", default="depth,normal")
-    p.add_argument("--resolution")
+    p.add_argument("--radius", type=float_option("--radius", unit="scene units"))
+    p.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES), default=1024)
+    p.add_argument("--gbuffer-samples", type=int_option("--gbuffer-samples", 1, MAX_SAMPLES),
+                   default=1)
+    p.add_argument("--passes", type=_argument(parse_passes, "--passes"), default="depth,normal")
+    p.add_argument("--resolution", type=_argument(parse_resolution, "--resolution"))
     p.add_argument("--camera")
-    p.add_argument("--extra", default="{}")
+    p.add_argument("--extra", type=_argument(_extra, "--extra"), default="{}")
     p.add_argument("--peers", action="store_true")
-    p.add_argument("--ladder", default=",".join(str(s) for s in LADDER_SPP))
+    p.add_argument("--ladder", type=_argument(_ladder, "--ladder"),
+                   default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
     return p.parse_args(argv)
 
@@ -65,8 +101,7 @@ def main(argv):
         runpy.run_path(args.scene, run_name="__main__")
     scene = bpy.context.scene
     if args.resolution:
-        w, h = (int(v) for v in args.resolution.lower().split("x"))
-        scene.render.resolution_x, scene.render.resolution_y = w, h
+        scene.render.resolution_x, scene.render.resolution_y = args.resolution
         scene.render.resolution_percentage = 100
     radius = args.radius
     if radius is None:
@@ -79,15 +114,14 @@ def main(argv):
 
     if args.peers:
         result = peers.render_peers(
-            scene, args.out, radius=radius, ladder=[int(v) for v in args.ladder.split(",")],
-            eevee=not args.no_eevee, camera_name=args.camera, report=stage,
-            extra=json.loads(args.extra))
+            scene, args.out, radius=radius, ladder=args.ladder,
+            eevee=not args.no_eevee, camera_name=args.camera, report=stage, extra=args.extra)
         print("AOLAB_RESULT " + json.dumps(result), flush=True)
         return
     sidecar = export.export_reference(
-        scene, args.out, radius=radius, spp=args.spp, passes=parse_passes(args.passes),
+        scene, args.out, radius=radius, spp=args.spp, passes=args.passes,
         gbuffer_samples=args.gbuffer_samples, camera_name=args.camera,
-        report=stage, extra=json.loads(args.extra))
+        report=stage, extra=args.extra)
     print("AOLAB_RESULT " + json.dumps(sidecar), flush=True)
 
 
@@ -95,8 +129,9 @@ if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     try:
         main(argv)
-    except (export.BridgeError, ValueError) as e:
-        print(f"AOLAB_ERROR {e}", flush=True)
+    except (export.BridgeError, ValueError, OSError) as e:
+        # OSError: an --out under a regular file, a full disk, a folder without write access
+        print(f"AOLAB_ERROR {e if str(e) else type(e).__name__}", flush=True)
         sys.exit(2)
     except Exception:
         traceback.print_exc()

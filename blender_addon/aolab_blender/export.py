@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import math
 import os
 import tempfile
 import time
@@ -205,8 +206,9 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
     sidecar `<stem>.json`) and returns the sidecar. `cancel()` is polled between stages
     (Cancelled is raised); `report(stage)` announces each stage. Settings are restored in
     every case."""
-    if not radius > 0:
-        raise BridgeError(f"radius must be > 0 (the AO distance in scene units), got {radius}")
+    if not (math.isfinite(radius) and radius > 0):
+        raise BridgeError(f"radius must be a finite number > 0 (the AO distance in scene "
+                          f"units), got {radius}")
     if spp < 1 or gbuffer_samples < 1:
         raise BridgeError(f"spp and gbuffer_samples must be >= 1, got {spp}, {gbuffer_samples}")
     unknown = [p for p in passes if p not in PASSES]

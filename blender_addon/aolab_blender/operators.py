@@ -13,6 +13,7 @@ images and the results table on the main thread.
 """
 
 import json
+import math
 import os
 import shutil
 import tempfile
@@ -42,13 +43,42 @@ def camera_problem(scene) -> str | None:
     return None
 
 
+#: Blender renders at least 4x4 pixels (a smaller size is raised to 4 without a word), so a
+#: G-buffer or reference at a smaller size would not match what was asked for.
+MIN_SIZE = 4
+
+
 def compare_size(scene) -> tuple[int, int]:
-    """The output size scaled by the panel's resolution percentage."""
+    """The output size scaled by the panel's resolution percentage; a UserError when a side
+    falls below what Blender renders (MIN_SIZE)."""
     r = scene.render
     w, h = properties.intrinsics.image_size(r.resolution_x, r.resolution_y,
                                             r.resolution_percentage)
     pct = scene.aolab.preview_scale
-    return max(1, w * pct // 100), max(1, h * pct // 100)
+    size = max(1, w * pct // 100), max(1, h * pct // 100)
+    if min(size) < MIN_SIZE:
+        raise UserError(f"the AO Lab size would be {size[0]}x{size[1]} pixels ({pct} % of "
+                        f"{w}x{h}); Blender renders at least {MIN_SIZE}x{MIN_SIZE}: raise "
+                        f"the panel's Resolution")
+    return size
+
+
+def folder_problem(path, what: str) -> str | None:
+    """Why `path` cannot be (or be made) a folder — it, or a folder above it, is an existing
+    file — or None."""
+    p = Path(path)
+    for q in (p, *p.parents):
+        if q.exists():
+            return None if q.is_dir() else f"{what} {str(p)!r} cannot be a folder: " \
+                f"{str(q)!r} is an existing file"
+    return None
+
+
+def max_radius() -> float:
+    """The largest radius every method accepts (the upper bound of their `radius` settings);
+    Blender lets the world's AO distance go up to 3.4e38."""
+    return min(s["max"] for m in properties.methods()
+               for s in properties.aolab.method_info(m)["settings"] if s["name"] == "radius")
 
 
 def render_passes() -> list[str]:
@@ -68,13 +98,22 @@ def scene_inputs(context, *, need_runs: bool = True) -> dict:
     if radius is None:
         raise UserError("the scene has no world, so no AO distance: add a world or untick "
                         "Scene AO Distance and set the radius")
+    largest = max_radius()
+    if not (math.isfinite(radius) and 0 < radius <= largest):
+        raise UserError(f"the world's AO distance is {radius:g}: set World > Ambient Occlusion "
+                        f"> Distance to a value in (0, {largest:g}], or untick Scene AO "
+                        f"Distance and set the radius")
+    cache = preferences.cache_dir(context)
+    problem = folder_problem(cache, "the cache folder (Preferences > Add-ons > AO Lab)")
+    if problem:
+        raise UserError(problem)
     runs = properties.chosen_runs(scene)
     if need_runs and not runs:
         raise UserError("nothing selected: tick at least one method")
     from .export import content_hash
     size = compare_size(scene)
     return {"scene": scene.name, "radius": float(radius), "size": size, "runs": runs,
-            "passes": render_passes(), "cache": preferences.cache_dir(context),
+            "passes": render_passes(), "cache": cache,
             "threads": preferences.threads(context),
             "scene_hash": content_hash(scene, scene.camera, size)}
 
@@ -146,6 +185,9 @@ class _JobOperator:
             self._plan = self.prepare(context)
         except UserError as e:
             return self._fail(context, str(e))
+        except Exception as e:  # noqa: BLE001 - never a traceback in Blender: say what failed
+            # (saving the copy of the file into a full or unwritable temporary folder, ...)
+            return self._fail(context, f"{self.bl_label}: {type(e).__name__}: {e}")
         if "result" in self._plan:  # served from the cache
             return self._succeed(context, self._plan["result"])
         session.busy, session.cancel_requested = True, False
@@ -331,8 +373,11 @@ class AOLAB_OT_write_report(_JobOperator, bpy.types.Operator):
         if out.startswith("//") and not bpy.data.filepath:
             out = os.path.join(tempfile.gettempdir(), "aolab_report",
                                bpy.path.clean_name(context.scene.name))
-        return {**inputs, "out": bpy.path.abspath(out),
-                "methods": [r["method"] for r in inputs["runs"]]}
+        out = bpy.path.abspath(out)
+        problem = folder_problem(out, "the Report Folder")
+        if problem:
+            raise UserError(problem)
+        return {**inputs, "out": out, "methods": [r["method"] for r in inputs["runs"]]}
 
     def finish(self, context, result):
         context.window_manager.aolab.report_path = result["report"]

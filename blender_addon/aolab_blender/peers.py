@@ -19,6 +19,7 @@ listed with its render time in peers.json (docs/comparison.md). Every setting is
 from __future__ import annotations
 
 import json
+import math
 import os
 import platform
 
@@ -68,8 +69,9 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
     """Renders the peers of `scene` into `out_dir` (EXRs + peers.json) and returns the
     peers.json content. `cancel()` is polled between renders (Cancelled); `report(stage)`
     announces each. Settings are restored in every case."""
-    if not radius > 0:
-        raise BridgeError(f"radius must be > 0 (the AO distance in scene units), got {radius}")
+    if not (math.isfinite(radius) and radius > 0):
+        raise BridgeError(f"radius must be a finite number > 0 (the AO distance in scene "
+                          f"units), got {radius}")
     if not ladder or any(int(s) < 1 for s in ladder):
         raise BridgeError(f"ladder samples must be >= 1, got {list(ladder)}")
     cam = scene_camera(scene, camera_name)

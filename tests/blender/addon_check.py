@@ -118,6 +118,33 @@ cam.data.type = "PERSP"
 scene.camera = None
 r["no_camera"] = call(bpy.ops.aolab.preview)
 scene.camera = cam
+# Hostile values a user can set in Blender: each is named before any work starts.
+distance = scene.world.light_settings.distance
+scene.world.light_settings.distance = 0.0   # the world's AO distance may be 0 in Blender
+r["zero_distance"] = call(bpy.ops.aolab.preview)
+scene.world.light_settings.distance = float("inf")   # Blender stores 3.4e38
+r["huge_distance"] = call(bpy.ops.aolab.preview)
+scene.world.light_settings.distance = distance
+s.preview_scale = 1   # 1 % of the tiny scene: below Blender's 4x4 minimum
+r["too_small"] = call(bpy.ops.aolab.preview)
+s.preview_scale = 100
+cache_file = os.path.join(out_dir, "cache_is_a_file")
+with open(cache_file, "w") as f:
+    f.write("not a folder")
+prefs.cache_dir = os.path.join(cache_file, "sub")
+r["cache_under_file"] = call(bpy.ops.aolab.preview)
+prefs.cache_dir = cache
+saved_copy = operators.save_copy
+
+
+def no_space(context):   # a full temporary folder, as saving the copy of the file meets it
+    raise OSError(28, "No space left on device")
+
+
+operators.save_copy = no_space
+r["save_copy_fails"] = call(bpy.ops.aolab.preview)
+operators.save_copy = saved_copy
+r["cache_after_errors"] = sorted(os.listdir(cache)) if os.path.isdir(cache) else None
 
 before = scene_state(scene)
 r["preview"] = call(bpy.ops.aolab.preview)
@@ -175,6 +202,8 @@ for row in results_table():
     np.save(os.path.join(out_dir, f"compare_{row['method']}.npy"), images.read_image(row["image"]))
 r["compare_images"] = sorted(im.name for im in bpy.data.images if im.name.startswith("AO Lab"))
 r["settings_passed"] = properties.chosen_runs(scene)
+s.report_dir = os.path.join(cache_file, "report")
+r["report_under_file"] = call(bpy.ops.aolab.write_report)
 s.report_dir = os.path.join(out_dir, "report")
 r["report"] = call(bpy.ops.aolab.write_report)
 r["report_path"] = bpy.context.window_manager.aolab.report_path

@@ -107,10 +107,17 @@ def test_user_errors_are_reported(flow):
     r, _ = flow
     expected = {"compare_without_reference": "reference missing",
                 "nothing_selected": "nothing selected", "not_built": "module not built: run "
-                "scripts/setup.sh", "orthographic": "orthographic", "no_camera": "no camera"}
+                "scripts/setup.sh", "orthographic": "orthographic", "no_camera": "no camera",
+                "zero_distance": "the world's AO distance is 0: set World > Ambient Occlusion",
+                "huge_distance": "the world's AO distance is 3.40282e+38",
+                "too_small": "Blender renders at least 4x4: raise the panel's Resolution",
+                "cache_under_file": "cache_is_a_file' is an existing file",
+                "save_copy_fails": "Preview: OSError: [Errno 28] No space left on device",
+                "report_under_file": "cache_is_a_file' is an existing file"}
     for case, text in expected.items():
         assert r[case]["result"] == ["CANCELLED"], case
         assert text in r[case]["error"] and text in r[case]["message"], (case, r[case])
+    assert r["cache_after_errors"] in (None, []), "a refused operation wrote into the cache"
     assert r["report"]["result"] == ["FINISHED"], r["report"]
     assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
     from aolab import presets

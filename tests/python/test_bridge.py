@@ -288,3 +288,44 @@ def test_scene_key_covers_the_shared_helpers(tmp_path):
     with open(scenes / SCENE_KIT, "a") as f:
         f.write("\n# a changed helper\n")
     assert resolve_scene(str(scenes / "analytic")).content_sha256 != before
+
+
+
+def run_batch(out, *args: str) -> subprocess.CompletedProcess:
+    """batch.py run directly inside Blender on the tiny scene, writing to `out`."""
+    return subprocess.run(
+        [BLENDER, "-b", "--factory-startup", "-noaudio", "--disable-autoexec", "--python",
+         str(ROOT / "blender_addon" / "aolab_blender" / "batch.py"), "--", "--scene",
+         str(ROOT / "tests" / "data" / "tiny_scene.py"), "--kind", "script", "--out", str(out),
+         *args], capture_output=True, text=True, timeout=300, env=checkout_env())
+
+@needs_blender
+@pytest.mark.parametrize("args, message", [
+    (["--resolution", "1x1"], "--resolution must be WxH with integers in [4, 16384]"),
+    (["--resolution", "abc"], "--resolution must be WxH"),
+    (["--radius", "inf"], "--radius must be a number > 0 scene units, got 'inf'"),
+    (["--radius", "nan"], "--radius must be a number > 0"),
+    (["--spp", "0"], "--spp must be an integer in [1, 16777216], got 0"),
+    (["--ladder", "1,0"], "--ladder must be comma-separated integers"),
+    (["--extra", "[1]"], "--extra must be a JSON object, got list"),
+    (["--extra", "{"], "--extra must be a JSON object"),
+    (["--passes", "depth,bloom"], "passes must be among"),
+    (["--radius=--"], "expected one value, got '--'"),
+])
+def test_batch_refuses_bad_options_by_name(tmp_path, args, message):
+    """batch.py run directly (as a farm script may): every option checked when read, exit 2
+    with one message naming it, before any scene is loaded."""
+    res = run_batch(tmp_path / "r.exr", *args)
+    assert res.returncode == 2, res.stdout[-2000:] + res.stderr[-2000:]
+    assert message in res.stderr, res.stderr[-2000:]
+    assert "Traceback" not in res.stdout + res.stderr
+    assert not (tmp_path / "r.exr").exists()
+
+
+@needs_blender
+def test_batch_out_under_a_file_is_a_message(tmp_path):
+    (tmp_path / "file").write_text("x")
+    res = run_batch(tmp_path / "file" / "r.exr", "--spp", "1")
+    assert res.returncode == 2, res.stdout[-2000:] + res.stderr[-2000:]
+    assert "AOLAB_ERROR" in res.stdout and "file" in res.stdout, res.stdout[-2000:]
+    assert "Traceback" not in res.stdout + res.stderr

@@ -354,3 +354,36 @@ def test_run_on_an_all_nan_ao_pass_says_so(capsys, tmp_path):
     assert cli.main(["run", "hbao", str(path), "--out", str(tmp_path / "o")]) == 0
     out = capsys.readouterr().out
     assert "all NaN" in out and "no reference AO" not in out
+
+
+@settings(max_examples=60, deadline=None)
+@given(text=st.one_of(option_values, st.builds(lambda w, h: f"{w}x{h}", option_values,
+                                               option_values)))
+def test_resolution_text_is_in_range_or_named(text):
+    """aolab reference --resolution (and batch.py's): a size Blender renders as asked, or a
+    ValueError naming the option."""
+    from aolab import reference
+    try:
+        w, h = reference.parse_resolution(text)
+    except ValueError as e:
+        assert str(e).startswith("--resolution must be WxH"), e
+        return
+    assert reference.MIN_RESOLUTION <= min(w, h) and max(w, h) <= reference.MAX_RESOLUTION
+
+
+@settings(max_examples=30, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(names=st.lists(option_values, min_size=1, max_size=3))
+def test_presets_and_methods_commands_never_trace_back(capsys, names):
+    _check(["presets", *names], capsys)
+    _check(["presets", "--json", *names], capsys)
+    _check(["methods", *names], capsys)   # takes no arguments: argparse refuses, status 2
+
+
+@pytest.mark.parametrize("argv", [["compare", "--repeat=--"], ["tune", "--trials=--"],
+                                  ["run", "hbao", "analytic:wall", "--radius=--"],
+                                  ["limits", "--rays=--"]])
+def test_double_dash_as_a_value_is_refused(capsys, argv):
+    """Python 3.11's argparse stores `--OPT=--` as an empty list without checking it."""
+    assert status_of(argv) == 2
+    assert "expected one value, got '--'" in capsys.readouterr().err

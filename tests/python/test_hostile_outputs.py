@@ -145,11 +145,13 @@ def test_out_under_an_existing_file_is_refused_before_any_work(tmp_path, capsys,
 # aolab reference --resolution
 
 
-@pytest.mark.parametrize("text", ["0x0", "0x720", "1280x0", "100000x100000", "16385x1",
-                                  "-5x5", "abc", "1280x", "1280x720x3", "1.5x2", "１２x３"])
+@pytest.mark.parametrize("text", ["0x0", "0x720", "1280x0", "100000x100000", "16385x4",
+                                  "-5x5", "abc", "1280x", "1280x720x3", "1.5x2", "１２x３",
+                                  "1x1", "3x720", "1280x3"])
 def test_reference_resolution_out_of_range_is_refused(text, capsys):
     with pytest.raises(ValueError, match=r"--resolution must be WxH with integers in "
-                                         r"\[1, 16384\], got " + repr(text).replace(".", r"\.")):
+                                         r"\[4, 16384\] \(Blender renders at least 4x4\), got " +
+                                         repr(text).replace(".", r"\.")):
         reference.parse_resolution(text)
     # the command refuses it before looking for Blender or the scene
     assert cli.main(["reference", "no_such_scene", f"--resolution={text}"]) == 2
@@ -157,11 +159,11 @@ def test_reference_resolution_out_of_range_is_refused(text, capsys):
 
 
 def test_reference_resolution_in_range_is_accepted():
-    assert reference.parse_resolution("1x1") == (1, 1)
+    assert reference.parse_resolution("4x4") == (4, 4)
     assert reference.parse_resolution("16384X16384") == (16384, 16384)
     assert reference.parse_resolution(" 1280x720 ") == (1280, 720)
     assert reference.check_resolution([640, 360]) == (640, 360)
-    for bad in ([0, 0], (100000, 100000), (1.5, 2), ("a", 1), (1,), None, (True, 1)):
+    for bad in ([0, 0], (3, 4), (100000, 100000), (1.5, 2), ("a", 1), (1,), None, (True, 1)):
         with pytest.raises(ValueError, match="resolution must be a width and a height"):
             reference.check_resolution(bad)
 

@@ -979,9 +979,6 @@ def main(args) -> int:
                    scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
                    progress=args.progress if args.progress is not None else sys.stderr.isatty(),
                    image_width=args.image_width)
-    if opts.repeat < 1 or opts.warmup < 0:
-        raise ValueError(f"--repeat must be >= 1 and --warmup >= 0, got {opts.repeat}, "
-                         f"{opts.warmup}")
     study = Study(opts)
 
     def terminated(signum, frame):  # `kill` keeps the partial results like Ctrl-C

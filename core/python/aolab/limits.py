@@ -143,8 +143,6 @@ def main(args) -> int:
     """The ``aolab limits`` command (arguments from cli.py)."""
     from .compare import find_scenes_dir, resolve_scenes
     thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
-    if args.rays < 1:
-        raise ValueError(f"--rays must be >= 1, got {args.rays}")
     scenes_dir = Path(args.scenes_dir) if args.scenes_dir else find_scenes_dir()
     for folder in resolve_scenes(args.scenes, scenes_dir):
         compute_scene(folder, thickness, args.rays, args.threads, args.force)

@@ -37,6 +37,10 @@ _SAMPLE_LINE = re.compile(r"Sample (\d+)/(\d+)")
 #: accepts, cli.MAX_SIDE): one 100000x100000 frame of G-buffer passes would take hundreds of
 #: gigabytes and Cycles would render it for days.
 MAX_RESOLUTION = 16384
+#: The smallest render width or height: Blender's own minimum (RenderSettings.resolution_x
+#: and resolution_y have a hard minimum of 4 in Blender 3.4 and 4.x). Blender raises a
+#: smaller value to 4 without a word, so a 1x1 request would come back as a 4x4 reference.
+MIN_RESOLUTION = 4
 
 
 class ReferenceError(Exception):
@@ -320,32 +324,33 @@ def copy_result(plan: Plan, folder: Path, out: Path) -> None:
 
 
 def check_resolution(resolution, name: str = "resolution") -> tuple[int, int]:
-    """(width, height) as integers in [1, MAX_RESOLUTION]; else a ValueError naming ``name``
-    and the value."""
+    """(width, height) as integers in [MIN_RESOLUTION, MAX_RESOLUTION]; else a ValueError
+    naming ``name`` and the value."""
     try:
         w, h = resolution
-        ok = all(not isinstance(v, bool) and int(v) == v and 1 <= v <= MAX_RESOLUTION
-                 for v in (w, h))
+        ok = all(not isinstance(v, bool) and int(v) == v and
+                 MIN_RESOLUTION <= v <= MAX_RESOLUTION for v in (w, h))
     except (TypeError, ValueError):
         ok = False
     if not ok:
-        raise ValueError(f"{name} must be a width and a height, integers in [1, "
-                         f"{MAX_RESOLUTION}], got {resolution!r}")
+        raise ValueError(f"{name} must be a width and a height, integers in "
+                         f"[{MIN_RESOLUTION}, {MAX_RESOLUTION}] (Blender renders at least "
+                         f"{MIN_RESOLUTION}x{MIN_RESOLUTION}), got {resolution!r}")
     return int(w), int(h)
 
 
-def parse_resolution(text: str) -> tuple[int, int]:
-    """--resolution WxH: width and height integers in [1, MAX_RESOLUTION], else a ValueError
-    naming --resolution and the value."""
-    message = (f"--resolution must be WxH with integers in [1, {MAX_RESOLUTION}], "
-               f"got {text!r}")
+def parse_resolution(text: str, name: str = "--resolution") -> tuple[int, int]:
+    """``WxH``: width and height integers in [MIN_RESOLUTION, MAX_RESOLUTION], else a
+    ValueError naming ``name`` and the text."""
     parts = str(text).strip().lower().split("x")
-    if len(parts) != 2 or not all(p.strip().isascii() and p.strip().isdigit() for p in parts):
-        raise ValueError(message)
-    w, h = (int(p) for p in parts)
-    if not (1 <= w <= MAX_RESOLUTION and 1 <= h <= MAX_RESOLUTION):
-        raise ValueError(message)
-    return w, h
+    if len(parts) == 2 and all(p.strip().isascii() and p.strip().isdigit() for p in parts):
+        try:
+            return check_resolution([int(p) for p in parts], name)
+        except ValueError:
+            pass
+    raise ValueError(f"{name} must be WxH with integers in [{MIN_RESOLUTION}, "
+                     f"{MAX_RESOLUTION}] (Blender renders at least "
+                     f"{MIN_RESOLUTION}x{MIN_RESOLUTION}), got {text!r}")
 
 
 def main(args) -> int:

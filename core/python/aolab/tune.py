@@ -906,9 +906,6 @@ def main(args) -> int:
                    presets_file=Path(args.presets_file) if args.presets_file else None,
                    timing=Timing(args.warmup, args.repeat, args.threads, args.max_ms),
                    progress=args.progress if args.progress is not None else sys.stderr.isatty())
-    if opts.timing.repeat < 1 or opts.timing.warmup < 0:
-        raise ValueError(f"--repeat must be >= 1 and --warmup >= 0, got {opts.timing.repeat}, "
-                         f"{opts.timing.warmup}")
     try:
         import optuna  # noqa: F401
     except ImportError:
