@@ -290,7 +290,6 @@ def test_scene_key_covers_the_shared_helpers(tmp_path):
     assert resolve_scene(str(scenes / "analytic")).content_sha256 != before
 
 
-
 def run_batch(out, *args: str) -> subprocess.CompletedProcess:
     """batch.py run directly inside Blender on the tiny scene, writing to `out`."""
     return subprocess.run(
@@ -298,6 +297,7 @@ def run_batch(out, *args: str) -> subprocess.CompletedProcess:
          str(ROOT / "blender_addon" / "aolab_blender" / "batch.py"), "--", "--scene",
          str(ROOT / "tests" / "data" / "tiny_scene.py"), "--kind", "script", "--out", str(out),
          *args], capture_output=True, text=True, timeout=300, env=checkout_env())
+
 
 @needs_blender
 @pytest.mark.parametrize("args, message", [

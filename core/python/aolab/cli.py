@@ -9,6 +9,7 @@
     aolab compare [SCENE...] [options]    score every method against the references: report
     aolab presets [METHOD...]             the named presets of each method and their settings
     aolab tune [options]                  search each method's settings for the Pareto front
+    aolab radius-study [SCENE...]         HBAO, Pyramid HBAO and Scalable AO against the radius
 
 INPUT is a G-buffer EXR with its sidecar JSON, or ``analytic:NAME`` for a built-in scene.
 
@@ -389,6 +390,11 @@ def cmd_tune(args) -> int:
     return tune.main(args)
 
 
+def cmd_radius_study(args) -> int:
+    from . import radius_study
+    return radius_study.main(args)
+
+
 def cmd_limits(args) -> int:
     from . import limits
     return limits.main(args)
@@ -452,7 +458,7 @@ class Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = Parser(prog="aolab", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--debug", action="store_true",
                    help="show the Python traceback of an error instead of the one-line "
                    "'aolab: <message>' (give it before the command: aolab --debug run ...)")
@@ -554,6 +560,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     from .limits import add_limits_parser
     add_limits_parser(sub).set_defaults(func=cmd_limits)
+    from .radius_study import add_parser as add_radius_study_parser
+    add_radius_study_parser(sub).set_defaults(func=cmd_radius_study)
     add_compare_parser(sub)
 
     q = sub.add_parser("presets", help="the named presets of each method and their settings")
