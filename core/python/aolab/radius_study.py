@@ -1,0 +1,266 @@
+"""``aolab radius-study``: the Pyramid HBAO paper's comparison against the radius, repeated.
+
+Astapov, Frolov, Galaktionov, "Pyramid HBAO — a Scalable Horizon-based Ambient Occlusion
+Method" (2021), §4, Tables 1a–1c and Fig. 8: HBAO, Scalable AO and Pyramid HBAO on two
+scenes at several radii, MAE and SSIM against a 1024-ray Blender reference and the time of
+each method without its separable Gaussian filter; Scalable AO and Pyramid HBAO "with the
+same number of samples per each depth pyramid level".
+
+Here: the scenes' own R times each scale, one Cycles reference per scene and radius (rendered
+once by ``aolab reference`` and cached), and per radius
+
+- **HBAO** at D = 8 and constant sample density along each direction: N_s = 8 at scale 1,
+  proportional to the scale (docs/benchmarks.md shows the cost of that); scored with the
+  shared Gaussian, timed without it.
+- **Pyramid HBAO** at its defaults (D = 8, S = 4 reads per level, K = 3, levels from R);
+  scored with its Gaussian (§3.5), timed without it.
+- **Scalable AO** with as many taps per pixel as Pyramid HBAO reads, D·S·L, L the levels
+  Pyramid HBAO marches at the scene's median projected radius (equal samples per level, as
+  the paper compared them), capped at SAO's largest tap count; scored with its bilateral
+  reconstruction, timed without it.
+
+Writes ``radius_study.json`` and ``radius_study.md`` (the table docs/benchmarks.md quotes)
+and ``radius_study.svg`` (time and MAE against the scale, the paper's Fig. 8) into --out.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import aolab
+
+#: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
+DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
+#: room: an interior with furniture (the paper's Viking Room); street: architecture over a
+#: long depth range (its Crytek Sponza).
+DEFAULT_SCENES = ("room", "street")
+#: A quarter of the committed references' pixels: 1024-spp references at four radii of two
+#: scenes take about 35 min at this size on 2 cores (four times that at 1280x720).
+DEFAULT_RESOLUTION = (640, 360)
+DEFAULT_SPP = 1024
+#: HBAO's steps per direction at scale 1 (its default N_s); they grow with the scale.
+HBAO_STEPS_AT_SCALE_1 = 8
+HBAO_DIRECTIONS = 8
+METHODS = ("hbao", "pyramid_hbao", "sao")
+LABELS = {"hbao": "HBAO", "pyramid_hbao": "Pyramid HBAO", "sao": "Scalable AO"}
+
+
+def median_projected_radius(g, radius: float) -> float:
+    """The median over geometry pixels of R·f/d, the radius's length on screen in pixels."""
+    depth = np.asarray(g.depth, np.float64)
+    valid = np.asarray(g.valid_mask(), bool)
+    return float(np.median(radius * g.fx / depth[valid]))
+
+
+def pyramid_levels(radius_px: float, samples: int, reduction: int) -> int:
+    """The levels Pyramid HBAO marches to reach ``radius_px`` (its `levels` = 0 rule at the
+    mean start step 1: the smallest L with S·(K^L − 1)/(K − 1) ≥ R·f/d)."""
+    levels = 1
+    while samples * (reduction ** levels - 1) / (reduction - 1) < radius_px and levels < 32:
+        levels += 1
+    return levels
+
+
+def default_of(method: str, name: str):
+    return next(s["default"] for s in aolab.method_info(method)["settings"] if s["name"] == name)
+
+
+def max_of(method: str, name: str):
+    return next(s["max"] for s in aolab.method_info(method)["settings"] if s["name"] == name)
+
+
+def configurations(scale: float, radius_px: float) -> list[dict]:
+    """Per method: the settings, the scored variant (with its filter) and the timed one
+    (without), and the samples per pixel."""
+    steps = max(1, round(HBAO_STEPS_AT_SCALE_1 * scale))
+    d, s, k = (int(default_of("pyramid_hbao", n)) for n in ("directions", "samples", "reduction"))
+    levels = pyramid_levels(radius_px, s, k)
+    taps = min(int(max_of("sao", "samples")), d * s * levels)
+    return [
+        {"method": "hbao", "settings": {"directions": HBAO_DIRECTIONS, "steps": steps},
+         "scored": {"blur": True}, "timed": {"blur": False},
+         "samples": HBAO_DIRECTIONS * steps, "note": f"D {HBAO_DIRECTIONS}, N_s {steps}"},
+        {"method": "pyramid_hbao", "settings": {},
+         "scored": {"gaussian_filter": True}, "timed": {"gaussian_filter": False},
+         "samples": d * s * levels, "note": f"D {d}, S {s}, K {k}, L {levels}"},
+        {"method": "sao", "settings": {"samples": taps},
+         "scored": {"filter": True}, "timed": {"filter": False},
+         "samples": taps, "note": f"{taps} taps" + (" (its most)" if taps < d * s * levels
+                                                    else "")},
+    ]
+
+
+def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: int,
+             repeat: int) -> list[dict]:
+    from .compare import load_scene, score, timed
+    scene = load_scene(folder)
+    radius_px = median_projected_radius(scene.g, scene.radius)
+    rows = []
+    for c in configurations(scale, radius_px):
+        values = {"radius": scene.radius, **c["settings"]}
+
+        def call(extra):
+            blur = extra.get("blur", False)
+            own = {k: v for k, v in extra.items() if k != "blur"}
+            return aolab.compute(c["method"], scene.g, threads=threads, blur=blur,
+                                 **values, **own)
+
+        ao = np.asarray(call(c["scored"]), np.float32)
+        scored = score(ao, scene)["regions"]
+        _, times = timed(lambda: call(c["timed"]), warmup, repeat)
+        rows.append({"scene": scene_name, "scale": scale, "radius": scene.radius,
+                     "radius_px": radius_px, "method": c["method"], "config": c["note"],
+                     "samples": c["samples"], "settings": values,
+                     "median_ms": statistics.median(times),
+                     "mae": scored["all"]["mae"], "ssim": scored["all"]["ssim"],
+                     "occluded_mae": scored["occluded"]["mae"]})
+    return rows
+
+
+def table(rows: list[dict]) -> str:
+    """The markdown table of docs/benchmarks.md: a row per scene and scale, a column group
+    per method."""
+    out = ["| scene | R (scale) | R on screen | " +
+           " | ".join(f"{LABELS[m]}: samples, ms, MAE, SSIM" for m in METHODS) + " |",
+           "|---|---|---|" + "---|" * len(METHODS)]
+    keys = sorted({(r["scene"], r["scale"]) for r in rows},
+                  key=lambda k: (DEFAULT_SCENES.index(k[0]) if k[0] in DEFAULT_SCENES else 99,
+                                 k[0], k[1]))
+    for scene, scale in keys:
+        by = {r["method"]: r for r in rows if r["scene"] == scene and r["scale"] == scale}
+        first = next(iter(by.values()))
+        cells = []
+        for m in METHODS:
+            r = by.get(m)
+            cells.append("—" if r is None else
+                         f"{r['samples']}, {r['median_ms']:.1f}, {r['mae']:.4f}, "
+                         f"{r['ssim']:.3f}")
+        out.append(f"| {scene} | {first['radius']:g} (×{scale:g}) | "
+                   f"{first['radius_px']:.0f} px | " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"
+
+
+def plot(rows: list[dict], path: Path) -> None:
+    """Time and MAE against the scale, a line per method and scene (the paper's Fig. 8)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    matplotlib.rcParams["svg.hashsalt"] = "aolab"   # the same file for the same numbers
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.4))
+    styles = {"room": "-", "street": "--"}
+    for m, colour in zip(METHODS, ("tab:red", "tab:blue", "tab:green")):
+        for scene in sorted({r["scene"] for r in rows}):
+            pts = sorted((r["scale"], r["median_ms"], r["mae"]) for r in rows
+                         if r["method"] == m and r["scene"] == scene)
+            if not pts:
+                continue
+            xs = [p[0] for p in pts]
+            axes[0].plot(xs, [p[1] for p in pts], styles.get(scene, ":"), color=colour,
+                         marker="o", label=f"{LABELS[m]}, {scene}")
+            axes[1].plot(xs, [p[2] for p in pts], styles.get(scene, ":"), color=colour,
+                         marker="o")
+    for ax, label in zip(axes, ("median time (ms), without filters", "MAE against Cycles")):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("radius (multiple of the scene's R)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_yscale("log")
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    fig.savefig(tmp, format="svg", metadata={"Date": None})
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def write_atomic(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -> list:
+    """(scene name, scale, reference.Plan) for every scene and scale; the passes are given
+    (depth and normal, which all three methods read), so the plans do not depend on which
+    methods are registered."""
+    from . import reference
+    from .compare import find_scenes_dir
+    scenes_dir = scenes_dir or find_scenes_dir()
+    if scenes_dir is None:
+        raise ValueError("no reference_scenes folder found: give --scenes-dir")
+    plans = []
+    for name in scenes:
+        spec = reference.resolve_scene(str(Path(scenes_dir) / name))
+        base = spec.manifest.get("radius")
+        if base is None:
+            raise ValueError(f"scene {spec.name!r} has no radius in its manifest")
+        for scale in scales:
+            plans.append((spec.name, scale, reference.make_plan(
+                spec, spp=spp, radius=float(base) * scale, passes=["depth", "normal"],
+                resolution=resolution)))
+    return plans
+
+
+def main(args) -> int:
+    """The ``aolab radius-study`` command (arguments from add_parser)."""
+    from . import reference
+    from .compare import machine_info
+    resolution = reference.parse_resolution(args.resolution)
+    plans = study_plans(args.scenes, args.scales, resolution, args.spp,
+                        Path(args.scenes_dir) if args.scenes_dir else None)
+    started = time.time()
+    rows = []
+    for name, scale, plan in plans:   # every reference first: the renders are the long part
+        folder, cached = reference.render(plan, args.cache, progress=not args.quiet)
+        print(f"{name} x{scale:g}: reference {'cached' if cached else 'rendered'} ({folder})",
+              file=sys.stderr)
+    for name, scale, plan in plans:
+        folder, _ = reference.render(plan, args.cache, progress=False)
+        rows += run_case(name, folder, scale, args.threads, args.warmup, args.repeat)
+        print(f"{name} x{scale:g}: " + ", ".join(
+            f"{r['method']} {r['median_ms']:.1f} ms MAE {r['mae']:.4f}" for r in rows[-3:]),
+            file=sys.stderr)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    result = {"command": "aolab radius-study " + " ".join(sys.argv[2:]),
+              "machine": machine_info(args.threads), "resolution": list(resolution),
+              "spp": args.spp, "repeat": args.repeat, "warmup": args.warmup,
+              "seconds": round(time.time() - started, 1), "rows": rows}
+    write_atomic(out / "radius_study.json", json.dumps(result, indent=1) + "\n")
+    write_atomic(out / "radius_study.md", table(rows))
+    plot(rows, out / "radius_study.svg")
+    print(table(rows))
+    return 0
+
+
+def add_parser(sub):
+    from .cli import MAX_SAMPLES, add_timing_options, float_option, int_option
+    p = sub.add_parser(
+        "radius-study", help="HBAO, Pyramid HBAO and Scalable AO against the radius",
+        description="Repeats the Pyramid HBAO paper's comparison (§4, Tables 1a-1c, Fig. 8): "
+        "each scene at several multiples of its R, a cached Cycles reference per radius "
+        "(rendered on first use: about 35 min for the defaults on 2 cores), time without "
+        "filters and MAE/SSIM with them.")
+    p.add_argument("scenes", nargs="*", metavar="SCENE", default=list(DEFAULT_SCENES),
+                   help="reference_scenes names (default: " + " ".join(DEFAULT_SCENES) + ")")
+    p.add_argument("--scales", nargs="+", type=float_option("--scales", hi=64.0),
+                   default=list(DEFAULT_SCALES),
+                   help="multiples of each scene's R (default " +
+                   " ".join(f"{s:g}" for s in DEFAULT_SCALES) + ")")
+    p.add_argument("--resolution", default="x".join(map(str, DEFAULT_RESOLUTION)),
+                   help="WxH of the references (default %(default)s)")
+    p.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES), default=DEFAULT_SPP,
+                   help=f"reference samples (default {DEFAULT_SPP})")
+    add_timing_options(p, repeat=5, warmup=1)
+    p.add_argument("--cache", help="reference cache (default as aolab reference)")
+    p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
+    p.add_argument("--out", default="out/radius_study", help="output folder")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    return p
