@@ -37,8 +37,10 @@ PLOTS = (
 )
 #: Kinds whose time is comparable with the methods' and that may lie on the Pareto front.
 FRONT_KINDS = ("method", "cycles")
+#: One colour per method (eleven methods, the screen-space limit drawn apart), distinct on
+#: white and from the peers' colours below.
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf",
-           "#bcbd22", "#d62728", "#7f7f7f")
+           "#bcbd22", "#d62728", "#7f7f7f", "#000080", "#00a087", "#800000", "#ff1493")
 CYCLES_COLOUR = "#444444"
 EEVEE_COLOUR = "#b8860b"
 LIMIT_COLOUR = "#2e7d32"
