@@ -159,7 +159,7 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
   validate_settings(s, kSaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  if (options.progress) options.progress->total += s.blur ? 3 * std::int64_t(h) : h;
+  if (options.progress) options.progress->total += s.filter ? 3 * std::int64_t(h) : h;
 
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   Image normals = prepared_normals(g, threads);
@@ -179,12 +179,12 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
           for (int x = 0; x < w; ++x) out(x, y) = sao_pixel(frame, s, taps, e, x, y);
       },
       options.progress);
-  if (s.blur) {
+  if (s.filter) {
     SaoBlurParams b;
-    b.radius = s.blur_radius;
-    b.stride = s.blur_stride;
-    b.sigma = s.blur_sigma;
-    const double edge = double(kSaoBlurEdgeDepth) * s.radius / s.edge_sharpness;
+    b.radius = s.filter_radius;
+    b.stride = s.filter_stride;
+    b.sigma = s.filter_sigma;
+    const double edge = double(kSaoFilterEdgeDepth) * s.radius / s.edge_sharpness;
     b.edge_depth = s.edge_sharpness > 0.0f
                        ? float(std::clamp(edge, double(std::numeric_limits<float>::min()),
                                           double(std::numeric_limits<float>::max())))

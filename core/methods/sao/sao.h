@@ -8,7 +8,7 @@
 //  (c) tap i reads level m_i = clamp(⌊log2 h_i⌋ − q', 0, L_max) (§2.3), q' = log2 of the
 //      tap distance at which the switch to coarser levels starts;
 //  (d) the estimator A = max(0, 1 − (c·σ/s) Σ w(v_i) max(0, v_i·n̂ − β)/(v_i·v_i + ε))^k;
-//  (e) a separable depth-aware Gaussian (§2.4): taps `blur_stride` pixels apart, weights
+//  (e) a separable depth-aware Gaussian (§2.4): taps `filter_stride` pixels apart, weights
 //      falling linearly to 0 with the depth difference;
 //  (f) normals from the G-buffer or, as the paper does, from the depth derivatives of a 2×2
 //      pixel quad.
@@ -38,15 +38,15 @@ constexpr float kSaoDefaultEpsilon = 0.01f;
 /// The reconstruction filter of the reference implementation: 4 taps per side, 2 pixels
 /// apart (the AO pass already mixes neighbours), weights of a Gaussian of σ = 3 taps (the
 /// ratios of its weight table), edge sharpness 1.
-constexpr int kSaoDefaultBlurRadius = 4;
-constexpr int kSaoDefaultBlurStride = 2;
-constexpr float kSaoDefaultBlurSigma = 3.0f;
+constexpr int kSaoDefaultFilterRadius = 4;
+constexpr int kSaoDefaultFilterStride = 2;
+constexpr float kSaoDefaultFilterSigma = 3.0f;
 /// The depth difference, in units of r, at which a filter tap's weight reaches 0 at edge
 /// sharpness 1. The reference code's key is z/far and a tap's weight
 /// max(0, 1 − 2000·sharpness·|Δkey|), 0 at |Δz| = far/2000 (0.15 with a 300 far plane);
 /// AO Lab has no far plane, so the difference is measured against r: 0.2·r, 0.15 at the
 /// reference's radius 0.75.
-constexpr float kSaoBlurEdgeDepth = 0.2f;
+constexpr float kSaoFilterEdgeDepth = 0.2f;
 
 /// Where a tap read from a coarse level is placed in view space.
 enum class SaoTapPosition : int {
@@ -101,13 +101,13 @@ struct SaoSettings {
   /// Rotate the spiral by a random angle per pixel (the paper's per-pixel hash).
   bool random_rotation = true;
   /// The bilateral reconstruction (§2.4); off: the raw estimate.
-  bool blur = true;
+  bool filter = true;
   /// Filter taps per side of the centre. [1, 32].
-  int blur_radius = kSaoDefaultBlurRadius;
+  int filter_radius = kSaoDefaultFilterRadius;
   /// Pixels between filter taps. [1, 16].
-  int blur_stride = kSaoDefaultBlurStride;
+  int filter_stride = kSaoDefaultFilterStride;
   /// σ of the filter's Gaussian, in taps. [0.1, 100].
-  float blur_sigma = kSaoDefaultBlurSigma;
+  float filter_sigma = kSaoDefaultFilterSigma;
   /// Edge sharpness: a tap's weight falls linearly to 0 at a depth difference of
   /// 0.2·r/sharpness; 0 = a plain Gaussian. [0, 1000].
   float edge_sharpness = 1.0f;
@@ -146,10 +146,10 @@ inline const SettingField<SaoSettings> kSaoFields[] = {
      "gbuffer|depth"},
     {"random_rotation", &SaoSettings::random_rotation, 0, 1, "",
      "rotate the tap spiral randomly per pixel"},
-    {"blur", &SaoSettings::blur, 0, 1, "", "the separable depth-aware Gaussian reconstruction"},
-    {"blur_radius", &SaoSettings::blur_radius, 1, 32, "", "filter taps per side"},
-    {"blur_stride", &SaoSettings::blur_stride, 1, 16, "pixels", "pixels between filter taps"},
-    {"blur_sigma", &SaoSettings::blur_sigma, 0.1, 100, "taps", "sigma of the filter's Gaussian"},
+    {"filter", &SaoSettings::filter, 0, 1, "", "the separable depth-aware Gaussian reconstruction"},
+    {"filter_radius", &SaoSettings::filter_radius, 1, 32, "", "filter taps per side"},
+    {"filter_stride", &SaoSettings::filter_stride, 1, 16, "pixels", "pixels between filter taps"},
+    {"filter_sigma", &SaoSettings::filter_sigma, 0.1, 100, "taps", "sigma of the filter's Gaussian"},
     {"edge_sharpness", &SaoSettings::edge_sharpness, 0, 1000, "",
      "a filter tap's weight reaches 0 at a depth difference of 0.2 r / sharpness; 0 = plain "
      "Gaussian"},
