@@ -190,7 +190,7 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
                                           double(std::numeric_limits<float>::max())))
                        : 0.0f;
     sao_bilateral_filter(out, depth, b, threads, options.progress);
-    for (float& v : out.pixels()) v = std::min(v, 1.0f);  // a mean of values ≤ 1, rounded
+    for (float& v : out.pixels()) v = std::clamp(v, 0.0f, 1.0f);  // a mean in [0, 1], rounded
   }
   return out;
 }

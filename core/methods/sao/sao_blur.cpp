@@ -24,7 +24,10 @@ void filter_pass(const float* in, float* out, const float* depth, int w, int h, 
               out[c] = in[c];  // background keeps its value
               continue;
             }
-            float sum = gauss[0] * in[c], total = gauss[0];
+            // Σ w_j·(A_j − A_0) / Σ w_j added to A_0: the same mean, and a constant image (every
+            // difference 0) comes back bit for bit.
+            const float a0 = in[c];
+            float sum = 0.0f, total = gauss[0];
             for (int j = -p.radius; j <= p.radius; ++j) {
               if (j == 0) continue;
               const int tx = rows ? x + j * p.stride : x, ty = rows ? y : y + j * p.stride;
@@ -36,10 +39,10 @@ void filter_pass(const float* in, float* out, const float* depth, int w, int h, 
               const float edge = std::max(0.0f, 1.0f - std::abs(z - z0) * inv_edge);
               const float weight = gauss[std::size_t(std::abs(j))] * edge;
               if (!(weight > 0.0f)) continue;
-              sum += weight * in[t];
+              sum += weight * (in[t] - a0);
               total += weight;
             }
-            out[c] = sum / total;  // total ≥ gauss[0] = 1
+            out[c] = a0 + sum / total;  // total ≥ gauss[0] = 1
           }
       },
       progress);
