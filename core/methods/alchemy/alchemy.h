@@ -27,9 +27,9 @@ constexpr float kAlchemyDefaultEpsilon = 1e-4f;
 struct AlchemySettings {
   /// r: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
   float radius = 1.0f;
-  /// s: taps per pixel on the projected disc. [1, 99].
+  /// s: taps per pixel on the projected disc. [1, 98].
   int samples = kAlchemyDefaultSamples;
-  /// τ: turns of the tap spiral; 0 = the SAO paper's low-discrepancy table for s. [0, 99].
+  /// τ: turns of the tap spiral; 0 = the SAO paper's low-discrepancy table for s. [0, 98].
   int turns = 0;
   /// σ: intensity, in units of r (the paper's σ at r = 1). [0, 100].
   float intensity = 1.0f;

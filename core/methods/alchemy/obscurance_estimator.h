@@ -23,7 +23,7 @@
 
 namespace aolab {
 
-/// τ, the turns of the spiral of s taps (s = 1..99), chosen to minimise the discrepancy of
+/// τ, the turns of the spiral of s taps (s = 1..98), chosen to minimise the discrepancy of
 /// the taps: the SAO paper's table (§2.3), as its reference implementation lists it.
 inline constexpr int kSpiralTurns[] = {
     1,  1,  2,  3,  2,  5,  2,  3,  2,  3,  3,  5,  5,  3,  4,  7,  5,  5,  7,  9,
@@ -121,18 +121,21 @@ struct ObscuranceEstimator {
 };
 
 /// The term of one tap for the receiver p: the surface point on pixel (sx, sy) at depth ds
-/// (its texel centre), v = S − C formed without cancellation (HBAO's form). Taps not above
+/// (its texel centre), v = S − C formed without cancellation (HBAO's form). The cheap tests
+/// (beyond r, v·n ≤ b) come first; of the rest, taps not above
 /// C's tangent plane by more than float32 rounding add nothing (hbao_above_tangent_plane):
 /// their v·n ≤ 0 in exact arithmetic, so this only removes rounding noise, and an open plane
 /// gives exactly 1.
 inline double obscurance_tap(const HbaoReceiver& p, int sx, int sy, float ds, double bias,
                              const ObscuranceEstimator& e) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
-  if (!hbao_above_tangent_plane(p, qx, qy, ds)) return 0.0;
   const float dd = ds - p.d;
   const glm::vec3 v((qx * ds + p.ox * dd) * p.inv_fx, -(qy * ds + p.oy * dd) * p.inv_fy, -dd);
   const double vv = double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z;
+  if (!(vv < e.r2)) return 0.0;  // beyond r: w = 0 for both falloffs
   const double vn = double(v.x) * p.n.x + double(v.y) * p.n.y + double(v.z) * p.n.z;
+  if (!(vn > bias)) return 0.0;  // the term's max(0, ·) is 0: no need for the dearer test
+  if (!hbao_above_tangent_plane(p, qx, qy, ds)) return 0.0;
   return e.term(vv, vn, bias);
 }
 

@@ -73,9 +73,9 @@ enum class SaoNormals : int {
 struct SaoSettings {
   /// r: radius of influence in view-space units (the reference's AO distance). [1e-12, 1e30].
   float radius = 1.0f;
-  /// s: taps per pixel on the spiral. [1, 99].
+  /// s: taps per pixel on the spiral. [1, 98].
   int samples = kSaoDefaultSamples;
-  /// τ: turns of the spiral; 0 = the paper's low-discrepancy table for s. [0, 99].
+  /// τ: turns of the spiral; 0 = the paper's low-discrepancy table for s. [0, 98].
   int turns = 0;
   /// σ: intensity, in units of r. [0, 100].
   float intensity = 1.0f;
