@@ -1,13 +1,8 @@
 #include "core/methods/alchemy/alchemy.h"
 
-#include <cmath>
-#include <cstdint>
-#include <numbers>
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/hbao/hbao.h"
-#include "core/sampling/random.h"
 
 namespace aolab {
 
@@ -25,31 +20,13 @@ float alchemy_pixel(const Frame& f, const AlchemySettings& s, const SpiralTaps& 
   const std::size_t idx = std::size_t(y) * f.width + x;
   const float d = f.depth[idx];
   if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
-      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
-  // The disc of radius r at depth d, projected: r·fx/d pixels across, r·fy/d down (§3).
-  const float rx = s.radius * f.cam.fx / d, ry = s.radius * f.cam.fy / d;
-  const float phi = s.random_rotation
-                        ? 2.0f * std::numbers::pi_v<float> * pixel_random(std::uint32_t(s.seed), x, y, 0)
-                        : 0.0f;
-  const float cr = std::cos(phi), sr = std::sin(phi);
-  const double bias = double(s.bias) * d;  // −z_C·β with z_C = −d
-  double sum = 0.0;
-  for (int i = 0; i < taps.size(); ++i) {
-    float c, sn;
-    taps.direction(i, cr, sr, c, sn);
-    const float a = taps.alpha(i);
-    const float sx_f = p.px + a * c * rx, sy_f = p.py - a * sn * ry;  // image y points down
-    // A tap off the image sees nothing (and the test rejects inf/NaN at huge radii).
-    if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height)))
-      continue;
-    const int sx = int(sx_f), sy = int(sy_f);  // the texel the tap falls in
-    if (sx == x && sy == y) continue;          // C itself: v = 0
-    const float ds = f.depth[std::size_t(sy) * f.width + sx];
-    if (!(ds == ds)) continue;  // background never occludes
-    sum += obscurance_tap(p, sx, sy, ds, bias, e);
-  }
-  return e.visibility(sum);
+  const glm::vec3 n(f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]);
+  const double bias = double(s.bias) * d;  // −z_C·β with z_C = −d (§3)
+  return obscurance_estimate(f.cam, x, y, d, n, s.radius, s.random_rotation, s.seed, bias, taps, e,
+                             f.width, f.height, [&](int, int sx, int sy, float& ds) {
+                               ds = f.depth[std::size_t(sy) * f.width + sx];
+                               return ds == ds;
+                             });
 }
 
 }  // namespace

@@ -16,10 +16,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
 #include "core/methods/hbao/hbao.h"
+#include "core/sampling/random.h"
 
 namespace aolab {
 
@@ -137,6 +139,40 @@ inline double obscurance_tap(const HbaoReceiver& p, int sx, int sy, float ds, do
   if (!(vn > bias)) return 0.0;  // the term's max(0, ·) is 0: no need for the dearer test
   if (!hbao_above_tangent_plane(p, qx, qy, ds)) return 0.0;
   return e.term(vv, vn, bias);
+}
+
+/// The estimate at pixel (x, y), depth d, normal n (Alchemy §3, SAO §2.3): the spiral rotated
+/// by the pixel's angle (`pixel_random` stream 0, or 0 without `random_rotation`) and scaled to
+/// the disc of radius r at depth d, r·fx/d pixels across and r·fy/d down (a disc in view
+/// space for any pixel aspect); each tap inside the image is handed, with the texel (sx, sy)
+/// it falls in, to read(i, sx, sy, ds), which sets the depth ds and may move (sx, sy) to the
+/// pixel of the surface point the tap stands for, and returns false for background; taps off the
+/// image (the test also rejects inf/NaN at huge radii) or on C's own pixel (v = 0) add nothing.
+template <class ReadTap>
+float obscurance_estimate(const CameraIntrinsics& cam, int x, int y, float d, const glm::vec3& n,
+                          float radius, bool random_rotation, int seed, double bias,
+                          const SpiralTaps& taps, const ObscuranceEstimator& e, int width,
+                          int height, ReadTap&& read) {
+  const HbaoReceiver p = hbao_receiver(cam, x, y, d, n);
+  const float rx = radius * cam.fx / d, ry = radius * cam.fy / d;
+  const float phi = random_rotation ? 2.0f * std::numbers::pi_v<float> *
+                                          pixel_random(std::uint32_t(seed), x, y, 0)
+                                    : 0.0f;
+  const float cr = std::cos(phi), sr = std::sin(phi);
+  double sum = 0.0;
+  for (int i = 0; i < taps.size(); ++i) {
+    float c, sn;
+    taps.direction(i, cr, sr, c, sn);
+    const float a = taps.alpha(i);
+    const float sx_f = p.px + a * c * rx, sy_f = p.py - a * sn * ry;  // image y points down
+    if (!(sx_f >= 0.0f && sx_f < float(width) && sy_f >= 0.0f && sy_f < float(height))) continue;
+    int sx = int(sx_f), sy = int(sy_f);  // the texel the tap falls in
+    float ds;
+    if (!read(i, sx, sy, ds)) continue;  // background never occludes
+    if (sx == x && sy == y) continue;
+    sum += obscurance_tap(p, sx, sy, ds, bias, e);
+  }
+  return e.visibility(sum);
 }
 
 }  // namespace aolab

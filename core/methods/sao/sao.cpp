@@ -106,49 +106,34 @@ struct Frame {
 
 float sao_pixel(const Frame& f, const SaoSettings& s, const SpiralTaps& taps,
                 const ObscuranceEstimator& e, int x, int y) {
-  const SaoZLevel& full = (*f.levels)[0];
+  const std::vector<SaoZLevel>& levels = *f.levels;
   const std::size_t idx = std::size_t(y) * f.width + x;
-  const float d = full.depth[idx];
+  const float d = levels[0].depth[idx];
   if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
-      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
-  // r' of §2.3, per axis: the disc of radius r at depth d projected (pixels).
-  const float rx = s.radius * f.cam.fx / d, ry = s.radius * f.cam.fy / d;
-  const float r_max = std::max(rx, ry);
-  const float phi = s.random_rotation ? 2.0f * std::numbers::pi_v<float> *
-                                            pixel_random(std::uint32_t(s.seed), x, y, 0)
-                                      : 0.0f;
-  const float cr = std::cos(phi), sr = std::sin(phi);
+  const glm::vec3 n(f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]);
   const double bias = double(s.bias) * double(s.radius);  // a constant distance, β·r
-  const int max_level = int(f.levels->size()) - 1;
+  // h_i = α_i·r' (§2.3), r' the larger axis of the projected disc.
+  const float r_max = s.radius * std::max(f.cam.fx, f.cam.fy) / d;
+  const int max_level = int(levels.size()) - 1;
   const bool at_source = s.tap_position == int(SaoTapPosition::Source);
-  double sum = 0.0;
-  for (int i = 0; i < taps.size(); ++i) {
-    float c, sn;
-    taps.direction(i, cr, sr, c, sn);
-    const float a = taps.alpha(i);
-    const float sx_f = p.px + a * c * rx, sy_f = p.py - a * sn * ry;  // image y points down
-    // A tap off the image sees nothing (the test also rejects inf/NaN at huge radii).
-    if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height)))
-      continue;
-    int sx = int(sx_f), sy = int(sy_f);
-    // m_i = clamp(⌊log2 h_i⌋ − q', 0, L_max) (§2.3); ilogb reads ⌊log2⌋ off the exponent.
-    const float h_i = a * r_max;
-    const int level =
-        h_i >= 1.0f ? std::clamp(std::ilogb(h_i) - s.log_max_offset, 0, max_level) : 0;
-    const SaoZLevel& lv = (*f.levels)[std::size_t(level)];
-    const int mx = std::min(sx >> level, lv.width - 1), my = std::min(sy >> level, lv.height - 1);
-    const std::size_t t = std::size_t(my) * lv.width + mx;
-    const float ds = lv.depth[t];
-    if (!(ds == ds)) continue;  // background never occludes
-    if (at_source) {
-      sx = int(lv.source[t] % f.width);
-      sy = int(lv.source[t] / f.width);
-    }
-    if (sx == x && sy == y) continue;  // C itself: v = 0
-    sum += obscurance_tap(p, sx, sy, ds, bias, e);
-  }
-  return e.visibility(sum);
+  return obscurance_estimate(
+      f.cam, x, y, d, n, s.radius, s.random_rotation, s.seed, bias, taps, e, f.width, f.height,
+      [&](int i, int& sx, int& sy, float& ds) {
+        // m_i = clamp(⌊log2 h_i⌋ − q', 0, L_max) (§2.3); ilogb reads ⌊log2⌋ off the exponent.
+        const float h_i = taps.alpha(i) * r_max;
+        const int level =
+            h_i >= 1.0f ? std::clamp(std::ilogb(h_i) - s.log_max_offset, 0, max_level) : 0;
+        const SaoZLevel& lv = levels[std::size_t(level)];
+        const int mx = std::min(sx >> level, lv.width - 1);
+        const int my = std::min(sy >> level, lv.height - 1);
+        const std::size_t t = std::size_t(my) * lv.width + mx;
+        ds = lv.depth[t];
+        if (at_source) {  // the pixel the texel was subsampled from (SaoTapPosition)
+          sx = int(lv.source[t] % f.width);
+          sy = int(lv.source[t] / f.width);
+        }
+        return ds == ds;
+      });
 }
 
 }  // namespace
@@ -196,9 +181,9 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
 }
 
 Method sao_method() {
-  Method m = registered_method("sao", "Scalable ambient obscurance",
-                               "McGuire, Mara, Luebke 2012, Scalable Ambient Obscurance",
-                               kSaoFields, sao);
+  Method m =
+      registered_method("sao", "Scalable ambient obscurance",
+                        "McGuire, Mara, Luebke 2012, Scalable Ambient Obscurance", kSaoFields, sao);
   m.needs_normal = true;
   return m;
 }

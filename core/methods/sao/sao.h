@@ -149,7 +149,8 @@ inline const SettingField<SaoSettings> kSaoFields[] = {
     {"filter", &SaoSettings::filter, 0, 1, "", "the separable depth-aware Gaussian reconstruction"},
     {"filter_radius", &SaoSettings::filter_radius, 1, 32, "", "filter taps per side"},
     {"filter_stride", &SaoSettings::filter_stride, 1, 16, "pixels", "pixels between filter taps"},
-    {"filter_sigma", &SaoSettings::filter_sigma, 0.1, 100, "taps", "sigma of the filter's Gaussian"},
+    {"filter_sigma", &SaoSettings::filter_sigma, 0.1, 100, "taps",
+     "sigma of the filter's Gaussian"},
     {"edge_sharpness", &SaoSettings::edge_sharpness, 0, 1000, "",
      "a filter tap's weight reaches 0 at a depth difference of 0.2 r / sharpness; 0 = plain "
      "Gaussian"},

@@ -18,10 +18,11 @@ struct SaoBlurParams {
 };
 
 /// Filters `ao` (1 channel, W × H) in place over `depth` (W × H, NaN = background): each
-/// geometry pixel becomes A_0 + Σ g_j·e_j·(A_j − A_0) / Σ g_j·e_j (the weighted mean) over its taps j = −radius..radius inside
-/// the image and on geometry, g_j = exp(−j²/(2σ²)), e_j = max(0, 1 − |z_j − z_0|/edge_depth)
-/// (1 when edge_depth is 0 or infinite). Background keeps its value and never contributes. A
-/// constant image comes back bit for bit. Rows are counted in `progress` (2 passes of H rows).
+/// geometry pixel becomes A_0 + Σ g_j·e_j·(A_j − A_0) / Σ g_j·e_j (the weighted mean) over its taps
+/// j = −radius..radius inside the image and on geometry, g_j = exp(−j²/(2σ²)), e_j = max(0, 1 −
+/// |z_j − z_0|/edge_depth) (1 when edge_depth is 0 or infinite). Background keeps its value and
+/// never contributes. A constant image comes back bit for bit. Rows are counted in `progress` (2
+/// passes of H rows).
 void sao_bilateral_filter(Image& ao, const std::vector<float>& depth, const SaoBlurParams& params,
                           int threads, Progress* progress);
 

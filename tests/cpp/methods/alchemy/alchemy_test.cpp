@@ -161,7 +161,8 @@ TEST(Alchemy, ExtremeRadiiAreStable) {
   for (float radius : {3.0f, 30.0f, 300.0f}) {
     AlchemySettings s;
     s.radius = radius;
-    for (float v : alchemy(f.g, s).pixels()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << radius;
+    const Image ao = alchemy(f.g, s);
+    for (float v : ao.pixels()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << radius;
   }
 }
 

@@ -158,7 +158,8 @@ TEST(Sao, ExtremeRadiiAreStable) {
   for (float radius : {3.0f, 30.0f, 300.0f}) {
     SaoSettings s;
     s.radius = radius;
-    for (float v : sao(f.g, s).pixels()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << radius;
+    const Image ao = sao(f.g, s);
+    for (float v : ao.pixels()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << radius;
   }
 }
 
