@@ -1,9 +1,8 @@
 """Alchemy AO (McGuire et al. 2011) and SAO (McGuire, Mara, Luebke 2012) through the Python
 API: the shared estimator (SAO at full resolution, unfiltered, is Alchemy), nothing within r
 gives exactly 1, the wall's occlusion near the crease, the contrast exponent, SAO's z pyramid
-and filter. Open planes, threads, GIL,
-cancellation and settings: test_conformance.py; hard inputs and a scene scaled with its
-radius: test_stability.py."""
+and filter. Open planes, threads, GIL, cancellation and settings: test_conformance.py; hard
+inputs and a scene scaled with its radius: test_stability.py."""
 import numpy as np
 
 import aolab
