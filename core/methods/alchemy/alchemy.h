@@ -19,9 +19,10 @@ namespace aolab {
 
 /// s of the paper's Figure 1 (12 taps per pixel at 1280×720).
 constexpr int kAlchemyDefaultSamples = 12;
-/// β, the bias per unit of depth: the paper's 10⁻⁴.
+/// β, the bias per unit of depth: 10⁻⁴, the paper's value as recalled (docs/methods/alchemy.md:
+/// not checked against its text).
 constexpr float kAlchemyDefaultBias = 1e-4f;
-/// ε, in units of r²: the paper's 10⁻⁴ (at r = 1).
+/// ε, in units of r²: 10⁻⁴ (at r = 1), the paper's value as recalled, likewise.
 constexpr float kAlchemyDefaultEpsilon = 1e-4f;
 
 struct AlchemySettings {
