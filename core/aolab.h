@@ -65,12 +65,14 @@
 #include "core/scenes/analytic_scenes.h"
 
 // core/methods: the registry and every method
+#include "core/methods/alchemy/alchemy.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/lsao/lsao.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
 #include "core/methods/registry.h"
+#include "core/methods/sao/sao.h"
 #include "core/methods/screen_space_limit/screen_space_limit.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/vao_pp.h"

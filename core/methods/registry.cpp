@@ -3,11 +3,13 @@
 #include <cmath>
 
 #include "core/base/check.h"
+#include "core/methods/alchemy/alchemy.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/lsao/lsao.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
+#include "core/methods/sao/sao.h"
 #include "core/methods/screen_space_limit/screen_space_limit.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/vao_pp.h"
@@ -18,7 +20,7 @@ const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
   static const std::vector<Method> all = {
       hbao_method(),   pyramid_hbao_method(),       lsao_method(), chebyshev_method(), vao_method(),
-      vao_pp_method(), screen_space_limit_method(), gtao_method(),
+      vao_pp_method(), screen_space_limit_method(), gtao_method(), alchemy_method(),   sao_method(),
   };
   return all;
 }

@@ -20,6 +20,8 @@ TYPES = ("float", "int", "bool", "choice")
 # Settings each method is also run with where the suite runs it (open planes, threads):
 # its switches that change what it computes, beside the defaults.
 VARIANTS = {
+    "alchemy": [dict(random_rotation=False, samples=31, turns=7),
+                dict(falloff="smooth", contrast=3.0, bias=0.0, epsilon=0.0, seed=5)],
     "chebyshev": [dict(variance_bias=0.0), dict(kernel_mode="fixed", kernel_radius=12),
                   dict(range_check=False), dict(max_kernel_radius=1024)],
     "gtao": [dict(random_rotation=False, jitter=False, slices=5, steps=12),
@@ -32,6 +34,9 @@ VARIANTS = {
              dict(falloff="clipped", seed=99), dict(falloff="cutoff")],
     "pyramid_hbao": [dict(reduction=2), dict(gaussian_filter=False, reduction=3),
                      dict(attenuation="none")],
+    "sao": [dict(normals="depth", filter=False), dict(max_mip_level=0, grid="reference"),
+            dict(falloff="smooth", log_max_offset=0, samples=40, bias=0.0, seed=2),
+            dict(edge_sharpness=0.0, filter_radius=10, filter_stride=1)],
     "screen_space_limit": [dict(rays=1), dict(rays=5, thickness=0.05, seed=3)],
     "vao": [dict(random_rotation=False, samples=32)],
     "vao_pp": [dict(culling="greedy"), dict(culling="off", adaptive_sampling=False, filter=False),

@@ -87,21 +87,6 @@ Slice make_slice(const Frame& f, const GtaoSettings& s, const HbaoReceiver& p, c
   return sl;
 }
 
-// Whether the sample on P's pixel + (qx, qy) at depth ds lies above P's tangent plane along
-// its own view ray by more than float32 rounding — HBAO's per-sample tangent test: an open
-// plane then never occludes itself, whatever snapping does to the samples.
-bool above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds) {
-  const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
-  const float n_rs = glm::dot(p.n, rs);
-  const float tau = p.d * p.n_r0 / n_rs;  // depth where rs meets the tangent plane
-  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
-  if (hits && !(tau > ds)) return false;
-  const float grazing_s = glm::length(rs) / std::abs(n_rs);
-  const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
-                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
-  return (hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance;
-}
-
 // The horizon cosine one sample offers on a side whose tangent cosine is `low`: the cosine
 // from v of D = S − P projected onto the slice plane, faded towards `low` by the falloff
 // weight, and `low` itself for samples beyond R or not above the tangent plane.
@@ -130,7 +115,7 @@ float sample_horizon_cos(const HbaoReceiver& p, const GtaoSettings& s, const Sli
   // Without the thickness heuristic a sample at or below the horizon changes nothing whether
   // it counts or not, so the dearer tangent test is left out for it.
   if (s.thickness == 0.0f && faded <= horizon) return low;
-  return above_tangent_plane(p, qx, qy, ds) ? faded : low;
+  return hbao_above_tangent_plane(p, qx, qy, ds) ? faded : low;
 }
 
 // The horizon cosine of one side (sign +1: side 0, −1: side 1): the max over its samples

@@ -180,6 +180,16 @@ struct HbaoReceiver {
 HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float depth,
                            const glm::vec3& normal);
 
+/// Whether a sample on P's pixel + (qx, qy), at depth ds, lies nearer than P's tangent plane
+/// along its own view ray by more than float32 rounding: the plane meets that ray at depth
+/// tau = d (n·r0)/(n·rs), and the sample counts only if tau − ds exceeds
+/// 2^-24 · max(ds, tau) · (kHbaoDepthUlps + kHbaoNormalUlps · g), g summing |r|/|n·r| of both
+/// rays. A ray that never meets the plane in front of the camera counts any finite sample.
+/// (v·n = (n·rs)(ds − tau) for v = S − P, so this is "v·n > 0" made immune to rounding.)
+/// HBAO's per-sample tangent test, shared with GTAO, Alchemy AO and SAO: an open plane never
+/// occludes itself, whatever snapping does to the samples.
+bool hbao_above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds);
+
 /// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
 /// radius projected and split into N_s steps; image y points down, view y up.
 inline void hbao_step(const CameraIntrinsics& cam, float radius, int steps, float depth, float c,

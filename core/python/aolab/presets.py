@@ -455,3 +455,38 @@ register(
            "blur": [False, True]},
     source="XeGTAO quality levels (slices 1/2/3/9, steps 2/2/3/3); sweep ours",
 )
+
+# Alchemy AO — McGuire et al. 2011: its quality parameter is the tap count s. The paper's
+# Figure 1 runs 12 taps at 1280x720 (the high preset, the method's default); the other
+# levels halve and double around it as the paper's scalability goal (fewer taps on weaker
+# hardware) describes, without a table of its own. The per-pixel rotation leaves noise that
+# the paper's edge-aware filter removes; here the shared Gaussian does (timed apart).
+register(
+    "alchemy",
+    presets={
+        "low": {"samples": 4, "blur": True},
+        "medium": {"samples": 8, "blur": True},
+        "high": {"samples": 12, "blur": True},
+        "ultra": {"samples": 24, "blur": True},
+    },
+    sweep={"samples": [4, 8, 12, 24, 48], "falloff": ["alchemy", "smooth"],
+           "blur": [False, True]},
+    source="McGuire et al. 2011, Figure 1 (12 taps); other levels ours",
+)
+
+# SAO — McGuire, Mara, Luebke 2012: the tap count s again, with the z pyramid and the
+# method's own depth-aware filter (`filter`, on in every preset: it is part of the method,
+# unlike the shared Gaussian). Its reference implementation ships 9 taps (the default,
+# medium) and later 11 and 19-20; low takes 4 as the cheapest spiral the table tunes.
+register(
+    "sao",
+    presets={
+        "low": {"samples": 4},
+        "medium": {"samples": 9},
+        "high": {"samples": 11},
+        "ultra": {"samples": 20},
+    },
+    sweep={"samples": [4, 9, 11, 20, 40], "falloff": ["alchemy", "smooth"],
+           "filter": [False, True]},
+    source="SAO reference implementation (9, 11, 19-20 taps); low ours",
+)

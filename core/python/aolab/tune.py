@@ -108,6 +108,14 @@ FIXED = {
         "luminance_sigma": (None, "applies with luminance_sensitivity only"),
         "luminance_mode": (None, "applies with luminance_sensitivity only"),
     },
+    "alchemy": {
+        "turns": (None, "0 = the SAO paper's low-discrepancy tau for s; other turns only "
+                  "line the taps up"),
+    },
+    "sao": {
+        "turns": (None, "0 = the paper's low-discrepancy tau for s; other turns only line "
+                  "the taps up"),
+    },
     "gtao": {
         "multi_bounce": (None, "models interreflections, which Cycles' AO pass has not"),
         "albedo": (None, "applies with multi_bounce only"),
@@ -182,6 +190,39 @@ BOUNDS = {
                        log=True),
         "steps": _int(1, 16, "per side of a slice: XeGTAO 2-3, the sweep 8; log scale",
                       log=True),
+    },
+    "alchemy": {
+        "samples": _int(2, 64, "s: the paper's 12 inside; 64 taps cost ~4x the ultra preset; "
+                        "log scale", log=True),
+        "intensity": _float(0.1, 10.0, "sigma in units of r: the default 1 a decade inside "
+                            "either way; log scale", log=True),
+        "contrast": _float(0.5, 4.0, "k: 1 the paper's; power (searched for every method) "
+                           "does the same, so a narrow span; log scale", log=True),
+        "bias": _float(1e-6, 1e-2, "beta per unit of depth: the paper's 1e-4 two decades "
+                       "inside; log scale", log=True),
+        "epsilon": _float(1e-6, 1e-1, "in units of r^2: the paper's 1e-4 inside; log scale",
+                          log=True),
+    },
+    "sao": {
+        "samples": _int(2, 64, "s: the reference's 9-20 inside; log scale", log=True),
+        "intensity": _float(0.1, 10.0, "sigma in units of r: the default 1 a decade inside "
+                            "either way; log scale", log=True),
+        "contrast": _float(0.5, 4.0, "k: 1 the paper's; log scale", log=True),
+        "bias": _float(1e-4, 0.2, "beta in units of r: the reference's 0.03 inside; log "
+                       "scale", log=True),
+        "epsilon": _float(1e-4, 0.5, "in units of r^2: the reference's 0.01 inside; log "
+                          "scale", log=True),
+        "log_max_offset": _int(0, 6, "q': the reference's 3; its note: below 3 taps share "
+                               "texels, above 5 the levels go unused"),
+        "max_mip_level": _int(0, 8, "L_max: the reference's 5; 8 levels reach 256 px"),
+        "filter_radius": _int(1, 8, "taps per side (filter on only): the reference's 4 "
+                              "inside", when=_on("filter")),
+        "filter_stride": _int(1, 4, "px between taps (filter on only): the reference's 2",
+                              when=_on("filter")),
+        "filter_sigma": _float(0.5, 8.0, "taps (filter on only): the reference's 3 inside; "
+                               "log scale", log=True, when=_on("filter")),
+        "edge_sharpness": _float(0.1, 10.0, "(filter on only) the reference's 1 a decade "
+                                 "inside either way; log scale", log=True, when=_on("filter")),
     },
     "vao": {
         "samples": _int(2, 64, "n: VAO++ Table 1 measures 2-32, 64 is the method's most; "

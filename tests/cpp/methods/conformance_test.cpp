@@ -55,6 +55,13 @@ const std::vector<SettingValues>& extra_configurations(const std::string& method
       {"gtao",
        {{{"slices", 1}, {"steps", 16}, {"thickness", 0.5}, {"falloff", 0.615}},
         {{"slices", 9}, {"steps", 1}, {"multi_bounce", 1}, {"albedo", 1}}}},
+      // Alchemy: one tap, many taps on a fixed spiral with the contrast exponent.
+      {"alchemy", {{{"samples", 1}}, {{"samples", 40}, {"turns", 7}, {"contrast", 2}}}},
+      // SAO: full resolution only, every tap on a coarse level, a wide sparse filter.
+      {"sao",
+       {{{"max_mip_level", 0}, {"samples", 3}},
+        {{"log_max_offset", 0}, {"samples", 30}, {"contrast", 3}},
+        {{"filter_radius", 12}, {"filter_stride", 5}, {"edge_sharpness", 0}}}},
       {"vao", {{{"samples", 1}}, {{"samples", 64}}}},
       {"vao_pp",
        {{{"culling", 0}, {"poisson_samples", 0}, {"samples", 32}},
@@ -122,6 +129,9 @@ double exact_plane_tilt(const std::string& method, const SettingValues& v) {
   // gtao.h, GtaoNormalization::Slices: the memo's 1/N is not 1 where n ≠ v, even on a plane
   // facing the camera off-axis (the unoccluded integrand varies with the slice).
   if (method == "gtao" && is(v, "normalization", 1)) return -1;
+  // sao.h, SaoTapPosition::Tap: a coarse depth placed at the tap's own pixel moves it off a
+  // tilted plane (exact on a plane facing the camera, whose depth is constant).
+  if (method == "sao" && is(v, "tap_position", 1)) return 0;
   if (method == "lsao") {
     // lsao.h, tangent_strategy: the real tangent is exact only up to the rounding of the
     // normal (lsao_test checks > 0.999 on tilted planes).
