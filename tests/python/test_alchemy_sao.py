@@ -53,4 +53,3 @@ def test_sao_pyramid_and_filter_keep_the_mean():
     assert abs(filtered.mean() - mip.mean()) < 0.005
     # the filter smooths the rotation's noise: neighbours differ less
     assert np.abs(np.diff(filtered, axis=1)).mean() < np.abs(np.diff(mip, axis=1)).mean()
-
