@@ -65,6 +65,7 @@
 #include "core/scenes/analytic_scenes.h"
 
 // core/methods: the registry and every method
+#include "core/methods/bitmask/bitmask.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"

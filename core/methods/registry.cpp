@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/base/check.h"
+#include "core/methods/bitmask/bitmask.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"
@@ -18,7 +19,7 @@ const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
   static const std::vector<Method> all = {
       hbao_method(),   pyramid_hbao_method(),       lsao_method(), chebyshev_method(), vao_method(),
-      vao_pp_method(), screen_space_limit_method(), gtao_method(),
+      vao_pp_method(), screen_space_limit_method(), gtao_method(),       bitmask_method(),
   };
   return all;
 }

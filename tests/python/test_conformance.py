@@ -22,6 +22,10 @@ TYPES = ("float", "int", "bool", "choice")
 VARIANTS = {
     "chebyshev": [dict(variance_bias=0.0), dict(kernel_mode="fixed", kernel_radius=12),
                   dict(range_check=False), dict(max_kernel_radius=1024)],
+    "bitmask": [dict(random_rotation=False, jitter=False, slices=5, steps=12, sectors=64,
+                     weighting="cosine"),
+                dict(thickness=1e30, rounding="half", radius_clip="sphere", normalization="slices",
+                     seed=3)],
     "gtao": [dict(random_rotation=False, jitter=False, slices=5, steps=12),
              dict(thickness=0.7, falloff=0.615, multi_bounce=True, albedo=0.9, seed=3)],
     "hbao": [dict(random_rotation=False, jitter=False, incremental_attenuation=True),

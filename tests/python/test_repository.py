@@ -238,10 +238,12 @@ def test_the_umbrella_header_includes_every_public_header():
 
 # The core's layers (docs/architecture.md): base/ uses nothing else; the folders of the middle
 # layer use base/ and themselves; methods use all of those, the registry and their own folder
-# (VAO++ is built on VAO; Pyramid HBAO and GTAO share HBAO's receiver set-up); the registry
+# (VAO++ is built on VAO; Pyramid HBAO and GTAO share HBAO's receiver set-up; the visibility
+# bitmask shares GTAO's slice set-up, gtao_slice.h, and through it HBAO's); the registry
 # includes every method's public header.
 MIDDLE = {"sampling", "io", "scoring", "filters", "scenes"}
-METHOD_USES = {"vao_pp": {"vao"}, "pyramid_hbao": {"hbao"}, "gtao": {"hbao"}}
+METHOD_USES = {"vao_pp": {"vao"}, "pyramid_hbao": {"hbao"}, "gtao": {"hbao"},
+               "bitmask": {"gtao", "hbao"}}
 
 
 def allowed_include(source: str, header: str) -> bool:

@@ -55,6 +55,13 @@ const std::vector<SettingValues>& extra_configurations(const std::string& method
       {"gtao",
        {{{"slices", 1}, {"steps", 16}, {"thickness", 0.5}, {"falloff", 0.615}},
         {{"slices", 9}, {"steps", 1}, {"multi_bounce", 1}, {"albedo", 1}}}},
+      // 64 sectors with dense steps, a height field and the exact cosine weights; one sector,
+      // many slices, one step, thickness 0, the sphere clip; an odd sector count with the
+      // memo's mean of cosine-weighted slices.
+      {"bitmask",
+       {{{"sectors", 64}, {"steps", 16}, {"thickness", 1e30}, {"weighting", 1}},
+        {{"sectors", 1}, {"slices", 9}, {"steps", 1}, {"thickness", 0}, {"radius_clip", 2}},
+        {{"sectors", 7}, {"rounding", 2}, {"weighting", 1}, {"normalization", 1}}}},
       {"vao", {{{"samples", 1}}, {{"samples", 64}}}},
       {"vao_pp",
        {{{"culling", 0}, {"poisson_samples", 0}, {"samples", 32}},
@@ -122,6 +129,8 @@ double exact_plane_tilt(const std::string& method, const SettingValues& v) {
   // gtao.h, GtaoNormalization::Slices: the memo's 1/N is not 1 where n ≠ v, even on a plane
   // facing the camera off-axis (the unoccluded integrand varies with the slice).
   if (method == "gtao" && is(v, "normalization", 1)) return -1;
+  // bitmask.h, BitmaskNormalization::Slices with cosine weighting: the same 1/N of the memo.
+  if (method == "bitmask" && is(v, "normalization", 1) && is(v, "weighting", 1)) return -1;
   if (method == "lsao") {
     // lsao.h, tangent_strategy: the real tangent is exact only up to the rounding of the
     // normal (lsao_test checks > 0.999 on tilted planes).
