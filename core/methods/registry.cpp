@@ -19,7 +19,7 @@ const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
   static const std::vector<Method> all = {
       hbao_method(),   pyramid_hbao_method(),       lsao_method(), chebyshev_method(), vao_method(),
-      vao_pp_method(), screen_space_limit_method(), gtao_method(),       bitmask_method(),
+      vao_pp_method(), screen_space_limit_method(), gtao_method(), bitmask_method(),
   };
   return all;
 }

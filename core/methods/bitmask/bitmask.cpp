@@ -9,10 +9,8 @@
 #include <numbers>
 #include <vector>
 
-#include "core/base/parallel.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
-#include "core/sampling/random.h"
 
 namespace aolab {
 namespace {
@@ -141,8 +139,8 @@ std::uint64_t sample_bits(const HbaoReceiver& p, const Params& q, const Slice& s
       q.back == BitmaskBackDirection::View
           ? -w
           : glm::normalize(glm::dvec3((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0));
-  const double dv = glm::dot(d, w), uv = glm::dot(u, w), ad = glm::dot(a, d),
-               au = glm::dot(a, u), du = glm::dot(d, u);
+  const double dv = glm::dot(d, w), uv = glm::dot(u, w), ad = glm::dot(a, d), au = glm::dot(a, u),
+               du = glm::dot(d, u);
   double t0 = 0.0, t1 = q.thickness;
   if (q.clip == BitmaskRadiusClip::Sphere) {
     // |D + t u|² = R²: t² + 2(D·u)t + (|D|² − R²) = 0, roots without cancellation.
@@ -176,31 +174,24 @@ std::uint64_t sample_bits(const HbaoReceiver& p, const Params& q, const Slice& s
   return interval_bits(pos_a, pos_b, q.s.sectors, q.rounding);
 }
 
-struct Scratch {
-  std::vector<float> dir_cos, dir_sin;
-  double weights[kBitmaskMaxSectors];
-};
-
 float bitmask_pixel(const SliceFrame& f, const Params& q, const SectorTables& tables,
-                    const HbaoDirections& directions, int x, int y, Scratch& scratch) {
+                    const HbaoDirections& directions, int x, int y, float* dir_cos,
+                    float* dir_sin) {
   const BitmaskSettings& s = q.s;
-  const std::size_t idx = std::size_t(y) * f.width + x;
-  const float d = f.depth[idx];
-  if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
-      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
-  const glm::vec3 v = slice_view_vector(p);
-  const auto seed = std::uint32_t(s.seed);
-  // The same streams as GTAO: with the same settings both march the same samples.
-  const float rotation = s.random_rotation ? pixel_random(seed, x, y, 0) : 0.0f;
-  const float jitter = s.jitter ? pixel_random(seed, x, y, 1) : 0.0f;
-  directions.rotated(rotation, scratch.dir_cos.data(), scratch.dir_sin.data());
+  // GTAO's set-up and random streams: with the same settings both march the same samples.
+  SlicePixel px;
+  if (!slice_pixel(f, directions, x, y, s.seed, s.random_rotation, s.jitter, dir_cos, dir_sin, px))
+    return 1.0f;  // background
+  const HbaoReceiver& p = px.p;
+  const glm::vec3& v = px.v;
+  const float jitter = px.jitter;
   const int points = 2 * s.sectors + 1;
   double visible = 0.0, open = 0.0, mean = 0.0;
+  double weights[kBitmaskMaxSectors];
   for (int k = 0; k < s.slices; ++k) {
     Slice sl;
-    static_cast<SliceGeometry&>(sl) = make_slice_geometry(
-        f.cam, s.radius, s.steps, p, v, scratch.dir_cos[k], scratch.dir_sin[k]);
+    static_cast<SliceGeometry&>(sl) =
+        make_slice_geometry(f.cam, s.radius, s.steps, p, v, dir_cos[k], dir_sin[k]);
     place_sectors(sl, tables);
     // The paper's Algorithm 1: one mask per slice, OR-ed by every sample of both sides.
     std::uint64_t mask = 0;
@@ -217,10 +208,10 @@ float bitmask_pixel(const SliceFrame& f, const Params& q, const SectorTables& ta
     } else {
       // Each sector weighted by its cosine-weighted measure; the free and the total sums run
       // in the same order, so an empty mask gives the same bits for both.
-      sector_weights(sl, tables, scratch.weights);
+      sector_weights(sl, tables, weights);
       for (int j = 0; j < s.sectors; ++j) {
-        slice_open += scratch.weights[j];
-        if (!((mask >> j) & 1u)) slice_visible += scratch.weights[j];
+        slice_open += weights[j];
+        if (!((mask >> j) & 1u)) slice_visible += weights[j];
       }
     }
     const double length = sl.length;  // eq. 8 of the memo: the projected normal's length
@@ -242,14 +233,6 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& s, const RunOptions& opti
   g.validate();
   require_normal(g, "bitmask");
   validate_settings(s, kBitmaskFields);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-
-  // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h).
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
-  const Image normals = prepared_normals(g, threads);
-  const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
-
   const Params params{s,
                       BitmaskWeighting(s.weighting),
                       BitmaskRounding(s.rounding),
@@ -257,22 +240,14 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& s, const RunOptions& opti
                       BitmaskBackDirection(s.back_direction),
                       double(s.thickness) * double(s.radius),
                       double(s.radius) * double(s.radius),
-                      s.sectors >= 64 ? ~std::uint64_t(0)
-                                      : (std::uint64_t(1) << s.sectors) - 1};
+                      s.sectors >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << s.sectors) - 1};
   const SectorTables tables(s.sectors);
-  const HbaoDirections directions(2 * s.slices);
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        Scratch scratch{std::vector<float>(2 * s.slices), std::vector<float>(2 * s.slices), {}};
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x)
-            out(x, y) = bitmask_pixel(frame, params, tables, directions, x, y, scratch);
-      },
-      options.progress);
-  return out;
+  return run_slice_method(g, s.slices, options,
+                          [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y,
+                              float* dir_cos, float* dir_sin) {
+                            return bitmask_pixel(f, params, tables, directions, x, y, dir_cos,
+                                                 dir_sin);
+                          });
 }
 
 Method bitmask_method() {

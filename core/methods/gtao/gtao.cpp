@@ -9,7 +9,6 @@
 #include "core/base/parallel.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
-#include "core/sampling/random.h"
 
 namespace aolab {
 
@@ -114,26 +113,17 @@ double slice_visibility(const Slice& sl, const float horizon_cos[2]) {
   return double(sl.length) * sum;
 }
 
-struct Scratch {
-  std::vector<float> dir_cos, dir_sin;
-};
-
-float gtao_pixel(const SliceFrame& f, const GtaoSettings& s, const HbaoDirections& directions, int x,
-                 int y, Scratch& scratch) {
-  const std::size_t idx = std::size_t(y) * f.width + x;
-  const float d = f.depth[idx];
-  if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
-      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
-  const glm::vec3 v = slice_view_vector(p);
-  const auto seed = std::uint32_t(s.seed);
-  const float rotation = s.random_rotation ? pixel_random(seed, x, y, 0) : 0.0f;
-  const float jitter = s.jitter ? pixel_random(seed, x, y, 1) : 0.0f;
-  // 2N directions over a full turn are N slices over a half turn followed by their opposites.
-  directions.rotated(rotation, scratch.dir_cos.data(), scratch.dir_sin.data());
+float gtao_pixel(const SliceFrame& f, const GtaoSettings& s, const HbaoDirections& directions,
+                 int x, int y, float* dir_cos, float* dir_sin) {
+  SlicePixel px;
+  if (!slice_pixel(f, directions, x, y, s.seed, s.random_rotation, s.jitter, dir_cos, dir_sin, px))
+    return 1.0f;  // background
+  const HbaoReceiver& p = px.p;
+  const glm::vec3& v = px.v;
+  const float jitter = px.jitter;
   double visible = 0.0, open = 0.0;
   for (int k = 0; k < s.slices; ++k) {
-    const Slice sl = make_slice(f, s, p, v, scratch.dir_cos[k], scratch.dir_sin[k]);
+    const Slice sl = make_slice(f, s, p, v, dir_cos[k], dir_sin[k]);
     if (!(sl.length > 0.0f)) continue;  // proj n = 0: the slice carries no weight (eq. 8)
     const float horizon_cos[2] = {search_horizon(f, s, p, sl, v, jitter, 0),
                                   search_horizon(f, s, p, sl, v, jitter, 1)};
@@ -158,26 +148,10 @@ Image gtao(const GBuffer& g, const GtaoSettings& s, const RunOptions& options) {
   g.validate();
   require_normal(g, "gtao");
   validate_settings(s, kGtaoFields);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-
-  // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h).
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
-  const Image normals = prepared_normals(g, threads);
-  const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
-
-  const HbaoDirections directions(2 * s.slices);
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        Scratch scratch{std::vector<float>(2 * s.slices), std::vector<float>(2 * s.slices)};
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x) out(x, y) = gtao_pixel(frame, s, directions, x, y, scratch);
-      },
-      options.progress);
-  return out;
+  return run_slice_method(
+      g, s.slices, options,
+      [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
+          float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); });
 }
 
 Method gtao_method() {

@@ -9,11 +9,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <vector>
 
 #include "core/base/camera.h"
+#include "core/base/gbuffer.h"
+#include "core/base/image.h"
+#include "core/base/parallel.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/sampling/random.h"
 
 namespace aolab {
 
@@ -110,6 +116,60 @@ void march_slice_side(const SliceFrame& f, const HbaoReceiver& p, const SliceGeo
     if (!(ds == ds)) continue;  // background never occludes
     if (!visit(sx, sy, ds)) break;
   }
+}
+
+/// What a slice method needs of one geometry pixel: the receiver, the view vector, the jitter
+/// of its samples, and the slices' screen directions rotated into dir_cos/dir_sin (random
+/// streams 0: rotation, 1: jitter, so that GTAO and the bitmask march the same samples).
+struct SlicePixel {
+  HbaoReceiver p;
+  glm::vec3 v;
+  float jitter;
+};
+
+/// Sets up pixel (x, y); false for background (AO 1).
+inline bool slice_pixel(const SliceFrame& f, const HbaoDirections& directions, int x, int y,
+                        int seed, bool random_rotation, bool jitter, float* dir_cos, float* dir_sin,
+                        SlicePixel& out) {
+  const std::size_t idx = std::size_t(y) * f.width + x;
+  const float d = f.depth[idx];
+  if (!(d == d)) return false;  // background
+  out.p = hbao_receiver(f.cam, x, y, d,
+                        {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
+  out.v = slice_view_vector(out.p);
+  const auto s = std::uint32_t(seed);
+  const float rotation = random_rotation ? pixel_random(s, x, y, 0) : 0.0f;
+  out.jitter = jitter ? pixel_random(s, x, y, 1) : 0.0f;
+  // 2N directions over a full turn are N slices over a half turn followed by their opposites.
+  directions.rotated(rotation, dir_cos, dir_sin);
+  return true;
+}
+
+/// The frame loop of a slice method on a validated G-buffer: working copies of depth (background
+/// as NaN) and prepared normals, the 2·`slices` directions over a full turn (N slices over a
+/// half turn followed by their opposites), rows in parallel with progress and cancellation.
+/// pixel(frame, directions, x, y, dir_cos, dir_sin) returns the pixel's AO; dir_cos and dir_sin
+/// are per-thread scratch of 2·`slices` floats.
+template <class Pixel>
+Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel) {
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Image normals = prepared_normals(g, threads);
+  const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
+  const HbaoDirections directions(2 * slices);
+  Image out(w, h, 1, 1.0f);
+  if (options.progress) options.progress->total += h;
+  parallel_for_rows(
+      h, threads,
+      [&](int y0, int y1) {
+        std::vector<float> dir_cos(2 * slices), dir_sin(2 * slices);
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w; ++x)
+            out(x, y) = pixel(frame, directions, x, y, dir_cos.data(), dir_sin.data());
+      },
+      options.progress);
+  return out;
 }
 
 }  // namespace aolab

@@ -18,6 +18,8 @@
 namespace aolab {
 namespace {
 
+using testing::closed_form_errors;
+using testing::ClosedFormErrors;
 using testing::expect_other_noise_same_mean;
 using testing::SceneFixture;
 
@@ -73,25 +75,6 @@ TEST(Bitmask, UnboundedThicknessBracketsGtao) {
   EXPECT_LT(gap[1], 0.6 * gap[0]);  // halving the sector width about halves the bracket
 }
 
-// The mean |error| against the closed-form Cycles AO over the pixels at least `margin` px
-// from the image border whose reference is finite.
-struct Errors {
-  double mean = 0, worst = 0;
-  int pixels = 0;
-};
-Errors closed_form_errors(const SceneFixture& f, const Image& ao, int margin) {
-  Errors e;
-  for (int y = margin; y < ao.height() - margin; ++y)
-    for (int x = margin; x < ao.width() - margin; ++x) {
-      const float ref = f.scene.reference(x, y);
-      if (!f.g.valid(x, y) || !std::isfinite(ref)) continue;
-      const double err = std::abs(double(ao(x, y)) - ref);
-      e.mean += err, e.worst = std::max(e.worst, err), ++e.pixels;
-    }
-  e.mean /= std::max(1, e.pixels);
-  return e;
-}
-
 BitmaskSettings exact_settings(float radius) {
   BitmaskSettings s = height_field(radius);
   s.radius_clip = int(BitmaskRadiusClip::Sphere);
@@ -111,7 +94,7 @@ BitmaskSettings exact_settings(float radius) {
 TEST(Bitmask, WallAndCreaseMatchTheClosedForm) {
   for (const char* scene : {"wall", "crease"}) {
     SceneFixture f(scene, 320, 180, {{"radius", 1.0}});
-    const Errors e = closed_form_errors(f, bitmask(f.g, exact_settings(1.0f)), 40);
+    const ClosedFormErrors e = closed_form_errors(f, bitmask(f.g, exact_settings(1.0f)), 40);
     ASSERT_GT(e.pixels, 10000);
     EXPECT_LT(e.mean, kClosedFormMean) << scene;
     EXPECT_LT(e.worst, kClosedFormWorst) << scene;
@@ -245,7 +228,8 @@ TEST(Bitmask, HugeThicknessesAreTheHeightField) {
 
 // Beyond the scene's extent the first sample of every slice already lies past the image
 // border (without jitter; with it a pixel whose w is within R's reciprocal of 1 keeps a
-// sample on screen, as for GTAO), so the result is 1 and stays 1 up to R = 1e30 (R² = 1e60 and T up to 1e60 in double).
+// sample on screen, as for GTAO), so the result is 1 and stays 1 up to R = 1e30 (R² = 1e60 and T up
+// to 1e60 in double).
 TEST(Bitmask, LargeRadiiBeyondTheSceneGiveTheSameAo) {
   testing::ConvexRoom room;
   for (int clip : {0, 1, 2})
