@@ -31,9 +31,10 @@ constexpr int kBitmaskDefaultSectors = 32;
 constexpr int kBitmaskMaxSectors = 64;
 
 /// The constant thickness of every surface, as a fraction of R (so the result depends only on
-/// geometry relative to R, as for every method here). The paper gives no value; half the
-/// radius is the middle of what its figures and EEVEE's default (0.25 m at its usual AO
-/// distances of 0.2–1 m) suggest. 1e30 stands for unbounded (a height field, as GTAO).
+/// geometry relative to R, as for every method here). The paper gives no value; on the
+/// `room` reference scene the error is flat between 0.25 R and 0.5 R and grows outside
+/// (MAE 0.076 / 0.068 / 0.068 / 0.077 at 0.1 / 0.25 / 0.5 / 1 R, docs/methods/bitmask.md).
+/// 1e30 stands for unbounded (a height field, as GTAO).
 constexpr float kBitmaskDefaultThickness = 0.5f;
 constexpr float kBitmaskUnboundedThickness = 1e30f;
 
