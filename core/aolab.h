@@ -66,6 +66,7 @@
 
 // core/methods: the registry and every method
 #include "core/methods/alchemy/alchemy.h"
+#include "core/methods/bitmask/bitmask.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"

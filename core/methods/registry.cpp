@@ -4,6 +4,7 @@
 
 #include "core/base/check.h"
 #include "core/methods/alchemy/alchemy.h"
+#include "core/methods/bitmask/bitmask.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"
@@ -19,8 +20,17 @@ namespace aolab {
 const std::vector<Method>& methods() {
   // Built on first use (no static-initialisation order issues); every method joins here.
   static const std::vector<Method> all = {
-      hbao_method(),   pyramid_hbao_method(),       lsao_method(), chebyshev_method(), vao_method(),
-      vao_pp_method(), screen_space_limit_method(), gtao_method(), alchemy_method(),   sao_method(),
+      hbao_method(),
+      pyramid_hbao_method(),
+      lsao_method(),
+      chebyshev_method(),
+      vao_method(),
+      vao_pp_method(),
+      screen_space_limit_method(),
+      gtao_method(),
+      bitmask_method(),
+      alchemy_method(),
+      sao_method(),
   };
   return all;
 }

@@ -30,6 +30,26 @@ struct SceneFixture {
   }
 };
 
+/// Errors against the closed-form Cycles AO of an analytic scene: the mean and worst |error|
+/// over the pixels at least `margin` px from the image border (nearer, samples leave the
+/// screen) whose reference is finite.
+struct ClosedFormErrors {
+  double mean = 0, worst = 0;
+  int pixels = 0;
+};
+inline ClosedFormErrors closed_form_errors(const SceneFixture& f, const Image& ao, int margin) {
+  ClosedFormErrors e;
+  for (int y = margin; y < ao.height() - margin; ++y)
+    for (int x = margin; x < ao.width() - margin; ++x) {
+      const float ref = f.scene.reference(x, y);
+      if (!f.g.valid(x, y) || !std::isfinite(ref)) continue;
+      const double err = std::abs(double(ao(x, y)) - ref);
+      e.mean += err, e.worst = std::max(e.worst, err), ++e.pixels;
+    }
+  e.mean /= std::max(1, e.pixels);
+  return e;
+}
+
 /// A 1-channel image of deterministic values in [lo, hi) from a 64-bit LCG, so tests need
 /// no seeding policy.
 inline Image random_image(int width, int height, std::uint64_t seed, float lo = 0.0f,

@@ -239,11 +239,12 @@ def test_the_umbrella_header_includes_every_public_header():
 # The core's layers (docs/architecture.md): base/ uses nothing else; the folders of the middle
 # layer use base/ and themselves; methods use all of those, the registry and their own folder
 # (VAO++ is built on VAO; Pyramid HBAO, GTAO, Alchemy and SAO share HBAO's receiver set-up;
-# SAO shares Alchemy's estimator); the registry
+# SAO shares Alchemy's estimator; the visibility bitmask shares GTAO's slice set-up,
+# gtao_slice.h, and through it HBAO's); the registry
 # includes every method's public header.
 MIDDLE = {"sampling", "io", "scoring", "filters", "scenes"}
 METHOD_USES = {"vao_pp": {"vao"}, "pyramid_hbao": {"hbao"}, "gtao": {"hbao"},
-               "alchemy": {"hbao"}, "sao": {"hbao", "alchemy"}}
+               "bitmask": {"gtao", "hbao"}, "alchemy": {"hbao"}, "sao": {"hbao", "alchemy"}}
 
 
 def allowed_include(source: str, header: str) -> bool:

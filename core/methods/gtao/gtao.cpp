@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <limits>
 #include <numbers>
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
-#include "core/sampling/random.h"
 
 namespace aolab {
 
@@ -30,58 +29,26 @@ double gtao_arc(double h, double n) { return gtao_arc(h, n, std::cos(n), std::si
 
 namespace {
 
-constexpr float kFloatEpsilon = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
 constexpr double kHalfPi = std::numbers::pi / 2.0;
 
-struct Frame {
-  const float* depth;    // background replaced by NaN, so every test on it fails
-  const float* normals;  // prepared, 3 per pixel
-  int width, height;
-  CameraIntrinsics cam;
-};
-
-// One slice of one pixel: the plane through P spanned by the view vector v and the
-// back-projected screen direction (the plane through the camera that holds the screen line).
-struct Slice {
-  glm::vec3 axis;        // unit normal of the slice plane
-  float length;          // |proj n|, the eq. 8 weight
-  double n;              // signed angle from v to proj n, towards side 0
-  double cos_n, sin_n;   // of n, for eq. 7
-  double open_arc[2];    // eq. 7 of side 0 and side 1 with the horizon at the tangent
-  float low[2];          // horizon cosine of the tangent on side 0 (+ω) and side 1 (−ω)
-  float step_x, step_y;  // image step of side 0 in pixels
+// A GTAO slice: the shared geometry (gtao_slice.h) and eq. 7 of each side with its horizon at
+// the tangent.
+struct Slice : SliceGeometry {
+  double open_arc[2];
 };
 
 // Eq. 7 of one side from its horizon cosine: h2 = acos c on side 0, h1 = −acos c on side 1,
 // clamped to the hemisphere around proj n, h1 = n + max(h1 − n, −π/2), h2 = n + min(h2 − n, π/2).
-double side_arc(const Slice& sl, float horizon_cos, int side) {
+double side_arc(const SliceGeometry& sl, float horizon_cos, int side) {
   const double h = std::acos(std::clamp(double(horizon_cos), -1.0, 1.0));
   const double clamped =
       side == 0 ? sl.n + std::min(h - sl.n, kHalfPi) : sl.n + std::max(-h - sl.n, -kHalfPi);
   return gtao_arc(clamped, sl.n, sl.cos_n, sl.sin_n);
 }
 
-Slice make_slice(const Frame& f, const GtaoSettings& s, const HbaoReceiver& p, const glm::vec3& v,
-                 float c, float sn) {
-  Slice sl;
-  // Moving along the screen direction (c·fx, −sn·fy) changes the normalised image
-  // coordinates by (c, sn): the slice plane holds v and (c, sn, 0).
-  const glm::vec3 dir(c, sn, 0.0f);
-  sl.axis = glm::normalize(glm::cross(dir, v));
-  const glm::vec3 tangent = glm::cross(v, sl.axis);  // in the plane, ⊥ v, towards side 0
-  const glm::vec3 projected = p.n - sl.axis * glm::dot(p.n, sl.axis);
-  sl.length = glm::length(projected);
-  const float along_v = std::max(0.0f, glm::dot(projected, v));  // prepared normals face v
-  const float along_t = glm::dot(projected, tangent);
-  sl.n = std::atan2(double(along_t), double(along_v));
-  sl.cos_n = std::cos(sl.n);
-  sl.sin_n = std::sin(sl.n);
-  // The tangent directions n ± π/2 as cosines from v: cos(n + π/2) = −sin n on side 0,
-  // cos(n − π/2) = sin n on side 1 (the lowest horizons the hemisphere clamp allows).
-  const float sin_n = sl.length > 0.0f ? along_t / sl.length : 0.0f;
-  sl.low[0] = -sin_n;
-  sl.low[1] = sin_n;
-  hbao_step(f.cam, s.radius, s.steps, p.d, c, sn, sl.step_x, sl.step_y);
+Slice make_slice(const SliceFrame& f, const GtaoSettings& s, const HbaoReceiver& p,
+                 const glm::vec3& v, float c, float sn) {
+  Slice sl{make_slice_geometry(f.cam, s.radius, s.steps, p, v, c, sn), {}};
   sl.open_arc[0] = side_arc(sl, sl.low[0], 0);
   sl.open_arc[1] = side_arc(sl, sl.low[1], 1);
   return sl;
@@ -93,9 +60,7 @@ Slice make_slice(const Frame& f, const GtaoSettings& s, const HbaoReceiver& p, c
 float sample_horizon_cos(const HbaoReceiver& p, const GtaoSettings& s, const Slice& sl,
                          const glm::vec3& v, float low, float horizon, int sx, int sy, float ds) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
-  // D = S − P without cancellation (HBAO's form, docs/methods/hbao.md step 6).
-  const float dd = ds - p.d;
-  const glm::vec3 D((qx * ds + p.ox * dd) * p.inv_fx, -(qy * ds + p.oy * dd) * p.inv_fy, -dd);
+  const glm::vec3 D = slice_sample_offset(p, qx, qy, ds);
   const float r2 = glm::dot(D, D);
   const float radius = s.radius;
   float weight = 1.0f;
@@ -122,27 +87,19 @@ float sample_horizon_cos(const HbaoReceiver& p, const GtaoSettings& s, const Sli
 // (Algorithm 1's horizon search), or with the thickness heuristic a sample below the current
 // horizon pulls it towards itself by `thickness` (§4.3, "Height-field assumption
 // considerations").
-float search_horizon(const Frame& f, const GtaoSettings& s, const HbaoReceiver& p, const Slice& sl,
-                     const glm::vec3& v, float jitter, int side) {
-  const float sign = side == 0 ? 1.0f : -1.0f;
+float search_horizon(const SliceFrame& f, const GtaoSettings& s, const HbaoReceiver& p,
+                     const Slice& sl, const glm::vec3& v, float jitter, int side) {
   const float low = sl.low[side];
   float horizon = low;
-  for (int i = 1; i <= s.steps; ++i) {
-    const float t = sign * (float(i) - jitter);
-    const float sx_f = p.px + t * sl.step_x, sy_f = p.py + t * sl.step_y;
-    // Leaving the image along a straight line is final; the test also rejects inf/NaN.
-    if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
-    const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
-    if (sx == p.x && sy == p.y) continue;
-    const float ds = f.depth[std::size_t(sy) * f.width + sx];
-    if (!(ds == ds)) continue;  // background never occludes
+  march_slice_side(f, p, sl, s.steps, jitter, side, [&](int sx, int sy, float ds) {
     const float shc = sample_horizon_cos(p, s, sl, v, low, horizon, sx, sy, ds);
     if (shc > horizon) {
       horizon = shc;
     } else if (s.thickness > 0.0f) {
       horizon = std::max(low, horizon + s.thickness * (shc - horizon));
     }
-  }
+    return true;
+  });
   return horizon;
 }
 
@@ -156,27 +113,17 @@ double slice_visibility(const Slice& sl, const float horizon_cos[2]) {
   return double(sl.length) * sum;
 }
 
-struct Scratch {
-  std::vector<float> dir_cos, dir_sin;
-};
-
-float gtao_pixel(const Frame& f, const GtaoSettings& s, const HbaoDirections& directions, int x,
-                 int y, Scratch& scratch) {
-  const std::size_t idx = std::size_t(y) * f.width + x;
-  const float d = f.depth[idx];
-  if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
-      f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
-  // The true per-pixel view vector, from P towards the camera: −P/|P| = −r0/|r0|.
-  const glm::vec3 v = glm::normalize(glm::vec3(-p.ox * p.inv_fx, p.oy * p.inv_fy, 1.0f));
-  const auto seed = std::uint32_t(s.seed);
-  const float rotation = s.random_rotation ? pixel_random(seed, x, y, 0) : 0.0f;
-  const float jitter = s.jitter ? pixel_random(seed, x, y, 1) : 0.0f;
-  // 2N directions over a full turn are N slices over a half turn followed by their opposites.
-  directions.rotated(rotation, scratch.dir_cos.data(), scratch.dir_sin.data());
+float gtao_pixel(const SliceFrame& f, const GtaoSettings& s, const HbaoDirections& directions,
+                 int x, int y, float* dir_cos, float* dir_sin) {
+  SlicePixel px;
+  if (!slice_pixel(f, directions, x, y, s.seed, s.random_rotation, s.jitter, dir_cos, dir_sin, px))
+    return 1.0f;  // background
+  const HbaoReceiver& p = px.p;
+  const glm::vec3& v = px.v;
+  const float jitter = px.jitter;
   double visible = 0.0, open = 0.0;
   for (int k = 0; k < s.slices; ++k) {
-    const Slice sl = make_slice(f, s, p, v, scratch.dir_cos[k], scratch.dir_sin[k]);
+    const Slice sl = make_slice(f, s, p, v, dir_cos[k], dir_sin[k]);
     if (!(sl.length > 0.0f)) continue;  // proj n = 0: the slice carries no weight (eq. 8)
     const float horizon_cos[2] = {search_horizon(f, s, p, sl, v, jitter, 0),
                                   search_horizon(f, s, p, sl, v, jitter, 1)};
@@ -201,26 +148,10 @@ Image gtao(const GBuffer& g, const GtaoSettings& s, const RunOptions& options) {
   g.validate();
   require_normal(g, "gtao");
   validate_settings(s, kGtaoFields);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-
-  // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h).
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
-  const Image normals = prepared_normals(g, threads);
-  const Frame frame{depth.data(), normals.data(), w, h, g.camera};
-
-  const HbaoDirections directions(2 * s.slices);
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        Scratch scratch{std::vector<float>(2 * s.slices), std::vector<float>(2 * s.slices)};
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x) out(x, y) = gtao_pixel(frame, s, directions, x, y, scratch);
-      },
-      options.progress);
-  return out;
+  return run_slice_method(
+      g, s.slices, options,
+      [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
+          float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); });
 }
 
 Method gtao_method() {

@@ -272,16 +272,4 @@ Method hbao_method() {
   return m;
 }
 
-bool hbao_above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds) {
-  const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
-  const float n_rs = glm::dot(p.n, rs);
-  const float tau = p.d * p.n_r0 / n_rs;  // depth where rs meets the tangent plane
-  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
-  if (hits && !(tau > ds)) return false;
-  const float grazing_s = glm::length(rs) / std::abs(n_rs);
-  const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
-                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
-  return (hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance;
-}
-
 }  // namespace aolab

@@ -10,7 +10,10 @@
 // docs/methods/hbao.md gives the details.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -187,8 +190,19 @@ HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float dept
 /// rays. A ray that never meets the plane in front of the camera counts any finite sample.
 /// (v·n = (n·rs)(ds − tau) for v = S − P, so this is "v·n > 0" made immune to rounding.)
 /// HBAO's per-sample tangent test, shared with GTAO, Alchemy AO and SAO: an open plane never
-/// occludes itself, whatever snapping does to the samples.
-bool hbao_above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds);
+/// occludes itself, whatever snapping does to the samples. Inline: it runs once per sample.
+inline bool hbao_above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds) {
+  constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
+  const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
+  const float n_rs = glm::dot(p.n, rs);
+  const float tau = p.d * p.n_r0 / n_rs;  // depth where rs meets the tangent plane
+  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
+  if (hits && !(tau > ds)) return false;
+  const float grazing_s = glm::length(rs) / std::abs(n_rs);
+  const float tolerance = kUnitRoundoff * std::max(ds, hits ? tau : ds) *
+                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
+  return (hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance;
+}
 
 /// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
 /// radius projected and split into N_s steps; image y points down, view y up.

@@ -456,6 +456,28 @@ register(
     source="XeGTAO quality levels (slices 1/2/3/9, steps 2/2/3/3); sweep ours",
 )
 
+# Visibility bitmask — Therrien, Levesque, Gilet 2023. The paper fixes 32 sectors and a
+# constant thickness but no quality levels. Blender 4.2's EEVEE, which implements it, marches
+# 2 slices per pixel with 8 steps per side by default (slice_len, fast_gi_step_count): that is
+# `medium` (and the method's defaults); low halves the steps and takes one slice, high and
+# ultra add a slice and 4 steps each. XeGTAO's 2-3 steps per side are too few here: a
+# sample marks only the sectors between its front and back, so sparse samples leave gaps
+# that GTAO's running maximum fills. The sweep adds the exact cosine weights and thicknesses
+# from a sheet to a height field.
+register(
+    "bitmask",
+    presets={
+        "low": {"slices": 1, "steps": 4, "blur": True},
+        "medium": {"slices": 2, "steps": 8, "blur": True},
+        "high": {"slices": 3, "steps": 12, "blur": True},
+        "ultra": {"slices": 4, "steps": 16, "blur": True},
+    },
+    sweep={"slices": [1, 2, 4], "steps": [4, 8, 16], "thickness": [0.1, 0.5, 1e30],
+           "weighting": ["uniform", "cosine"], "blur": [False, True]},
+    source="Blender 4.2 EEVEE horizon scan (2 slices, 8 steps per side) as medium; "
+           "low/high/ultra ours",
+)
+
 # Alchemy AO — McGuire et al. 2011: its quality parameter is the tap count s. The paper's
 # Figure 1 runs 12 taps at 1280x720 (the high preset, the method's default); the other
 # levels halve and double around it as the paper's scalability goal (fewer taps on weaker

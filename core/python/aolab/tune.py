@@ -191,6 +191,17 @@ BOUNDS = {
         "steps": _int(1, 16, "per side of a slice: XeGTAO 2-3, the sweep 8; log scale",
                       log=True),
     },
+    "bitmask": {
+        "slices": _int(1, 8, "EEVEE marches 2 per pixel, the presets 1-4; log scale",
+                       log=True),
+        "steps": _int(2, 32, "per side of a slice: EEVEE's 8, the presets 4-16; fewer leave "
+                      "gaps between the samples' sectors; log scale", log=True),
+        "sectors": _set((8, 16, 32, 64), "N: the paper's 32 (one uint), halved, quartered "
+                        "and doubled; the cost hardly depends on it"),
+        "thickness": _float(0.01, 100.0, "fraction of R: from a sheet to a height field "
+                            "(beyond 100 R nothing changes on the study's scenes); log scale",
+                            log=True),
+    },
     "alchemy": {
         "samples": _int(2, 64, "s: the paper's 12 inside; 64 taps cost ~4x the ultra preset; "
                         "log scale", log=True),

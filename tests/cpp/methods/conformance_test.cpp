@@ -55,6 +55,13 @@ const std::vector<SettingValues>& extra_configurations(const std::string& method
       {"gtao",
        {{{"slices", 1}, {"steps", 16}, {"thickness", 0.5}, {"falloff", 0.615}},
         {{"slices", 9}, {"steps", 1}, {"multi_bounce", 1}, {"albedo", 1}}}},
+      // 64 sectors with dense steps, a height field and the exact cosine weights; one sector,
+      // many slices, one step, thickness 0, the sphere clip; an odd sector count with the
+      // memo's mean of cosine-weighted slices.
+      {"bitmask",
+       {{{"sectors", 64}, {"steps", 16}, {"thickness", 1e30}, {"weighting", 1}},
+        {{"sectors", 1}, {"slices", 9}, {"steps", 1}, {"thickness", 0}, {"radius_clip", 2}},
+        {{"sectors", 7}, {"rounding", 2}, {"weighting", 1}, {"normalization", 1}}}},
       // Alchemy: one tap, many taps on a fixed spiral with the contrast exponent.
       {"alchemy", {{{"samples", 1}}, {{"samples", 40}, {"turns", 7}, {"contrast", 2}}}},
       // SAO: full resolution only, every tap on a coarse level, a wide sparse filter.
@@ -129,6 +136,8 @@ double exact_plane_tilt(const std::string& method, const SettingValues& v) {
   // gtao.h, GtaoNormalization::Slices: the memo's 1/N is not 1 where n ≠ v, even on a plane
   // facing the camera off-axis (the unoccluded integrand varies with the slice).
   if (method == "gtao" && is(v, "normalization", 1)) return -1;
+  // bitmask.h, BitmaskNormalization::Slices with cosine weighting: the same 1/N of the memo.
+  if (method == "bitmask" && is(v, "normalization", 1) && is(v, "weighting", 1)) return -1;
   // sao.h, SaoTapPosition::Tap: a coarse depth placed at the tap's own pixel moves it off a
   // tilted plane (exact on a plane facing the camera, whose depth is constant).
   if (method == "sao" && is(v, "tap_position", 1)) return 0;
