@@ -16,11 +16,14 @@ def test_pyramid_levels_follow_pyramid_hbaos_rule():
 def test_sao_gets_pyramid_hbaos_samples_per_pixel_up_to_its_most():
     most = int(rs.max_of("sao", "samples"))
     for scale, px in ((1.0, 30.0), (2.0, 60.0), (4.0, 200.0)):
-        hbao, pyramid, sao = rs.configurations(scale, px)
+        hbao, hbao_cycles, pyramid, pyramid_cycles, sao = rs.configurations(scale, px)
         assert hbao["settings"] == {"directions": 8, "steps": round(8 * scale)}
+        assert hbao_cycles["settings"] == {**hbao["settings"], "attenuation": "none",
+                                           "integral": "cosine"}
+        assert pyramid_cycles["settings"] == {"attenuation": "none"}
         assert sao["samples"] == min(most, pyramid["samples"])
         assert ("its most" in sao["note"]) == (pyramid["samples"] > most)
-        for c in (hbao, pyramid, sao):   # every setting named exists for its method
+        for c in (hbao, hbao_cycles, pyramid, pyramid_cycles, sao):   # settings that exist
             names = {s["name"] for s in aolab.method_info(c["method"])["settings"]}
             assert set(c["settings"]) | (set(c["timed"]) - {"blur"}) <= names
 
@@ -31,15 +34,16 @@ def test_median_projected_radius_on_a_plane():
     assert rs.median_projected_radius(g, 0.5) == pytest.approx(np.median(0.5 * g.fx / d))
 
 
-def test_table_has_a_row_per_scene_and_scale():
+def test_table_has_a_row_per_scene_scale_and_configuration():
     rows = [{"scene": s, "scale": k, "radius": 0.5 * k, "radius_px": 40 * k, "method": m,
-             "samples": 64, "median_ms": 12.5, "mae": 0.05, "ssim": 0.9}
-            for s in ("room", "street") for k in (0.5, 1.0) for m in rs.METHODS]
-    text = rs.table(rows)
-    lines = text.strip().splitlines()
-    assert len(lines) == 2 + 4 and lines[2].startswith("| room | 0.25 (×0.5) | 20 px |")
-    assert lines[-1].startswith("| street | 0.5 (×1) | 40 px |")
-    assert "64, 12.5, 0.0500, 0.900" in lines[2]
+             "label": rs.LABELS[m], "config": "c", "samples": 64, "median_ms": 12.5,
+             "mae": 0.05, "occluded_mae": 0.1, "ssim": 0.9}
+            for s in ("street", "room") for k in (1.0, 0.5) for m in rs.METHODS]
+    lines = rs.table(rows).strip().splitlines()
+    assert len(lines) == 2 + 12
+    assert lines[2] == "| room | 0.25 (×0.5) | 20 px | HBAO (c) | 64 | 12.5 | 0.0500 | " \
+        "0.1000 | 0.900 |"
+    assert lines[-1].startswith("| street | 0.5 (×1) | 40 px | Scalable AO (c) |")
 
 
 def test_bad_scales_are_refused_when_read(capsys):

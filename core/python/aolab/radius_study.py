@@ -76,25 +76,36 @@ def max_of(method: str, name: str):
     return next(s["max"] for s in aolab.method_info(method)["settings"] if s["name"] == name)
 
 
+#: HBAO's and Pyramid HBAO's settings for the reference's own definition (the Cycles AO
+#: pass: cosine-weighted, no distance attenuation; docs/methods/hbao.md): each method shown
+#: as its paper gives it and at its best against this reference.
+CYCLES_DEFINITION = {"hbao": {"attenuation": "none", "integral": "cosine"},
+                     "pyramid_hbao": {"attenuation": "none"}}
+
+
 def configurations(scale: float, radius_px: float) -> list[dict]:
-    """Per method: the settings, the scored variant (with its filter) and the timed one
-    (without), and the samples per pixel."""
+    """Per configuration: the method, a label, the settings, the scored variant (with its
+    filter) and the timed one (without), and the samples per pixel."""
     steps = max(1, round(HBAO_STEPS_AT_SCALE_1 * scale))
     d, s, k = (int(default_of("pyramid_hbao", n)) for n in ("directions", "samples", "reduction"))
     levels = pyramid_levels(radius_px, s, k)
     taps = min(int(max_of("sao", "samples")), d * s * levels)
-    return [
-        {"method": "hbao", "settings": {"directions": HBAO_DIRECTIONS, "steps": steps},
-         "scored": {"blur": True}, "timed": {"blur": False},
-         "samples": HBAO_DIRECTIONS * steps, "note": f"D {HBAO_DIRECTIONS}, N_s {steps}"},
-        {"method": "pyramid_hbao", "settings": {},
-         "scored": {"gaussian_filter": True}, "timed": {"gaussian_filter": False},
-         "samples": d * s * levels, "note": f"D {d}, S {s}, K {k}, L {levels}"},
-        {"method": "sao", "settings": {"samples": taps},
-         "scored": {"filter": True}, "timed": {"filter": False},
-         "samples": taps, "note": f"{taps} taps" + (" (its most)" if taps < d * s * levels
-                                                    else "")},
-    ]
+    hbao = {"method": "hbao", "settings": {"directions": HBAO_DIRECTIONS, "steps": steps},
+            "scored": {"blur": True}, "timed": {"blur": False},
+            "samples": HBAO_DIRECTIONS * steps, "note": f"D {HBAO_DIRECTIONS}, N_s {steps}"}
+    pyramid = {"method": "pyramid_hbao", "settings": {},
+               "scored": {"gaussian_filter": True}, "timed": {"gaussian_filter": False},
+               "samples": d * s * levels, "note": f"D {d}, S {s}, K {k}, L {levels}"}
+    sao = {"method": "sao", "settings": {"samples": taps},
+           "scored": {"filter": True}, "timed": {"filter": False}, "samples": taps,
+           "note": f"{taps} taps" + (" (its most)" if taps < d * s * levels else "")}
+    out = []
+    for c in (hbao, pyramid, sao):
+        out.append({**c, "label": LABELS[c["method"]]})
+        if c["method"] in CYCLES_DEFINITION:
+            out.append({**c, "label": LABELS[c["method"]] + ", Cycles' definition",
+                        "settings": {**c["settings"], **CYCLES_DEFINITION[c["method"]]}})
+    return out
 
 
 def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: int,
@@ -116,7 +127,8 @@ def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: 
         scored = score(ao, scene)["regions"]
         _, times = timed(lambda: call(c["timed"]), warmup, repeat)
         rows.append({"scene": scene_name, "scale": scale, "radius": scene.radius,
-                     "radius_px": radius_px, "method": c["method"], "config": c["note"],
+                     "radius_px": radius_px, "method": c["method"], "label": c["label"],
+                     "config": c["note"],
                      "samples": c["samples"], "settings": values,
                      "median_ms": statistics.median(times),
                      "mae": scored["all"]["mae"], "ssim": scored["all"]["ssim"],
@@ -125,25 +137,18 @@ def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: 
 
 
 def table(rows: list[dict]) -> str:
-    """The markdown table of docs/benchmarks.md: a row per scene and scale, a column group
-    per method."""
-    out = ["| scene | R (scale) | R on screen | " +
-           " | ".join(f"{LABELS[m]}: samples, ms, MAE, SSIM" for m in METHODS) + " |",
-           "|---|---|---|" + "---|" * len(METHODS)]
-    keys = sorted({(r["scene"], r["scale"]) for r in rows},
-                  key=lambda k: (DEFAULT_SCENES.index(k[0]) if k[0] in DEFAULT_SCENES else 99,
-                                 k[0], k[1]))
-    for scene, scale in keys:
-        by = {r["method"]: r for r in rows if r["scene"] == scene and r["scale"] == scale}
-        first = next(iter(by.values()))
-        cells = []
-        for m in METHODS:
-            r = by.get(m)
-            cells.append("—" if r is None else
-                         f"{r['samples']}, {r['median_ms']:.1f}, {r['mae']:.4f}, "
-                         f"{r['ssim']:.3f}")
-        out.append(f"| {scene} | {first['radius']:g} (×{scale:g}) | "
-                   f"{first['radius_px']:.0f} px | " + " | ".join(cells) + " |")
+    """The markdown table of docs/benchmarks.md: a row per scene, radius and configuration."""
+    out = ["| scene | R (scale) | R on screen | configuration | samples / px | ms | MAE | "
+           "occluded MAE | SSIM |", "|---|---|---|---|---|---|---|---|---|"]
+
+    def order(r):
+        scene = DEFAULT_SCENES.index(r["scene"]) if r["scene"] in DEFAULT_SCENES else 99
+        return scene, r["scene"], r["scale"]
+    for r in sorted(rows, key=order):   # stable: the configurations keep their order
+        out.append(f"| {r['scene']} | {r['radius']:g} (×{r['scale']:g}) | "
+                   f"{r['radius_px']:.0f} px | {r['label']} ({r['config']}) | {r['samples']} | "
+                   f"{r['median_ms']:.1f} | {r['mae']:.4f} | {r['occluded_mae']:.4f} | "
+                   f"{r['ssim']:.3f} |")
     return "\n".join(out) + "\n"
 
 
@@ -155,24 +160,28 @@ def plot(rows: list[dict], path: Path) -> None:
     matplotlib.rcParams["svg.hashsalt"] = "aolab"   # the same file for the same numbers
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.4))
     styles = {"room": "-", "street": "--"}
-    for m, colour in zip(METHODS, ("tab:red", "tab:blue", "tab:green")):
+    labels = list(dict.fromkeys(r["label"] for r in rows))
+    colours = ("tab:red", "tab:orange", "tab:blue", "tab:cyan", "tab:green", "tab:olive")
+    for label, colour in zip(labels, colours):
         for scene in sorted({r["scene"] for r in rows}):
             pts = sorted((r["scale"], r["median_ms"], r["mae"]) for r in rows
-                         if r["method"] == m and r["scene"] == scene)
+                         if r["label"] == label and r["scene"] == scene)
             if not pts:
                 continue
             xs = [p[0] for p in pts]
-            axes[0].plot(xs, [p[1] for p in pts], styles.get(scene, ":"), color=colour,
-                         marker="o", label=f"{LABELS[m]}, {scene}")
+            if "definition" not in label:   # the same time as the paper's variant
+                axes[0].plot(xs, [p[1] for p in pts], styles.get(scene, ":"), color=colour,
+                             marker="o", label=f"{label}, {scene}")
             axes[1].plot(xs, [p[2] for p in pts], styles.get(scene, ":"), color=colour,
-                         marker="o")
+                         marker="o", label=f"{label}, {scene}")
     for ax, label in zip(axes, ("median time (ms), without filters", "MAE against Cycles")):
         ax.set_xscale("log", base=2)
         ax.set_xlabel("radius (multiple of the scene's R)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     axes[0].set_yscale("log")
-    axes[0].legend(fontsize=7)
+    axes[0].legend(fontsize=6)
+    axes[1].legend(fontsize=5, ncol=2)
     fig.tight_layout()
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     fig.savefig(tmp, format="svg", metadata={"Date": None})
@@ -225,7 +234,7 @@ def main(args) -> int:
         folder, _ = reference.render(plan, args.cache, progress=False)
         rows += run_case(name, folder, scale, args.threads, args.warmup, args.repeat)
         print(f"{name} x{scale:g}: " + ", ".join(
-            f"{r['method']} {r['median_ms']:.1f} ms MAE {r['mae']:.4f}" for r in rows[-3:]),
+            f"{r['label']} {r['median_ms']:.1f} ms MAE {r['mae']:.4f}" for r in rows[-5:]),
             file=sys.stderr)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
