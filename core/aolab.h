@@ -68,6 +68,7 @@
 #include "core/methods/alchemy/alchemy.h"
 #include "core/methods/bitmask/bitmask.h"
 #include "core/methods/chebyshev/chebyshev.h"
+#include "core/methods/crytek_ssao/crytek_ssao.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/lsao/lsao.h"

@@ -9,6 +9,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "core/base/image.h"
+
 namespace aolab {
 
 /// Shared between a computation and whoever watches it (the Python layer, the add-on).
@@ -33,5 +35,25 @@ int resolve_threads(int threads);
 /// Cancelled when progress->cancel is set.
 void parallel_for_rows(int rows, int threads, const std::function<void(int, int)>& body,
                        Progress* progress = nullptr);
+
+/// The per-pixel loop every method runs: a 1-channel `width` × `height` image whose pixel
+/// (x, y) is pixel(scratch, x, y), rows in parallel bands as parallel_for_rows; each band gets
+/// its own scratch from make_scratch() (working memory a pixel reuses). Adds `height` rows to
+/// progress->total.
+template <class MakeScratch, class Pixel>
+Image image_from_pixels(int width, int height, int threads, Progress* progress,
+                        MakeScratch make_scratch, Pixel pixel) {
+  Image out(width, height, 1, 1.0f);
+  if (progress) progress->total += height;
+  parallel_for_rows(
+      height, threads,
+      [&](int y0, int y1) {
+        auto scratch = make_scratch();
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < width; ++x) out(x, y) = pixel(scratch, x, y);
+      },
+      progress);
+  return out;
+}
 
 }  // namespace aolab

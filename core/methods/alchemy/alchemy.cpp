@@ -44,16 +44,9 @@ Image alchemy(const GBuffer& g, const AlchemySettings& s, const RunOptions& opti
   const SpiralTaps taps(s.samples, s.turns);
   const ObscuranceEstimator e(s.radius, s.samples, s.intensity, s.epsilon, s.contrast, s.falloff);
 
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x) out(x, y) = alchemy_pixel(frame, s, taps, e, x, y);
-      },
-      options.progress);
-  return out;
+  return image_from_pixels(
+      w, h, threads, options.progress, [] { return 0; },
+      [&](int, int x, int y) { return alchemy_pixel(frame, s, taps, e, x, y); });
 }
 
 Method alchemy_method() {

@@ -142,18 +142,11 @@ Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, 
   const Image normals = prepared_normals(g, threads);
   const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
   const HbaoDirections directions(2 * slices);
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        std::vector<float> dir_cos(2 * slices), dir_sin(2 * slices);
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x)
-            out(x, y) = pixel(frame, directions, x, y, dir_cos.data(), dir_sin.data());
-      },
-      options.progress);
-  return out;
+  return image_from_pixels(
+      w, h, threads, options.progress, [&] { return std::vector<float>(4 * std::size_t(slices)); },
+      [&](std::vector<float>& dirs, int x, int y) {
+        return pixel(frame, directions, x, y, dirs.data(), dirs.data() + 2 * slices);
+      });
 }
 
 }  // namespace aolab

@@ -249,18 +249,12 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
 
   const HbaoDirections directions(s.directions);
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        std::vector<float> dir_cos(s.directions), dir_sin(s.directions);
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x)
-            out(x, y) = hbao_pixel(frame, s, directions, x, y, dir_cos.data(), dir_sin.data());
-      },
-      options.progress);
-  return out;
+  return image_from_pixels(
+      w, h, threads, options.progress,
+      [&] { return std::vector<float>(2 * std::size_t(s.directions)); },
+      [&](std::vector<float>& dirs, int x, int y) {
+        return hbao_pixel(frame, s, directions, x, y, dirs.data(), dirs.data() + s.directions);
+      });
 }
 
 Method hbao_method() {

@@ -189,16 +189,12 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOpti
   const Frame frame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera};
 
   // §3.2 stage 2: the occlusion of every pixel, rows in parallel.
-  Image out(w, h, 1, 1.0f);
-  if (options.progress) options.progress->total += h;
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        std::vector<PyramidHbaoDirection> dirs(std::size_t(s.directions));
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w; ++x) out(x, y) = pyramid_hbao_pixel(frame, s, x, y, dirs.data());
-      },
-      options.progress);
+  Image out = image_from_pixels(
+      w, h, threads, options.progress,
+      [&] { return std::vector<PyramidHbaoDirection>(std::size_t(s.directions)); },
+      [&](std::vector<PyramidHbaoDirection>& dirs, int x, int y) {
+        return pyramid_hbao_pixel(frame, s, x, y, dirs.data());
+      });
   // §3.5: "a separable Gaussian filter with the value σ = 1.5 and usage of 5 samples".
   if (s.gaussian_filter) return gaussian_blur(out.view(), g, BlurSettings{}, threads);
   return out;

@@ -202,6 +202,10 @@ BOUNDS = {
                             "(beyond 100 R nothing changes on the study's scenes); log scale",
                             log=True),
     },
+    "crytek_ssao": {
+        "samples": _int(4, 128, "N: CryEngine 2's 8-16 inside, twice the ultra preset at the "
+                        "top; log scale", log=True),
+    },
     "alchemy": {
         "samples": _int(2, 64, "s: the paper's 12 inside; 64 taps cost ~4x the ultra preset; "
                         "log scale", log=True),

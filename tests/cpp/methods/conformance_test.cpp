@@ -69,6 +69,8 @@ const std::vector<SettingValues>& extra_configurations(const std::string& method
        {{{"max_mip_level", 0}, {"samples", 3}},
         {{"log_max_offset", 0}, {"samples", 30}, {"contrast", 3}},
         {{"filter_radius", 12}, {"filter_stride", 5}, {"edge_sharpness", 0}}}},
+      // Crytek SSAO: one point (an unpaired kernel), an odd count, many points in the ball.
+      {"crytek_ssao", {{{"samples", 1}}, {{"samples", 7}}, {{"samples", 64}, {"distribution", 1}}}},
       {"vao", {{{"samples", 1}}, {{"samples", 64}}}},
       {"vao_pp",
        {{{"culling", 0}, {"poisson_samples", 0}, {"samples", 32}},
@@ -141,6 +143,16 @@ double exact_plane_tilt(const std::string& method, const SettingValues& v) {
   // sao.h, SaoTapPosition::Tap: a coarse depth placed at the tap's own pixel moves it off a
   // tilted plane (exact on a plane facing the camera, whose depth is constant).
   if (method == "sao" && is(v, "tap_position", 1)) return 0;
+  // crytek_ssao.h: normal-free, as published, an open plane gives 1/2; rescaled (or with the
+  // hemisphere) it is exactly 1 where the depth buffer is the plane at every point's
+  // projection, on a plane facing the camera (a tilted plane's depth changes within a pixel,
+  // so points just above it can read a nearer depth). One unpaired point breaks the half.
+  if (method == "crytek_ssao") {
+    const bool hemisphere = is(v, "hemisphere", 1);
+    if (is(v, "output", 1) && !hemisphere) return -1;
+    if (is(v, "samples", 1) || is(v, "samples", 7)) return hemisphere ? 0 : -1;
+    return 0;
+  }
   if (method == "lsao") {
     // lsao.h, tangent_strategy: the real tangent is exact only up to the rounding of the
     // normal (lsao_test checks > 0.999 on tilted planes).
