@@ -119,6 +119,7 @@ def _positive(allow_inf=False):
 PARSE_ONLY = {
     ("compare",): {"--repeat": _integer(1, 1000), "--warmup": _integer(0, 1000),
                    "--threads": _integer(0, 4096), "--budget-ms": _positive(),
+                   "--max-ms": lambda v: v > 0 and not math.isnan(v),
                    "--image-width": _integer(1, 16384)},
     ("tune",): {"--trials": _integer(1), "--max-ms": _positive(),
                 "--timeout": lambda v: math.isfinite(v) and v >= 0,

@@ -6,6 +6,7 @@ import json
 import math
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -567,3 +568,18 @@ def test_an_all_nan_reference_is_refused_naming_the_scene(tmp_path, capsys):
     small_scene(tmp_path / "half_nan", reference=part)
     g, ref, radius, _ = compare.load_cropped(tmp_path / "half_nan")
     assert radius == 0.25 and np.isnan(ref).any()
+
+
+def test_a_slow_first_run_is_the_only_timed_run():
+    calls = []
+
+    def slow():
+        calls.append(1)
+        time.sleep(0.02)
+        return len(calls)
+
+    out, times = compare.timed(slow, warmup=1, repeat=3, max_ms=5.0)
+    assert (out, len(calls), len(times)) == (1, 1, 1) and times[0] >= 20.0
+    calls.clear()
+    out, times = compare.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
+    assert (out, len(calls), len(times)) == (1, 4, 3)

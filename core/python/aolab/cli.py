@@ -425,6 +425,9 @@ def add_compare_parser(sub) -> None:
     c.add_argument("--sweep", choices=("quick", "presets", "full"), default="quick")
     c.add_argument("--out", default="out/compare", help="output folder (default out/compare)")
     add_timing_options(c, repeat=3, warmup=1, repeat_help="timed runs per configuration")
+    c.add_argument("--max-ms", type=float_option("--max-ms", unit="ms", allow_inf=True),
+                   default=1000.0, help="a configuration whose first run takes longer is "
+                   "timed by that run alone (ms > 0 or inf, default 1000)")
     c.add_argument("--budget-ms", type=float_option("--budget-ms", unit="ms"), default=1000.0,
                    help="time budget for the images: each method's best setting within it "
                    "(ms > 0, default 1000)")
