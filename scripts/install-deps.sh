@@ -9,6 +9,10 @@ PACKAGES=(
   # C++ libraries
   libopenimageio-dev libopenexr-dev libglm-dev nlohmann-json3-dev pybind11-dev
   libgtest-dev libbenchmark-dev
+  # Highway: portable SIMD with runtime dispatch (SSE4/AVX2/AVX-512/NEON), the fast kernels
+  libhwy-dev
+  # perf: the profiles docs/benchmarks.md quotes (scripts/bench.sh --profile)
+  linux-perf
   # Python (Debian's /usr/bin/python3, the one Blender embeds)
   python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
   python3-skimage python3-tqdm python3-matplotlib python3-optuna

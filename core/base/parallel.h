@@ -56,4 +56,23 @@ Image image_from_pixels(int width, int height, int threads, Progress* progress,
   return out;
 }
 
+/// The per-row loop of the SIMD kernels: a 1-channel `width` × `height` image whose row y is
+/// filled by row(scratch, y, out_row) (out_row: `width` floats), rows in parallel bands as
+/// parallel_for_rows, each band with its own scratch. Adds `height` rows to
+/// progress->total.
+template <class MakeScratch, class Row>
+Image image_from_rows(int width, int height, int threads, Progress* progress,
+                      MakeScratch make_scratch, Row row) {
+  Image out(width, height, 1, 1.0f);
+  if (progress) progress->total += height;
+  parallel_for_rows(
+      height, threads,
+      [&](int y0, int y1) {
+        auto scratch = make_scratch();
+        for (int y = y0; y < y1; ++y) row(scratch, y, &out(0, y));
+      },
+      progress);
+  return out;
+}
+
 }  // namespace aolab

@@ -14,10 +14,22 @@
 
 namespace aolab {
 
+/// Which implementation of a method runs. Both compute the same algorithm with the same
+/// settings; they differ in how (docs/benchmarks.md).
+enum class Kernel : int {
+  /// The vectorised kernel (Highway, several pixels per instruction, the best instruction set
+  /// chosen at run time) where the method has one, else its scalar code. The default.
+  Simd = 0,
+  /// The straightforward per-pixel float code: the oracle each SIMD kernel is tested
+  /// against, within a tolerance stated in its test, and the benchmarks' baseline.
+  Scalar = 1,
+};
+
 /// How a computation runs (not what it computes).
 struct RunOptions {
   int threads = 0;               ///< worker threads, 0 = all cores
   Progress* progress = nullptr;  ///< optional progress counter and cancel flag
+  Kernel kernel = Kernel::Simd;  ///< the implementation; the result differs by rounding only
 };
 
 /// A registered method.
@@ -34,6 +46,9 @@ struct Method {
   /// An oracle: the reference's definition evaluated on what a screen-space method can see;
   /// correct, not fast — the study shows it as a bound, not as a contender.
   bool oracle = false;
+  /// True when the method has a SIMD kernel (RunOptions::kernel chooses); false: its scalar
+  /// code is all it has, and Kernel::Simd runs that.
+  bool has_simd_kernel = false;
   std::vector<SettingDescription> settings;  ///< including "radius"
   /// Computes AO (1 channel, in [0, 1], background = 1; a method may document an RGB
   /// result for some settings, like vao_pp's colour bleeding) from validated settings values.

@@ -40,7 +40,8 @@ def method_info(method: str) -> dict:
 
 def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
             preset: str | None = None, blur: bool | None = None, blur_sigma: float = 1.5,
-            blur_taps: int = 5, progress: Progress | None = None, **settings) -> np.ndarray:
+            blur_taps: int = 5, progress: Progress | None = None, kernel: str = "simd",
+            **settings) -> np.ndarray:
     """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1] — or (H, W, 3)
     where the method documents an RGB result (``vao_pp`` with ``color_bleeding=True``).
 
@@ -55,6 +56,11 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     settings and blur switch, each overridden by an explicit ``settings`` entry or ``blur``;
     an unknown name is a ValueError listing the method's presets.
 
+    ``kernel`` chooses the implementation: ``"simd"`` (the default) runs the method's
+    vectorised kernel where it has one (``method_info(method)["simd_kernel"]``), ``"scalar"``
+    its straightforward per-pixel code, the oracle the SIMD kernel is tested against; the two
+    differ by float rounding only (docs/benchmarks.md).
+
     ``blur`` must be a bool (``True``, ``False``, a numpy bool) or None (the preset's switch,
     else off); anything else, ``"no"`` or ``1`` included, is a ValueError naming ``blur``.
     """
@@ -67,7 +73,8 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     else:
         values = dict(settings)
     values["radius"] = radius
-    ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress)
+    ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress,
+                       kernel=kernel)
     if blur:
         if ao.ndim != 2:
             raise ValueError(f"blur applies to 1-channel AO; {method} returned {ao.shape} with "

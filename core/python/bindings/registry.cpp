@@ -62,6 +62,7 @@ py::dict describe(const Method& m) {
   out["needs_normal"] = m.needs_normal;
   out["needs_color"] = m.needs_color;
   out["oracle"] = m.oracle;
+  out["simd_kernel"] = m.has_simd_kernel;
   out["settings"] = settings;
   return out;
 }
@@ -97,6 +98,13 @@ SettingValues to_setting_values(const py::dict& d,
   return values;
 }
 
+// "simd" or "scalar" (RunOptions::kernel).
+Kernel kernel_from_name(const std::string& name) {
+  if (name == "simd") return Kernel::Simd;
+  if (name == "scalar") return Kernel::Scalar;
+  throw_invalid("kernel", "must be 'simd' or 'scalar'", "'" + name + "'");
+}
+
 void bind_methods(py::module_& m) {
   m.def("methods", [] {
     std::vector<std::string> names;
@@ -109,9 +117,9 @@ void bind_methods(py::module_& m) {
   m.def(
       "compute",
       [](const std::string& method, const PyGBuffer& g, const py::dict& settings, int threads,
-         Progress* progress) {
+         Progress* progress, const std::string& kernel) {
         const SettingValues values = to_setting_values(settings, find_method(method).settings);
-        RunOptions options{threads, progress};
+        RunOptions options{threads, progress, kernel_from_name(kernel)};
         Image ao;
         {
           py::gil_scoped_release release;
@@ -120,7 +128,7 @@ void bind_methods(py::module_& m) {
         return to_numpy(std::move(ao));
       },
       py::arg("method"), py::arg("gbuffer"), py::arg("settings"), py::kw_only(),
-      py::arg("threads") = 0, py::arg("progress") = nullptr);
+      py::arg("threads") = 0, py::arg("progress") = nullptr, py::arg("kernel") = "simd");
 
   // The screen-space limit at several thicknesses in one pass (aolab limits).
   m.def(
