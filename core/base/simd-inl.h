@@ -13,8 +13,10 @@
 #define AOLAB_BASE_SIMD_INL_H_
 #endif
 
-#include <cstdint>
+#include <hwy/contrib/math/math-inl.h>
 #include <hwy/highway.h>
+
+#include <cstdint>
 #include <numbers>
 
 HWY_BEFORE_NAMESPACE();
@@ -34,8 +36,7 @@ HWY_INLINE hn::Vec<DU> PcgHash(DU du, hn::Vec<DU> v) {
 /// pixel_random(seed, x, y, stream) for the pixels x0, x0 + 1, ... of row y: bit for bit the
 /// scalar value (core/sampling/random.h).
 template <class DF>
-HWY_INLINE hn::Vec<DF> PixelRandom(DF df, std::uint32_t seed, int x0, int y,
-                                   std::uint32_t stream) {
+HWY_INLINE hn::Vec<DF> PixelRandom(DF df, std::uint32_t seed, int x0, int y, std::uint32_t stream) {
   const hn::RebindToUnsigned<DF> du;
   // The first hash does not depend on the pixel: once, in scalar code.
   std::uint32_t h0 = seed ^ 0x9E3779B9u;
@@ -65,12 +66,10 @@ HWY_INLINE hn::Vec<DF> Atan2(DF df, hn::Vec<DF> y, hn::Vec<DF> x) {
   const auto ay = hn::Abs(y), ax = hn::Abs(x);
   const auto swap = hn::Gt(ay, ax);
   const auto num = hn::IfThenElse(swap, ax, ay), den = hn::IfThenElse(swap, ay, ax);
-  const auto ratio =
-      hn::IfThenElseZero(hn::Gt(den, hn::Zero(df)), hn::Div(num, den));  // in [0, 1]
-  auto a = hn::Atan(df, ratio);                                          // in [0, π/4]
+  const auto ratio = hn::IfThenElseZero(hn::Gt(den, hn::Zero(df)), hn::Div(num, den));  // in [0, 1]
+  auto a = hn::Atan(df, ratio);  // in [0, π/4]
   a = hn::IfThenElse(swap, hn::Sub(hn::Set(df, float(std::numbers::pi / 2)), a), a);
-  a = hn::IfThenElse(hn::Lt(x, hn::Zero(df)), hn::Sub(hn::Set(df, float(std::numbers::pi)), a),
-                     a);
+  a = hn::IfThenElse(hn::Lt(x, hn::Zero(df)), hn::Sub(hn::Set(df, float(std::numbers::pi)), a), a);
   return hn::CopySign(a, y);
 }
 

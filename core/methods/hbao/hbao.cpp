@@ -92,12 +92,7 @@ inline RayTangent tangent_on_ray(const glm::vec3& n, float n_r0, float qx, float
   return {r.z / glm::length(r), std::numeric_limits<float>::infinity()};
 }
 
-struct Frame {
-  const float* depth;    // background replaced by NaN, so every test on it fails
-  const float* normals;  // prepared, 3 per pixel
-  int width, height;
-  CameraIntrinsics cam;
-};
+using Frame = HbaoFrame;
 
 // The paper's one t(θ) per direction (per_sample_tangent off): from the ray one pixel along
 // θ, or in azimuth where that ray never meets the tangent plane.
@@ -247,6 +242,7 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
+  if (options.kernel == Kernel::Simd) return hbao_simd(frame, s, threads, options.progress);
 
   const HbaoDirections directions(s.directions);
   return image_from_pixels(
@@ -263,6 +259,7 @@ Method hbao_method() {
                         "Bavoil, Sainz, Dimitrov 2008, Image-Space Horizon-Based Ambient Occlusion",
                         kHbaoFields, hbao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

@@ -144,6 +144,19 @@ Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& opt
 /// The registry entry.
 Method hbao_method();
 
+/// What the HBAO kernels read of a frame: depth with background as NaN (so every comparison
+/// with it fails), prepared normals (3 floats per pixel), the size and the camera.
+struct HbaoFrame {
+  const float* depth;
+  const float* normals;
+  int width, height;
+  CameraIntrinsics cam;
+};
+
+/// The SIMD kernel (hbao_simd.cpp): the same algorithm as the scalar per-pixel code for every
+/// setting, on consecutive pixels of a row at once. hbao() runs it for Kernel::Simd.
+Image hbao_simd(const HbaoFrame& f, const HbaoSettings& s, int threads, Progress* progress);
+
 // ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
 // texels; the oracle re-derives everything else in double precision. ----
 
@@ -162,6 +175,9 @@ class HbaoDirections {
   int size() const { return int(base_cos_.size()); }
   /// cos/sin of the directions rotated by `rotation` (a fraction of the spacing, [0, 1)).
   void rotated(float rotation, float* cos_out, float* sin_out) const;
+  /// The unrotated table: cos and sin of 2π k / N_d.
+  const float* base_cos() const { return base_cos_.data(); }
+  const float* base_sin() const { return base_sin_.data(); }
 
  private:
   std::vector<float> base_cos_, base_sin_;

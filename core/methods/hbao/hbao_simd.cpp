@@ -1,0 +1,321 @@
+// HBAO's SIMD kernel: the scalar per-pixel code of hbao.cpp (the oracle it is tested
+// against) on Lanes consecutive pixels of a row at once, compiled by Highway for every target
+// and dispatched at run time. Every setting is supported; each lane follows exactly the
+// scalar pixel's steps (its own rotation, jitter, snapped texels, tangent tests), so the two
+// differ only by float rounding (FMA, Highway's sin/cos for the rotation).
+//
+// What it does differently (docs/methods/hbao.md, "SIMD kernel"):
+// - the depth of a sample is a gather; a lane whose march left the image stops, as the scalar
+//   loop's break does, and the direction ends when every lane has stopped;
+// - the per-sample tangent test first runs a division-free form of its sign test
+//   ("is the sample nearer than the tangent plane on its ray?"), and the exact test with its
+//   rounding tolerance, the square roots and divisions runs only when a lane passes it —
+//   on open surfaces most steps end there, as the scalar code's early return does.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/methods/hbao/hbao_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
+#include "core/methods/hbao/hbao.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace aolab::HWY_NAMESPACE {
+namespace {
+namespace hn = hwy::HWY_NAMESPACE;
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+
+constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
+
+// The receiver P of each lane (hbao_receiver).
+struct Receiver {
+  VF d, nx, ny, nz;
+  VF px, py, ox, oy;
+  VI x;        // P's column
+  VF n_r0;     // n · (P's view ray at depth 1)
+  VF grazing;  // |r0| / |n·r0|
+};
+
+// What every step of a row shares.
+struct RowConstants {
+  VF inv_fx, inv_fy, fx, fy, width, height, radius, radius2, inv_radius;
+  int y, w;
+};
+
+// elevation_sin_on_ray: sine of the elevation, seen from P, of the point at depth z on the
+// view ray through P's pixel centre + (qx, qy).
+HWY_INLINE VF ElevationSinOnRay(DF df, const Receiver& p, const RowConstants& k, VF qx, VF qy,
+                                VF z) {
+  const VF dz = hn::Sub(z, p.d);
+  const VF dx = hn::Mul(hn::MulAdd(qx, z, hn::Mul(p.ox, dz)), k.inv_fx);
+  const VF dy = hn::Neg(hn::Mul(hn::MulAdd(qy, z, hn::Mul(p.oy, dz)), k.inv_fy));
+  const VF len = hn::Sqrt(hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dz, dz))));
+  return hn::IfThenElseZero(hn::Gt(len, hn::Zero(df)), hn::Div(hn::Neg(dz), len));
+}
+
+// tangent_sin_in_azimuth: the tangent plane's elevation in the azimuth (ux, uy).
+HWY_INLINE VF TangentSinInAzimuth(DF df, const Receiver& p, VF ux, VF uy) {
+  const VF along = hn::MulAdd(p.nx, ux, hn::Mul(p.ny, uy));
+  const VF denom = hn::Sqrt(
+      hn::MulAdd(along, along, hn::Mul(hn::Mul(p.nz, p.nz), hn::MulAdd(ux, ux, hn::Mul(uy, uy)))));
+  const VF signed_along = hn::IfThenElse(hn::Lt(p.nz, hn::Zero(df)), along, hn::Neg(along));
+  return hn::IfThenElseZero(hn::Gt(denom, hn::Zero(df)), hn::Div(signed_along, denom));
+}
+
+// hbao_cosine_band on every lane.
+HWY_INLINE VF CosineBand(DF df, VF a, VF nz, VF sin_a, VF cos_a, VF sin_t, VF cos_t) {
+  const VF diff = Atan2(df, hn::Sub(hn::Mul(sin_a, cos_t), hn::Mul(cos_a, sin_t)),
+                        hn::MulAdd(cos_a, cos_t, hn::Mul(sin_a, sin_t)));
+  const VF band = hn::Add(diff, hn::Sub(hn::Mul(sin_a, cos_a), hn::Mul(sin_t, cos_t)));
+  return hn::MulAdd(a, band, hn::Mul(nz, hn::Sub(hn::Mul(sin_a, sin_a), hn::Mul(sin_t, sin_t))));
+}
+
+// direction_tangent_sin: the paper's one t(θ) per direction (per_sample_tangent off).
+HWY_INLINE VF DirectionTangentSin(DF df, const Receiver& p, const RowConstants& k, VF step_x,
+                                  VF step_y, VF c, VF s) {
+  const VF len = hn::Sqrt(hn::MulAdd(step_x, step_x, hn::Mul(step_y, step_y)));
+  const VF qx = hn::Div(step_x, len), qy = hn::Div(step_y, len);
+  // tangent_on_ray for the ray through P's pixel centre + (qx, qy).
+  const VF rx = hn::Mul(hn::Add(p.ox, qx), k.inv_fx);
+  const VF ry = hn::Neg(hn::Mul(hn::Add(p.oy, qy), k.inv_fy));
+  const VF n_r = hn::Sub(hn::MulAdd(p.nx, rx, hn::Mul(p.ny, ry)), p.nz);
+  const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_r);
+  const MF hits =
+      hn::And(hn::And(hn::Lt(n_r, hn::Zero(df)), hn::Gt(tau, hn::Zero(df))), hn::IsFinite(tau));
+  // Outside `hits` tau may be anything: the elevation there is not used.
+  const VF on_ray = ElevationSinOnRay(df, p, k, qx, qy, hn::IfThenElse(hits, tau, p.d));
+  return hn::IfThenElse(hits, on_ray, TangentSinInAzimuth(df, p, c, s));
+}
+
+// The state of one direction's march on every lane.
+struct March {
+  VF best_gain, best_r, rises;
+};
+
+// One sample step of march_direction on every lane still marching (`live`): the candidate
+// test of sample_candidate and the horizon update.
+HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, const RowConstants& k,
+                           VF sin_t_dir, VF c, VF sn, MF live, VI sx, VI sy, VF ds, March& m) {
+  const DI di;
+  const VF zero = hn::Zero(df);
+  const VF qx = hn::ConvertTo(df, hn::Sub(sx, p.x));
+  const VF qy = hn::ConvertTo(df, hn::Sub(sy, hn::Set(di, k.y)));
+  // D = S − P without cancellation (elevation_sin_on_ray).
+  const VF dd = hn::Sub(ds, p.d);
+  const VF dx = hn::Mul(hn::MulAdd(qx, ds, hn::Mul(p.ox, dd)), k.inv_fx);
+  const VF dy = hn::Neg(hn::Mul(hn::MulAdd(qy, ds, hn::Mul(p.oy, dd)), k.inv_fy));
+  const VF r2 = hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dd, dd)));
+  // Within R (NaN, the background, fails) and not P itself.
+  live = hn::And(live, hn::And(hn::Le(r2, k.radius2), hn::Ne(r2, zero)));
+  if (hn::AllFalse(df, live)) return;
+
+  MF counts;
+  VF gain, r;
+  if (s.per_sample_tangent) {
+    const VF rsx = hn::Mul(hn::Add(p.ox, qx), k.inv_fx);
+    const VF rsy = hn::Neg(hn::Mul(hn::Add(p.oy, qy), k.inv_fy));
+    const VF n_rs = hn::Sub(hn::MulAdd(p.nx, rsx, hn::Mul(p.ny, rsy)), p.nz);
+    // The sign test without its division: where the ray meets the plane in front of the
+    // camera (n·rs < 0 and n·r0 < 0, d > 0), tau > ds ⇔ d·(n·r0) < ds·(n·rs). Only a
+    // prefilter: the exact test below decides, and a lane it drops here by a rounding of the
+    // products is one that fails the exact test's tolerance of ≥ 8 ulps anyway.
+    const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
+    const MF maybe =
+        hn::And(live, hn::Or(hn::Not(meets), hn::Lt(hn::Mul(p.d, p.n_r0), hn::Mul(ds, n_rs))));
+    if (hn::AllFalse(df, maybe)) return;
+    // per_sample_candidate, exactly.
+    const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_rs);
+    const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
+    const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
+    const VF rs_len = hn::Sqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, hn::Set(df, 1.0f))));
+    const VF grazing_s = hn::Div(rs_len, hn::Abs(n_rs));
+    const VF tol =
+        hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))),
+                hn::MulAdd(hn::Set(df, kHbaoNormalUlps), hn::Add(p.grazing, grazing_s),
+                           hn::Set(df, kHbaoDepthUlps)));
+    const VF gap =
+        hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
+    counts = hn::And(hn::AndNot(rejected, maybe), hn::Gt(gap, tol));
+    if (hn::AllFalse(df, counts)) return;
+    const VF sin_t =
+        hn::IfThenElse(hits, ElevationSinOnRay(df, p, k, qx, qy, hn::IfThenElse(hits, tau, p.d)),
+                       hn::Div(hn::Set(df, -1.0f), rs_len));
+    r = hn::Sqrt(r2);
+    gain = hn::Sub(hn::Div(hn::Neg(dd), r), sin_t);
+  } else {
+    r = hn::Sqrt(r2);
+    gain = hn::Sub(hn::Div(hn::Neg(dd), r), sin_t_dir);
+    const VF tol =
+        hn::Add(hn::Set(df, kHbaoNormalTolerance),
+                hn::Div(hn::Mul(hn::Set(df, kHbaoDepthUlps * kUnitRoundoff), hn::Max(p.d, ds)), r));
+    counts = hn::And(live, hn::Gt(gain, tol));
+    if (hn::AllFalse(df, counts)) return;
+  }
+
+  if (s.integral == int(HbaoIntegral::Cosine)) {  // cosine_gain
+    const VF sin_a = hn::Div(hn::Neg(dd), r);
+    const VF hor = hn::Sqrt(hn::MulAdd(dx, dx, hn::Mul(dy, dy)));
+    const VF cos_a = hn::Div(hor, r);
+    if (!s.per_sample_tangent) {
+      const VF a = hn::MulAdd(p.nx, c, hn::Mul(p.ny, sn));
+      const VF cos_t =
+          hn::Sqrt(hn::Max(zero, hn::NegMulAdd(sin_t_dir, sin_t_dir, hn::Set(df, 1.0f))));
+      gain = CosineBand(df, a, p.nz, sin_a, cos_a, sin_t_dir, cos_t);
+    } else {
+      const MF has_hor = hn::Gt(hor, zero);
+      const VF ux = hn::IfThenElse(has_hor, hn::Div(dx, hor), c);
+      const VF uy = hn::IfThenElse(has_hor, hn::Div(dy, hor), sn);
+      const VF a = hn::MulAdd(p.nx, ux, hn::Mul(p.ny, uy));
+      const VF rho = hn::Sqrt(hn::MulAdd(a, a, hn::Mul(p.nz, p.nz)));
+      const MF has_rho = hn::Gt(rho, zero);  // else n ⟂ the whole slice: n·ω = 0 in it
+      const VF sin_t = hn::Div(hn::IfThenElse(hn::Lt(p.nz, zero), a, hn::Neg(a)), rho);
+      const VF cos_t = hn::Div(hn::Abs(p.nz), rho);
+      gain = hn::IfThenElseZero(has_rho, CosineBand(df, a, p.nz, sin_a, cos_a, sin_t, cos_t));
+    }
+  }
+
+  // The horizon update of march_direction.
+  const MF first = hn::Eq(m.best_r, zero);
+  const MF rises_more = hn::Gt(gain, hn::Add(m.best_gain, hn::Set(df, kHbaoHorizonTie)));
+  const MF update = hn::And(hn::And(counts, hn::Gt(gain, zero)), hn::Or(first, rises_more));
+  if (hn::AllFalse(df, update)) return;
+  const VF w = hn::Max(zero, hn::NegMulAdd(r, k.inv_radius, hn::Set(df, 1.0f)));
+  m.rises = hn::IfThenElse(update, hn::MulAdd(hn::Sub(gain, m.best_gain), w, m.rises), m.rises);
+  m.best_gain = hn::IfThenElse(update, gain, m.best_gain);
+  m.best_r = hn::IfThenElse(update, r, m.best_r);
+}
+
+// march_direction on every lane: eq. 3's term of direction (c, sn).
+HWY_INLINE VF MarchDirection(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
+                             const RowConstants& k, MF geometry, VF jitter, VF c, VF sn) {
+  const DI di;
+  const VF zero = hn::Zero(df);
+  // hbao_step: the projected radius split into N_s steps.
+  const VF scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
+  const VF step_x = hn::Mul(hn::Mul(c, k.fx), scale);
+  const VF step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), scale));
+  const VF sin_t_dir =
+      s.per_sample_tangent ? zero : DirectionTangentSin(df, p, k, step_x, step_y, c, sn);
+  March m{zero, zero, zero};
+  MF alive = geometry;
+  const VI row = hn::Set(di, k.y);
+  for (int i = 1; i <= s.steps; ++i) {
+    const VF t = hn::Sub(hn::Set(df, float(i)), jitter);
+    const VF sx_f = hn::MulAdd(t, step_x, p.px), sy_f = hn::MulAdd(t, step_y, p.py);
+    // Leaving the image is final for a lane (the scalar break); NaN fails too.
+    alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
+                                   hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
+    if (hn::AllFalse(df, alive)) break;
+    const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
+    const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
+    const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
+    const MF live = hn::AndNot(self, alive);
+    const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
+    const VF ds = hn::GatherIndex(df, f.depth, index);
+    SampleStep(df, s, p, k, sin_t_dir, c, sn, live, sx, sy, ds, m);
+  }
+  if (s.attenuation == int(HbaoAttenuation::None)) return m.best_gain;
+  if (s.incremental_attenuation) return m.rises;
+  return hn::Mul(m.best_gain,
+                 hn::Max(zero, hn::NegMulAdd(m.best_r, k.inv_radius, hn::Set(df, 1.0f))));
+}
+
+}  // namespace
+
+// One row of HBAO into out[0, width): hbao_pixel on Lanes pixels at a time. base_cos/sin:
+// the unrotated direction table (HbaoDirections).
+void HbaoRow(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
+             const float* base_sin, int y, float* HWY_RESTRICT out) {
+  const DF df;
+  const DI di;
+  const int w = f.width;
+  const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
+  RowConstants k;
+  k.inv_fx = hn::Set(df, inv_fx), k.inv_fy = hn::Set(df, inv_fy);
+  k.fx = hn::Set(df, f.cam.fx), k.fy = hn::Set(df, f.cam.fy);
+  k.width = hn::Set(df, float(w)), k.height = hn::Set(df, float(f.height));
+  k.radius = hn::Set(df, s.radius), k.radius2 = hn::Set(df, s.radius * s.radius);
+  k.inv_radius = hn::Set(df, 1.0f / s.radius);
+  k.y = y, k.w = w;
+  const float* depth_row = f.depth + std::size_t(y) * w;
+  const float* normal_row = f.normals + 3 * std::size_t(y) * w;
+  const float py = float(y) + 0.5f;
+  const float spacing = float(2.0 * std::numbers::pi / s.directions);
+  const auto seed = std::uint32_t(s.seed);
+
+  ForEachRowVector(df, w, [&](int x0, int count) {
+    Receiver p;
+    p.d = LoadRowPart(df, depth_row + x0, count);
+    const MF geometry = hn::Eq(p.d, p.d);  // background is NaN
+    if (count == int(hn::Lanes(df))) {
+      hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
+    } else {
+      HWY_ALIGN float n[3][hn::MaxLanes(df)];
+      for (int i = 0; i < int(hn::Lanes(df)); ++i)
+        for (int c = 0; c < 3; ++c)
+          n[c][i] = normal_row[3 * std::size_t(x0 + std::min(i, count - 1)) + c];
+      p.nx = hn::Load(df, n[0]), p.ny = hn::Load(df, n[1]), p.nz = hn::Load(df, n[2]);
+    }
+    // A tail lane repeats the row's last pixel's data at its own x; its result is dropped.
+    p.x = hn::Add(hn::Set(di, x0), hn::Iota(di, 0));
+    p.px = PixelCentres(df, x0), p.py = hn::Set(df, py);
+    p.ox = hn::Sub(p.px, hn::Set(df, f.cam.cx)), p.oy = hn::Set(df, py - f.cam.cy);
+    // hbao_receiver.
+    const VF r0x = hn::Mul(p.ox, k.inv_fx), r0y = hn::Neg(hn::Mul(p.oy, k.inv_fy));
+    p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
+    p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
+                        hn::Abs(p.n_r0));
+
+    VF result = hn::Set(df, 1.0f);
+    if (!hn::AllFalse(df, geometry)) {
+      // hbao_pixel_pattern and HbaoDirections::rotated.
+      const VF rotation = s.random_rotation ? PixelRandom(df, seed, x0, y, 0) : hn::Zero(df);
+      const VF jitter = s.jitter ? PixelRandom(df, seed, x0, y, 1) : hn::Zero(df);
+      const VF phi = hn::Mul(rotation, hn::Set(df, spacing));
+      const VF cp = hn::Cos(df, phi), sp = hn::Sin(df, phi);
+      VF occlusion = hn::Zero(df);
+      for (int dir = 0; dir < s.directions; ++dir) {
+        const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
+        const VF c = hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp));
+        const VF sn = hn::MulAdd(bs, cp, hn::Mul(bc, sp));
+        occlusion = hn::Add(occlusion, MarchDirection(df, f, s, p, k, geometry, jitter, c, sn));
+      }
+      const VF ao =
+          hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
+      result =
+          hn::IfThenElse(geometry, hn::Min(hn::Max(ao, hn::Zero(df)), hn::Set(df, 1.0f)), result);
+    }
+    StoreRowPart(df, result, count, out + x0);
+  });
+}
+
+}  // namespace aolab::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace aolab {
+
+HWY_EXPORT(HbaoRow);
+
+Image hbao_simd(const HbaoFrame& f, const HbaoSettings& s, int threads, Progress* progress) {
+  const HbaoDirections directions(s.directions);
+  return image_from_rows(
+      f.width, f.height, threads, progress, [] { return 0; },
+      [&](int, int y, float* out) {
+        HWY_DYNAMIC_DISPATCH(HbaoRow)(f, s, directions.base_cos(), directions.base_sin(), y, out);
+      });
+}
+
+}  // namespace aolab
+#endif  // HWY_ONCE
