@@ -23,9 +23,10 @@ int resolve_threads(int threads) {
 }
 
 void parallel_for_rows(int rows, int threads, const std::function<void(int, int)>& body,
-                       Progress* progress) {
+                       Progress* progress, int rows_per_band) {
   if (rows <= 0) return;
-  const int bands = (rows + kRowsPerBand - 1) / kRowsPerBand;
+  const int band_rows = rows_per_band > 0 ? rows_per_band : kRowsPerBand;
+  const int bands = (rows + band_rows - 1) / band_rows;
   const int workers = std::min(resolve_threads(threads), bands);
   std::atomic<int> next{0};
   std::atomic<bool> failed{false};
@@ -38,7 +39,7 @@ void parallel_for_rows(int rows, int threads, const std::function<void(int, int)
       if (progress && progress->cancel.load(std::memory_order_relaxed)) return;
       const int band = next.fetch_add(1, std::memory_order_relaxed);
       if (band >= bands) return;
-      const int y0 = band * kRowsPerBand, y1 = std::min(rows, y0 + kRowsPerBand);
+      const int y0 = band * band_rows, y1 = std::min(rows, y0 + band_rows);
       try {
         body(y0, y1);
       } catch (...) {

@@ -33,8 +33,9 @@ int resolve_threads(int threads);
 /// (0 = all cores). Exceptions from a band are rethrown in the caller after all threads stop.
 /// If `progress` is given, adds finished rows to progress->done and stops early with
 /// Cancelled when progress->cancel is set.
+/// `rows_per_band` sets the band height (0: the default of 4 rows).
 void parallel_for_rows(int rows, int threads, const std::function<void(int, int)>& body,
-                       Progress* progress = nullptr);
+                       Progress* progress = nullptr, int rows_per_band = 0);
 
 /// The per-pixel loop every method runs: a 1-channel `width` × `height` image whose pixel
 /// (x, y) is pixel(scratch, x, y), rows in parallel bands as parallel_for_rows; each band gets
@@ -72,6 +73,32 @@ Image image_from_rows(int width, int height, int threads, Progress* progress,
         for (int y = y0; y < y1; ++y) row(scratch, y, &out(0, y));
       },
       progress);
+  return out;
+}
+
+/// The loop of the SIMD kernels that read a neighbourhood of each pixel: bands of
+/// `band_rows` rows in parallel; inside a band, column tiles of `tile_columns` pixels, all the
+/// band's rows of one tile before the next tile, so that the neighbourhood a tile reads stays
+/// in the core's own cache (row after row over the whole width, HBAO's ±R window of rows is
+/// larger than a core's L2 at 1280×720). span(scratch, y, x0, x1, out_row) fills
+/// out_row[x0, x1); `tile_columns` should be a multiple of the vector length, so that a row is
+/// cut into vectors at the same places whatever the tile. Adds `height` rows to
+/// progress->total.
+template <class MakeScratch, class Span>
+Image image_from_tiles(int width, int height, int threads, Progress* progress, int band_rows,
+                       int tile_columns, MakeScratch make_scratch, Span span) {
+  Image out(width, height, 1, 1.0f);
+  if (progress) progress->total += height;
+  parallel_for_rows(
+      height, threads,
+      [&](int y0, int y1) {
+        auto scratch = make_scratch();
+        for (int x0 = 0; x0 < width; x0 += tile_columns) {
+          const int x1 = x0 + tile_columns < width ? x0 + tile_columns : width;
+          for (int y = y0; y < y1; ++y) span(scratch, y, x0, x1, &out(0, y));
+        }
+      },
+      progress, band_rows);
   return out;
 }
 

@@ -82,6 +82,15 @@ HWY_INLINE void ForEachRowVector(DF df, int width, Body body) {
   for (int x0 = 0; x0 < width; x0 += n) body(x0, width - x0 < n ? width - x0 : n);
 }
 
+/// Runs body(x0, lanes_valid) over the pixels [x_begin, x_end) of a row in vectors of
+/// Lanes(df), as ForEachRowVector; x_begin must be a multiple of Lanes(df) (a tile edge), so
+/// that a pixel lands in the same vector whatever the tiling.
+template <class DF, class Body>
+HWY_INLINE void ForEachSpanVector(DF df, int x_begin, int x_end, Body body) {
+  const int n = int(hn::Lanes(df));
+  for (int x0 = x_begin; x0 < x_end; x0 += n) body(x0, x_end - x0 < n ? x_end - x0 : n);
+}
+
 /// Stores the first `count` lanes of v at out (count ≤ Lanes(df)).
 template <class DF>
 HWY_INLINE void StoreRowPart(DF df, hn::Vec<DF> v, int count, float* HWY_RESTRICT out) {

@@ -11,6 +11,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/base/gbuffer.h"
 #include "core/scenes/analytic_scenes.h"
@@ -99,6 +100,30 @@ inline double mean_value(const Image& image) {
 inline void expect_other_noise_same_mean(const Image& a, const Image& b, double tolerance) {
   EXPECT_NE(a.pixels(), b.pixels());
   EXPECT_NEAR(mean_value(a), mean_value(b), tolerance);
+}
+
+/// How far a method's SIMD kernel is from its scalar code (the oracle) on one G-buffer: the
+/// mean, the 99.9th percentile and the largest |difference| over every pixel and channel.
+struct KernelDifference {
+  double mean = 0, p999 = 0, worst = 0;
+};
+
+inline KernelDifference kernel_difference(const Image& simd, const Image& scalar) {
+  EXPECT_EQ(simd.width(), scalar.width());
+  EXPECT_EQ(simd.height(), scalar.height());
+  EXPECT_EQ(simd.channels(), scalar.channels());
+  std::vector<double> d;
+  d.reserve(simd.pixels().size());
+  for (std::size_t i = 0; i < simd.pixels().size(); ++i)
+    d.push_back(std::abs(double(simd.pixels()[i]) - double(scalar.pixels()[i])));
+  KernelDifference k;
+  if (d.empty()) return k;
+  for (double v : d) k.mean += v;
+  k.mean /= double(d.size());
+  std::sort(d.begin(), d.end());
+  k.p999 = d[std::min(d.size() - 1, std::size_t(0.999 * double(d.size())))];
+  k.worst = d.back();
+  return k;
 }
 
 /// A fixture owning a fresh temporary folder, removed after the test.
