@@ -125,26 +125,23 @@ glm::vec3 normal_from_depth(const GBuffer& g, int x, int y) {
   return to_camera;
 }
 
+glm::vec3 prepared_normal(const GBuffer& g, int x, int y) {
+  if (!g.valid(x, y)) return glm::vec3(0.0f);
+  if (g.has_normal()) {
+    glm::vec3 n(g.normal(x, y, 0), g.normal(x, y, 1), g.normal(x, y, 2));
+    const float len = glm::length(n);
+    if (std::isfinite(len) && len >= kMinNormalLength) {
+      n /= len;
+      return glm::dot(n, -position_at(g, x, y)) < 0.0f ? -n : n;
+    }
+  }
+  return normal_from_depth(g, x, y);
+}
+
 Image prepared_normals(const GBuffer& g, int threads) {
   Image out(g.width(), g.height(), 3, 0.0f);
   parallel_for_rows(g.height(), threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < g.width(); ++x) {
-        if (!g.valid(x, y)) continue;
-        glm::vec3 n(0.0f);
-        bool usable = false;
-        if (g.has_normal()) {
-          n = {g.normal(x, y, 0), g.normal(x, y, 1), g.normal(x, y, 2)};
-          const float len = glm::length(n);
-          usable = std::isfinite(len) && len >= kMinNormalLength;
-          if (usable) {
-            n /= len;
-            if (glm::dot(n, -position_at(g, x, y)) < 0.0f) n = -n;
-          }
-        }
-        if (!usable) n = normal_from_depth(g, x, y);
-        for (int c = 0; c < 3; ++c) out(x, y, c) = n[c];
-      }
+    for (int y = y0; y < y1; ++y) prepared_normals_row(g, y, &out(0, y));
   });
   return out;
 }

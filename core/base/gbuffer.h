@@ -77,6 +77,16 @@ constexpr float kMinNormalLength = 1e-3f;
 /// - background pixels get (0, 0, 0).
 Image prepared_normals(const GBuffer& g, int threads = 0);
 
+/// The prepared normal of pixel (x, y), as prepared_normals gives it: the rule above, pixel by
+/// pixel (the reference for prepared_normals_row, and its path for the exceptions).
+glm::vec3 prepared_normal(const GBuffer& g, int x, int y);
+
+/// Row y of prepared_normals into out (3 floats per pixel), bit for bit prepared_normal:
+/// gbuffer_simd.cpp does the usual pixel (geometry with a usable normal) in SIMD, in the
+/// scalar code's order of operations and without fused multiply-adds, and calls
+/// prepared_normal for the rest.
+void prepared_normals_row(const GBuffer& g, int y, float* out);
+
 /// Normal of the surface at (x, y) estimated from depth: the cross product of the smaller of
 /// the left/right and of the up/down position differences (so a depth edge on one side is
 /// ignored), facing the camera. Falls back to the direction towards the camera when no valid

@@ -4,6 +4,7 @@
     aolab analytic NAME OUT.exr           write an analytic scene's G-buffer (+ sidecar)
     aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
     aolab bench [options]                 time a method (median of repeated runs)
+    aolab bench-table [METHOD...]         every method's scalar code against its SIMD kernel
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
     aolab limits [SCENE...] [options]     compute the screen-space limit of each scene (committed)
     aolab compare [SCENE...] [options]    score every method against the references: report
@@ -365,6 +366,11 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_bench_table(args) -> int:
+    from . import kernel_bench
+    return kernel_bench.main(args)
+
+
 def cmd_reference(args) -> int:
     from . import reference
     return reference.main(args)   # a ReferenceError is an `aolab: ...` message like any other
@@ -529,6 +535,25 @@ def build_parser() -> argparse.ArgumentParser:
     input_options(b, threads=False)
     add_timing_options(b, repeat=7, warmup=1, repeat_help="timed runs (their median)")
     b.set_defaults(func=cmd_bench)
+
+    bt = sub.add_parser("bench-table",
+                        help="every method's scalar code against its SIMD kernel, one run",
+                        description="Times each method at a preset on the blocks scene at "
+                        "1280x720, R = 0.25: its scalar code on 1 thread, its SIMD kernel on 1 "
+                        "and 2 threads, the speed-up and the samples per second "
+                        "(docs/benchmarks.md). scripts/bench.sh runs it.")
+    # No `choices`: Python 3.11 argparse checks an empty nargs="*" list against them and
+    # refuses it; an unknown name is a ValueError from aolab.method_info instead.
+    bt.add_argument("methods", nargs="*", metavar="METHOD",
+                    help="methods (default: every method but the oracles)")
+    bt.add_argument("--preset", default="medium",
+                    help="the preset to time (default medium; the shared blur is left out)")
+    bt.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=5,
+                    help=f"timed runs per kernel, 1 to {MAX_RUNS} (their median; default 5)")
+    bt.add_argument("--scaling", action="store_true",
+                    help="also 3840x2160: time, its ratio to 1280x720 and the peak memory")
+    bt.add_argument("--json", help="also write the rows to this JSON file")
+    bt.set_defaults(func=cmd_bench_table)
 
     f = sub.add_parser("reference", help="render Cycles AO references with Blender (cached)",
                        description="Renders the G-buffer passes and the Cycles AO reference of "

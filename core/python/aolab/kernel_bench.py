@@ -1,0 +1,162 @@
+"""``aolab bench --table``: every method's scalar code against its SIMD kernel, in one run.
+
+Per method, at a preset (``medium`` by default, the shared blur left out as the study times
+it apart) on the ``blocks`` analytic scene at 1280×720 with R = 0.25 (the benchmarks' scene,
+docs/benchmarks.md):
+
+- ``scalar ms``: the scalar per-pixel code (``kernel="scalar"``) on 1 thread — the plain
+  implementation of the algorithm, and the SIMD kernel's test oracle;
+- ``simd 1t`` and ``simd 2t``: the SIMD kernel on 1 and 2 threads;
+- ``speed-up``: scalar ms / simd 2t;
+- ``2t/1t``: simd 1t / simd 2t, how well the second core serves;
+- ``Mpx/s`` and ``Msamples/s`` at 2 threads, where the method's samples per pixel are a
+  count of its settings (``samples_per_pixel``);
+- with ``scaling``: the SIMD kernel at 3840×2160 on 2 threads, its ratio to 1280×720 (9 for
+  time linear in the pixels) and the peak memory of one run there, measured in a child
+  process (its peak resident size less the size before the run).
+
+Times are medians of ``repeat`` runs after one warm-up, wall clock.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+
+import aolab
+
+from . import presets as presets_module
+
+#: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
+SCENE = "blocks"
+RADIUS = 0.25
+SIZE = (1280, 720)
+LARGE_SIZE = (3840, 2160)
+
+
+def samples_per_pixel(method: str, settings: dict) -> float | None:
+    """Depth reads per pixel that the method's settings fix (None where they do not: the
+    line sweeps' and Chebyshev's cost is per line and per kernel, Pyramid HBAO's depends on
+    the levels R spans)."""
+    full = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]}
+    full.update(settings)
+    if method == "hbao":
+        return full["directions"] * full["steps"]
+    if method in ("gtao", "bitmask"):
+        return full["slices"] * 2 * full["steps"]
+    if method in ("vao", "vao_pp", "alchemy", "sao", "crytek_ssao"):
+        return full.get("samples")
+    return None
+
+
+def _time(method, g, settings, *, threads, kernel, repeat) -> float:
+    aolab.compute(method, g, radius=RADIUS, threads=threads, kernel=kernel, **settings)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        aolab.compute(method, g, radius=RADIUS, threads=threads, kernel=kernel, **settings)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times) * 1000.0
+
+
+def configuration(method: str, preset: str) -> dict:
+    """The preset's own settings as the study runs them (no blur)."""
+    values, _blur = presets_module.preset_values(method, preset)
+    return values
+
+
+def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
+    """Peak resident memory of one run of the SIMD kernel at ``size``, beyond what the process
+    held before it (the G-buffer included there), in MiB, from a child process."""
+    code = (
+        "import json, resource, sys, aolab\n"
+        "m, s, w, h, r = json.loads(sys.argv[1])\n"
+        "g = aolab.analytic_scene('blocks', w, h)\n"
+        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "aolab.compute(m, g, radius=r, threads=2, **s)\n"
+        "after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "print((after - before) / 1024.0)\n")
+    arg = json.dumps([method, settings, size[0], size[1], RADIUS])
+    out = subprocess.run([sys.executable, "-c", code, arg], capture_output=True, text=True,
+                         check=True, env=dict(os.environ))
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: bool = False,
+          progress=print) -> list[dict]:
+    """One row per method (see the module docstring); oracles are left out."""
+    methods = methods or [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
+    g = aolab.analytic_scene(SCENE, *SIZE)
+    large = aolab.analytic_scene(SCENE, *LARGE_SIZE) if scaling else None
+    rows = []
+    for method in methods:
+        settings = configuration(method, preset)
+        has_simd = aolab.method_info(method)["simd_kernel"]
+        scalar = _time(method, g, settings, threads=1, kernel="scalar",
+                       repeat=max(1, min(repeat, 3)))
+        simd1 = _time(method, g, settings, threads=1, kernel="simd", repeat=repeat)
+        simd2 = _time(method, g, settings, threads=2, kernel="simd", repeat=repeat)
+        spp = samples_per_pixel(method, settings)
+        pixels = SIZE[0] * SIZE[1]
+        row = {"method": method, "preset": preset, "settings": settings,
+               "simd_kernel": has_simd, "scalar_ms": scalar, "simd_1t_ms": simd1,
+               "simd_2t_ms": simd2, "speedup": scalar / simd2, "threads_ratio": simd1 / simd2,
+               "mpx_per_s": pixels / simd2 / 1000.0,
+               "msamples_per_s": None if spp is None else pixels * spp / simd2 / 1000.0}
+        if scaling:
+            big = _time(method, large, settings, threads=2, kernel="simd",
+                        repeat=max(1, min(repeat, 3)))
+            row["large_ms"] = big
+            row["large_ratio"] = big / simd2
+            row["large_peak_mb"] = peak_memory_mb(method, settings)
+        rows.append(row)
+        if progress:
+            progress(format_row(row))
+    return rows
+
+
+HEADER = ("| method | preset | SIMD kernel | scalar 1t ms | SIMD 1t ms | SIMD 2t ms | speed-up "
+          "| 2t/1t | Mpx/s | Msamples/s |")
+
+
+def format_row(row: dict) -> str:
+    samples = "—" if row["msamples_per_s"] is None else f"{row['msamples_per_s']:.0f}"
+    text = (f"| {row['method']} | {row['preset']} | {'yes' if row['simd_kernel'] else 'no'} "
+            f"| {row['scalar_ms']:.1f} | {row['simd_1t_ms']:.1f} | {row['simd_2t_ms']:.1f} "
+            f"| {row['speedup']:.1f}× | {row['threads_ratio']:.2f} | {row['mpx_per_s']:.1f} "
+            f"| {samples} |")
+    if "large_ms" in row:
+        text += (f" {row['large_ms']:.0f} | {row['large_ratio']:.1f} "
+                 f"| {row['large_peak_mb']:.0f} |")
+    return text
+
+
+def header(scaling: bool) -> str:
+    h = HEADER
+    if scaling:
+        h += " SIMD 2t ms at 3840×2160 | ×(9 = linear) | peak MiB at 3840×2160 |"
+    return h + "\n" + "|---" * (h.count("|") - 1) + "|"
+
+
+def machine() -> str:
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return (f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+            f"load average {load:.2f} at the start")
+
+
+def main(args) -> int:
+    print(f"# aolab bench-table: {SCENE} {SIZE[0]}x{SIZE[1]}, R = {RADIUS}, preset "
+          f"{args.preset}, median of {args.repeat} runs; {machine()}")
+    print(header(args.scaling))
+    rows = table(args.methods or None, preset=args.preset, repeat=args.repeat,
+                 scaling=args.scaling)
+    if args.json:
+        from .report import atomic_write_text
+        from pathlib import Path
+        atomic_write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
+    return 0
