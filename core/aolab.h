@@ -5,7 +5,7 @@
 // - core/base/      checks that throw (check.h), images and strided views (image.h), setting
 //                   tables (settings.h), row-parallel loops with progress and cancellation
 //                   (parallel.h), pinhole intrinsics (camera.h), the G-buffer and the
-//                   background rule (gbuffer.h).
+//                   background rule (gbuffer.h), the SIMD target in use (simd_target.h).
 // - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
 //                   rotation-aware Poisson-disk sets (poisson_disk.h).
 // - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
@@ -44,6 +44,7 @@
 #include "core/base/image.h"
 #include "core/base/parallel.h"
 #include "core/base/settings.h"
+#include "core/base/simd_target.h"
 
 // core/sampling
 #include "core/sampling/blue_noise.h"

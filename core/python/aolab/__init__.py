@@ -18,12 +18,19 @@ from . import _core
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
-    "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets",
+    "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
 ]
 
 GBuffer = _core.GBuffer
 Progress = _core.Progress
 Cancelled = _core.Cancelled
+
+
+def simd_target() -> str:
+    """The instruction set the SIMD kernels run on here, as Highway names it: ``"AVX3"``
+    (AVX-512), ``"AVX2"``, ``"SSE4"``, ``"NEON"``, ... (chosen at run time; the build is
+    portable)."""
+    return _core.simd_target()
 
 
 def methods() -> list[str]:

@@ -118,6 +118,21 @@ def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
     return parse
 
 
+def size_option(name: str):
+    """An argparse ``type=`` for ``WxH`` with integers in [1, MAX_SIDE] (the analytic scenes'
+    range): (width, height), or argparse.ArgumentTypeError naming the option and the text."""
+    def parse(text: str) -> tuple[int, int]:
+        parts = str(text).strip().lower().split("x")
+        if len(parts) == 2 and all(p.strip().isascii() and p.strip().isdigit() for p in parts):
+            w, h = (int(p) for p in parts)
+            if 1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE:
+                return w, h
+        raise argparse.ArgumentTypeError(f"{name} must be WxH with integers in [1, {MAX_SIDE}], "
+                                         f"got {_shown(text)}")
+    parse.__name__ = name
+    return parse
+
+
 def threads_option():
     return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
 
@@ -552,7 +567,12 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"timed runs per kernel, 1 to {MAX_RUNS} (their median; default 5)")
     bt.add_argument("--scaling", action="store_true",
                     help="also 3840x2160: time, its ratio to 1280x720 and the peak memory")
+    bt.add_argument("--size", type=size_option("--size"),
+                    help="WxH instead of 1280x720 (e.g. 640x360, the add-on's live preview)")
     bt.add_argument("--json", help="also write the rows to this JSON file")
+    bt.add_argument("--profile", metavar="DIR",
+                    help="also record each method's SIMD kernel with perf into DIR and print "
+                    "its hottest functions")
     bt.set_defaults(func=cmd_bench_table)
 
     f = sub.add_parser("reference", help="render Cycles AO references with Blender (cached)",

@@ -1,4 +1,4 @@
-"""``aolab bench --table``: every method's scalar code against its SIMD kernel, in one run.
+"""``aolab bench-table``: every method's scalar code against its SIMD kernel, in one run.
 
 Per method, at a preset (``medium`` by default, the shared blur left out as the study times
 it apart) on the ``blocks`` analytic scene at 1280×720 with R = 0.25 (the benchmarks' scene,
@@ -15,7 +15,9 @@ docs/benchmarks.md):
   time linear in the pixels) and the peak memory of one run there, measured in a child
   process (its peak resident size less the size before the run).
 
-Times are medians of ``repeat`` runs after one warm-up, wall clock.
+A last row times the shared separable Gaussian (``blur=True`` in a preset) alone, on the same
+frame. Times are medians of ``repeat`` runs after one warm-up, wall clock. ``profile`` also
+records each method's SIMD kernel with Linux ``perf`` and prints its hottest functions.
 """
 
 from __future__ import annotations
@@ -23,10 +25,12 @@ from __future__ import annotations
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import aolab
 
@@ -37,6 +41,8 @@ SCENE = "blocks"
 RADIUS = 0.25
 SIZE = (1280, 720)
 LARGE_SIZE = (3840, 2160)
+#: The name of the blur's row.
+BLUR_ROW = "shared blur"
 
 
 def samples_per_pixel(method: str, settings: dict) -> float | None:
@@ -54,14 +60,19 @@ def samples_per_pixel(method: str, settings: dict) -> float | None:
     return None
 
 
-def _time(method, g, settings, *, threads, kernel, repeat) -> float:
-    aolab.compute(method, g, radius=RADIUS, threads=threads, kernel=kernel, **settings)
+def _median_ms(run, repeat: int) -> float:
+    run()   # warm-up: first-touch page faults, caches, the dispatch table
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
-        aolab.compute(method, g, radius=RADIUS, threads=threads, kernel=kernel, **settings)
+        run()
         times.append(time.perf_counter() - t0)
     return statistics.median(times) * 1000.0
+
+
+def _time(method, g, settings, *, threads, kernel, repeat) -> float:
+    return _median_ms(lambda: aolab.compute(method, g, radius=RADIUS, threads=threads,
+                                            kernel=kernel, **settings), repeat)
 
 
 def configuration(method: str, preset: str) -> dict:
@@ -88,11 +99,13 @@ def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
 
 
 def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: bool = False,
-          progress=print) -> list[dict]:
-    """One row per method (see the module docstring); oracles are left out."""
+          size=SIZE, blur: bool = True, progress=print) -> list[dict]:
+    """One row per method (see the module docstring); oracles are left out. ``blur`` adds the
+    shared blur's row (method ``BLUR_ROW``: no scalar/SIMD split, its time in every column)."""
     methods = methods or [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
-    g = aolab.analytic_scene(SCENE, *SIZE)
+    g = aolab.analytic_scene(SCENE, *size)
     large = aolab.analytic_scene(SCENE, *LARGE_SIZE) if scaling else None
+    pixels = size[0] * size[1]
     rows = []
     for method in methods:
         settings = configuration(method, preset)
@@ -102,8 +115,7 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
         simd1 = _time(method, g, settings, threads=1, kernel="simd", repeat=repeat)
         simd2 = _time(method, g, settings, threads=2, kernel="simd", repeat=repeat)
         spp = samples_per_pixel(method, settings)
-        pixels = SIZE[0] * SIZE[1]
-        row = {"method": method, "preset": preset, "settings": settings,
+        row = {"method": method, "preset": preset, "settings": settings, "size": list(size),
                "simd_kernel": has_simd, "scalar_ms": scalar, "simd_1t_ms": simd1,
                "simd_2t_ms": simd2, "speedup": scalar / simd2, "threads_ratio": simd1 / simd2,
                "mpx_per_s": pixels / simd2 / 1000.0,
@@ -114,6 +126,17 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
             row["large_ms"] = big
             row["large_ratio"] = big / simd2
             row["large_peak_mb"] = peak_memory_mb(method, settings)
+        rows.append(row)
+        if progress:
+            progress(format_row(row))
+    if blur:
+        ao = aolab.compute("hbao", g, radius=RADIUS, **configuration("hbao", preset))
+        one, two = (_median_ms(lambda t=t: aolab.gaussian_blur(ao, g, threads=t), repeat)
+                    for t in (1, 2))
+        row = {"method": BLUR_ROW, "preset": "σ 1.5, 5 taps", "settings": {}, "size": list(size),
+               "simd_kernel": False, "scalar_ms": one, "simd_1t_ms": one, "simd_2t_ms": two,
+               "speedup": one / two, "threads_ratio": one / two,
+               "mpx_per_s": pixels / two / 1000.0, "msamples_per_s": None}
         rows.append(row)
         if progress:
             progress(format_row(row))
@@ -149,14 +172,60 @@ def machine() -> str:
             f"load average {load:.2f} at the start")
 
 
+def simd_target() -> str:
+    """The instruction set Highway dispatches to on this machine (the kernels' best target)."""
+    return aolab.simd_target() if hasattr(aolab, "simd_target") else "unknown"
+
+
+def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int = 10,
+            top: int = 12) -> list[str]:
+    """Records ``runs`` computations of the method's SIMD kernel on 2 threads with ``perf
+    record`` into folder/METHOD.perf.data, writes ``perf report`` to folder/METHOD.txt and
+    returns its ``top`` hottest functions (self time)."""
+    if shutil.which("perf") is None:
+        raise ValueError("--profile needs Linux perf (Debian package linux-perf: "
+                         "scripts/install-deps.sh installs it)")
+    folder.mkdir(parents=True, exist_ok=True)
+    data, report = folder / f"{method}.perf.data", folder / f"{method}.txt"
+    code = ("import json, sys, aolab\n"
+            "m, s, w, h, r, n = json.loads(sys.argv[1])\n"
+            "g = aolab.analytic_scene('blocks', w, h)\n"
+            "for _ in range(n): aolab.compute(m, g, radius=r, threads=2, **s)\n")
+    arg = json.dumps([method, settings, size[0], size[1], RADIUS, runs])
+    subprocess.run(["perf", "record", "-q", "-o", str(data), "--", sys.executable, "-c", code,
+                    arg], check=True, env=dict(os.environ), capture_output=True)
+    out = subprocess.run(["perf", "report", "-i", str(data), "--stdio", "--no-children",
+                          "--sort", "symbol", "--percent-limit", "0.5"],
+                         capture_output=True, text=True, check=True).stdout
+    report.write_text(out)
+    lines = [line.rstrip() for line in out.splitlines()
+             if line.strip() and not line.lstrip().startswith("#")]
+    return lines[:top]
+
+
+def _commit() -> str:
+    from .compare import _git_commit
+    return _git_commit(Path(__file__).resolve().parent) or "unknown"
+
+
 def main(args) -> int:
-    print(f"# aolab bench-table: {SCENE} {SIZE[0]}x{SIZE[1]}, R = {RADIUS}, preset "
-          f"{args.preset}, median of {args.repeat} runs; {machine()}")
+    size = SIZE
+    if args.size:
+        size = tuple(args.size)
+    print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
+          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {args.preset}, "
+          f"median of {args.repeat} runs; {machine()}; SIMD target {simd_target()}")
     print(header(args.scaling))
     rows = table(args.methods or None, preset=args.preset, repeat=args.repeat,
-                 scaling=args.scaling)
+                 scaling=args.scaling, size=size)
     if args.json:
         from .report import atomic_write_text
-        from pathlib import Path
         atomic_write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
+    if args.profile:
+        for row in rows:
+            if row["method"] == BLUR_ROW:
+                continue
+            print(f"\n## perf: {row['method']} ({args.preset}, SIMD kernel, 2 threads)")
+            for line in profile(row["method"], row["settings"], Path(args.profile), size=size):
+                print(line)
     return 0

@@ -1,5 +1,6 @@
 #include "core/base/parallel.h"
 
+#include "core/base/simd_target.h"
 #include "core/python/bindings/numpy_support.h"
 
 namespace aolab::python {
@@ -14,6 +15,9 @@ Progress of a running computation, to poll from another thread: `done` and `tota
       .def_property_readonly("total", [](const Progress& p) { return p.total.load(); })
       .def_property_readonly("cancelled", [](const Progress& p) { return p.cancel.load(); })
       .def("cancel", [](Progress& p) { p.cancel = true; });
+  m.def("simd_target", &simd_target_name,
+        "The instruction set the SIMD kernels run on here, as Highway names it (AVX3 = AVX-512, "
+        "AVX2, SSE4, NEON, ...).");
 }
 
 }  // namespace aolab::python

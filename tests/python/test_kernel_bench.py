@@ -1,0 +1,73 @@
+"""aolab bench-table (core/python/aolab/kernel_bench.py): one row per method with consistent
+columns, the shared blur's row, its options checked; timings themselves are never asserted."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+import aolab
+from aolab import kernel_bench
+
+SMALL = (48, 27)
+
+
+def test_rows_are_consistent():
+    rows = kernel_bench.table(["hbao", "crytek_ssao"], repeat=1, size=SMALL, progress=None)
+    assert [r["method"] for r in rows] == ["hbao", "crytek_ssao", kernel_bench.BLUR_ROW]
+    for r in rows:
+        assert r["size"] == list(SMALL)
+        for key in ("scalar_ms", "simd_1t_ms", "simd_2t_ms", "speedup", "threads_ratio"):
+            assert r[key] > 0
+        assert r["speedup"] == pytest.approx(r["scalar_ms"] / r["simd_2t_ms"])
+        assert r["threads_ratio"] == pytest.approx(r["simd_1t_ms"] / r["simd_2t_ms"])
+    hbao = rows[0]
+    assert hbao["simd_kernel"] is True
+    assert hbao["settings"] == {"directions": 8, "steps": 8}   # medium, the blur left out
+    spp = 8 * 8
+    assert hbao["msamples_per_s"] == pytest.approx(
+        SMALL[0] * SMALL[1] * spp / hbao["simd_2t_ms"] / 1000.0)
+
+
+def test_samples_per_pixel_follow_the_settings():
+    assert kernel_bench.samples_per_pixel("hbao", {"directions": 4, "steps": 3}) == 12
+    assert kernel_bench.samples_per_pixel("gtao", {"slices": 2, "steps": 5}) == 20
+    assert kernel_bench.samples_per_pixel("lsao", {}) is None
+
+
+def test_simd_target_is_a_highway_name():
+    assert aolab.simd_target() in {"AVX3_SPR", "AVX3_ZEN4", "AVX3_DL", "AVX3", "AVX2", "SSE4",
+                                   "SSSE3", "SSE2", "EMU128", "SCALAR", "NEON", "SVE", "SVE2",
+                                   "SVE_256", "SVE2_128", "PPC8", "WASM", "RVV"}
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "aolab", "bench-table", *args],
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_cli_prints_the_table_and_writes_json(tmp_path):
+    out = tmp_path / "rows.json"
+    r = _cli("alchemy", "--size", "40x24", "--repeat", "1", "--json", str(out))
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    assert lines[0].startswith("# aolab bench-table") and "40x24" in lines[0]
+    assert "commit" in lines[0] and "SIMD target" in lines[0]
+    assert lines[1].startswith("| method |")
+    assert lines[3].startswith("| alchemy | medium |")
+    assert lines[4].startswith(f"| {kernel_bench.BLUR_ROW} |")
+    assert [row["method"] for row in json.loads(out.read_text())] == [
+        "alchemy", kernel_bench.BLUR_ROW]
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--size", "0x5"], "--size must be WxH"),
+    (["--size", "12"], "--size must be WxH"),
+    (["--repeat", "0"], "--repeat"),
+    (["no_such_method", "--size", "8x8"], "no_such_method"),
+])
+def test_cli_refuses_bad_options(args, needle):
+    r = _cli(*args)
+    assert r.returncode == 2
+    assert needle in r.stderr
