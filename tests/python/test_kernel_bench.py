@@ -30,6 +30,16 @@ def test_rows_are_consistent():
         SMALL[0] * SMALL[1] * spp / hbao["simd_2t_ms"] / 1000.0)
 
 
+def test_scaling_and_radius_columns_keep_the_table_square():
+    rows = kernel_bench.table(["alchemy"], repeat=1, size=SMALL, radii=True, progress=None)
+    assert set(rows[0]["radius_ms"]) == {str(k) for k in kernel_bench.RADIUS_SCALES}
+    ratio = rows[0]["radius_ms"]["8"] / rows[0]["simd_2t_ms"]
+    assert rows[0]["radius_ratio"] == pytest.approx(ratio)
+    cells = kernel_bench.header(False, True).splitlines()[0].count("|")
+    for row in rows:
+        assert kernel_bench.format_row(row).count("|") == cells
+
+
 def test_samples_per_pixel_follow_the_settings():
     assert kernel_bench.samples_per_pixel("hbao", {"directions": 4, "steps": 3}) == 12
     assert kernel_bench.samples_per_pixel("gtao", {"slices": 2, "steps": 5}) == 20

@@ -567,6 +567,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"timed runs per kernel, 1 to {MAX_RUNS} (their median; default 5)")
     bt.add_argument("--scaling", action="store_true",
                     help="also 3840x2160: time, its ratio to 1280x720 and the peak memory")
+    bt.add_argument("--radii", action="store_true",
+                    help="also R x 2, 4 and 8 at the same settings (how time grows with R)")
     bt.add_argument("--size", type=size_option("--size"),
                     help="WxH instead of 1280x720 (e.g. 640x360, the add-on's live preview)")
     bt.add_argument("--json", help="also write the rows to this JSON file")

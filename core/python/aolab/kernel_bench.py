@@ -13,7 +13,10 @@ docs/benchmarks.md):
   count of its settings (``samples_per_pixel``);
 - with ``scaling``: the SIMD kernel at 3840×2160 on 2 threads, its ratio to 1280×720 (9 for
   time linear in the pixels) and the peak memory of one run there, measured in a child
-  process (its peak resident size less the size before the run).
+  process (its peak resident size less the size before the run);
+- with ``radii``: the SIMD kernel on 2 threads at R × 2, 4 and 8 (the preset's settings
+  unchanged, so the samples per pixel stay fixed and each method's own cost growth shows),
+  and the ratio ×8 / ×1.
 
 A last row times the shared separable Gaussian (``blur=True`` in a preset) alone, on the same
 frame. Times are medians of ``repeat`` runs after one warm-up, wall clock. ``profile`` also
@@ -41,6 +44,8 @@ SCENE = "blocks"
 RADIUS = 0.25
 SIZE = (1280, 720)
 LARGE_SIZE = (3840, 2160)
+#: The radius multiples of the ``radii`` columns.
+RADIUS_SCALES = (2, 4, 8)
 #: The name of the blur's row.
 BLUR_ROW = "shared blur"
 
@@ -70,8 +75,8 @@ def _median_ms(run, repeat: int) -> float:
     return statistics.median(times) * 1000.0
 
 
-def _time(method, g, settings, *, threads, kernel, repeat) -> float:
-    return _median_ms(lambda: aolab.compute(method, g, radius=RADIUS, threads=threads,
+def _time(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> float:
+    return _median_ms(lambda: aolab.compute(method, g, radius=radius, threads=threads,
                                             kernel=kernel, **settings), repeat)
 
 
@@ -99,7 +104,7 @@ def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
 
 
 def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: bool = False,
-          size=SIZE, blur: bool = True, progress=print) -> list[dict]:
+          radii: bool = False, size=SIZE, blur: bool = True, progress=print) -> list[dict]:
     """One row per method (see the module docstring); oracles are left out. ``blur`` adds the
     shared blur's row (method ``BLUR_ROW``: no scalar/SIMD split, its time in every column)."""
     methods = methods or [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
@@ -126,6 +131,11 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
             row["large_ms"] = big
             row["large_ratio"] = big / simd2
             row["large_peak_mb"] = peak_memory_mb(method, settings)
+        if radii:
+            row["radius_ms"] = {str(k): _time(method, g, settings, threads=2, kernel="simd",
+                                              repeat=max(1, min(repeat, 3)), radius=RADIUS * k)
+                                for k in RADIUS_SCALES}
+            row["radius_ratio"] = row["radius_ms"][str(RADIUS_SCALES[-1])] / simd2
         rows.append(row)
         if progress:
             progress(format_row(row))
@@ -137,6 +147,8 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
                "simd_kernel": False, "scalar_ms": one, "simd_1t_ms": one, "simd_2t_ms": two,
                "speedup": one / two, "threads_ratio": one / two,
                "mpx_per_s": pixels / two / 1000.0, "msamples_per_s": None}
+        if scaling or radii:   # not measured for the blur: empty cells keep the table square
+            row["blank_cells"] = 3 * scaling + (len(RADIUS_SCALES) + 1) * radii
         rows.append(row)
         if progress:
             progress(format_row(row))
@@ -156,13 +168,20 @@ def format_row(row: dict) -> str:
     if "large_ms" in row:
         text += (f" {row['large_ms']:.0f} | {row['large_ratio']:.1f} "
                  f"| {row['large_peak_mb']:.0f} |")
+    text += " |" * row.get("blank_cells", 0)
+    if "radius_ms" in row:
+        text += "".join(f" {row['radius_ms'][str(k)]:.1f} |" for k in RADIUS_SCALES)
+        text += f" {row['radius_ratio']:.2f} |"
     return text
 
 
-def header(scaling: bool) -> str:
+def header(scaling: bool, radii: bool = False) -> str:
     h = HEADER
     if scaling:
         h += " SIMD 2t ms at 3840×2160 | ×(9 = linear) | peak MiB at 3840×2160 |"
+    if radii:
+        h += "".join(f" R×{k} ms |" for k in RADIUS_SCALES)
+        h += f" R×{RADIUS_SCALES[-1]} / R×1 |"
     return h + "\n" + "|---" * (h.count("|") - 1) + "|"
 
 
@@ -215,9 +234,9 @@ def main(args) -> int:
     print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
           f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {args.preset}, "
           f"median of {args.repeat} runs; {machine()}; SIMD target {simd_target()}")
-    print(header(args.scaling))
+    print(header(args.scaling, args.radii))
     rows = table(args.methods or None, preset=args.preset, repeat=args.repeat,
-                 scaling=args.scaling, size=size)
+                 scaling=args.scaling, radii=args.radii, size=size)
     if args.json:
         from .report import atomic_write_text
         atomic_write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
