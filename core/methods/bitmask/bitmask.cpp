@@ -242,12 +242,15 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& s, const RunOptions& opti
                       double(s.radius) * double(s.radius),
                       s.sectors >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << s.sectors) - 1};
   const SectorTables tables(s.sectors);
-  return run_slice_method(g, s.slices, options,
-                          [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y,
-                              float* dir_cos, float* dir_sin) {
-                            return bitmask_pixel(f, params, tables, directions, x, y, dir_cos,
-                                                 dir_sin);
-                          });
+  return run_slice_method(
+      g, s.slices, options,
+      [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
+          float* dir_sin) {
+        return bitmask_pixel(f, params, tables, directions, x, y, dir_cos, dir_sin);
+      },
+      [&](const SliceFrame& f, int threads, Progress* progress) {
+        return bitmask_simd(f, s, threads, progress);
+      });
 }
 
 Method bitmask_method() {
@@ -256,6 +259,7 @@ Method bitmask_method() {
       "Therrien, Levesque, Gilet 2023, Screen Space Indirect Lighting with Visibility Bitmask",
       kBitmaskFields, bitmask);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

@@ -151,7 +151,10 @@ Image gtao(const GBuffer& g, const GtaoSettings& s, const RunOptions& options) {
   return run_slice_method(
       g, s.slices, options,
       [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
-          float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); });
+          float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); },
+      [&](const SliceFrame& f, int threads, Progress* progress) {
+        return gtao_simd(f, s, threads, progress);
+      });
 }
 
 Method gtao_method() {
@@ -161,6 +164,7 @@ Method gtao_method() {
       "Occlusion",
       kGtaoFields, gtao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

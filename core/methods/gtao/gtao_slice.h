@@ -133,20 +133,33 @@ inline bool slice_pixel(const SliceFrame& f, const HbaoDirections& directions, i
 /// as NaN) and prepared normals, the 2·`slices` directions over a full turn (N slices over a
 /// half turn followed by their opposites), rows in parallel with progress and cancellation.
 /// pixel(frame, directions, x, y, dir_cos, dir_sin) returns the pixel's AO; dir_cos and dir_sin
-/// are per-thread scratch of 2·`slices` floats.
-template <class Pixel>
-Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel) {
+/// are per-thread scratch of 2·`slices` floats. With Kernel::Simd, simd(frame, threads,
+/// progress) computes the image instead (the method's SIMD kernel, on the same working copies).
+template <class Pixel, class Simd>
+Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel,
+                       Simd&& simd) {
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
+  if (options.kernel == Kernel::Simd) return simd(frame, threads, options.progress);
   const HbaoDirections directions(2 * slices);
   return image_from_pixels(
       w, h, threads, options.progress, [&] { return std::vector<float>(4 * std::size_t(slices)); },
       [&](std::vector<float>& dirs, int x, int y) {
         return pixel(frame, directions, x, y, dirs.data(), dirs.data() + 2 * slices);
       });
+}
+
+/// run_slice_method for a method with no SIMD kernel: the scalar loop for either kernel.
+template <class Pixel>
+Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel) {
+  RunOptions scalar = options;
+  scalar.kernel = Kernel::Scalar;
+  return run_slice_method(g, slices, scalar, pixel, [](const SliceFrame&, int, Progress*) {
+    return Image();  // never called for Kernel::Scalar
+  });
 }
 
 }  // namespace aolab
