@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "core/base/parallel.h"
+#include "core/methods/vao/vao_simd.h"
 #include "core/sampling/random.h"
 
 namespace aolab {
@@ -261,6 +262,22 @@ Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
 
   Image out(w, h, 1, 1.0f);
   if (options.progress) options.progress->total += h;
+  if (options.kernel == Kernel::Simd) {
+    VaoSimdSets sets;
+    sets.add(kernel);
+    sets.random_rotation = s.random_rotation;
+    sets.seed = std::uint32_t(s.seed);
+    VaoSimdCounts counts;
+    counts.samples = s.samples;
+    parallel_for_rows(
+        h, threads,
+        [&](int y0, int y1) {
+          for (int y = y0; y < y1; ++y)
+            vao_simd_span(frame, po, sets, counts, y, 0, w, 1, 0, &out(0, y), 1, nullptr);
+        },
+        options.progress);
+    return out;
+  }
   parallel_for_rows(
       h, threads,
       [&](int y0, int y1) {
@@ -289,6 +306,7 @@ Method vao_method() {
       "for Real-Time Rendering and Games (as outlined in VAO++ 2017, section 3)",
       kVaoFields, vao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 
