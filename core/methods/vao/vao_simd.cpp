@@ -173,6 +173,9 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
   const VF tol_scale = hn::Set(df, kUnitRoundoff * kVaoDepthUlps);
   const VF axis_tol = hn::Mul(tol_scale, hn::Add(d, r));  // eq. 2 pipes: ε·16·(d + r) + |ds|
   const VI xi = xs, yi = hn::Set(di, y);
+  const VF v0_n = hn::Sub(hn::MulAdd(vx, nx, hn::Mul(vy, ny)), nz);
+  const VF self_full =
+      hn::Div(hn::Mul(hn::Add(r, r), hn::Abs(v0_n)), hn::MulAdd(vx, vx, hn::MulAdd(vy, vy, one)));
   const VF range_u = hn::Set(df, kVaoRangeCheckU * o.radius);
   const bool bleeding = o.bleeding_step > 0 && !f.color.pixels().empty();
   const VF inv_radius = hn::Set(df, 1.0f / o.radius);
@@ -205,6 +208,7 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
     const VI iy = hn::ConvertTo(di, hn::IfThenElseZero(live, fpy));
     const VI texel = hn::Add(hn::Mul(iy, hn::Set(di, w)), ix);
     const VF ds = hn::GatherIndex(df, f.depth.data(), texel);
+    const MF self = hn::RebindMask(df, hn::And(hn::Eq(ix, xi), hn::Eq(iy, yi)));
 
     VF front, back, full, tol;
     if (o.view_ray_pipes) {
@@ -224,7 +228,11 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
       const VF disc =
           hn::IfThenElse(hn::Lt(sp.c_term, zero), hn::NegMulAdd(a, sp.c_term, hn::Mul(b, b)),
                          hn::MulSub(a, sp.r2, cross2));
-      live = hn::And(live, hn::Gt(disc, zero));
+      // A sample on P's own texel has P's ray, which meets the sphere at P (depth d) and at
+      // d + 2r (v0·n)/|v0|²: its pipe's length without the discriminant, which cancels
+      // there when the sphere is a fraction of a pixel (far, grazing surfaces).
+      const MF own = hn::And(live, self);
+      live = hn::And(live, hn::Or(own, hn::Gt(disc, zero)));
       if (hn::AllFalse(df, live)) continue;
       const VF sq = hn::Sqrt(hn::IfThenElse(live, disc, one));
       const MF b_pos = hn::Ge(b, zero);
@@ -252,7 +260,8 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
                                             hn::ApproximateReciprocal(t), sp.c_error_rel));
       tol = hn::Add(hn::Abs(ds), hn::IfThenElse(b_pos, bound_pos, bound_neg));
       tol = hn::Min(hn::Mul(tol_scale, tol), hn::Set(df, 1e38f));
-      full = hn::Sub(back, front);
+      full = hn::IfThenElse(own, self_full, hn::Sub(back, front));
+      live = hn::Or(live, hn::And(own, hn::Gt(self_full, zero)));
     } else {
       // Parallel to the view axis through the disc point; Σ full = R Σ h_i: F of eq. 2.
       const VF half = hn::Mul(r, bh);
@@ -264,7 +273,6 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
     live = hn::And(live, hn::Gt(full, zero));
     if (hn::AllFalse(df, live)) continue;
     // Figure 3's cases; on P's own texel the surface is P, where the sphere touches: open.
-    const MF self = hn::RebindMask(df, hn::And(hn::Eq(ix, xi), hn::Eq(iy, yi)));
     const MF case_b = hn::Or(self, hn::Not(hn::Lt(ds, hn::Sub(back, tol))));
     const MF case_c = hn::Le(ds, front);
     VF open = hn::IfThenZeroElse(case_c, hn::Sub(ds, front));
