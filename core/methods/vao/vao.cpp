@@ -272,10 +272,12 @@ Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
     parallel_for_rows(
         h, threads,
         [&](int y0, int y1) {
-          for (int y = y0; y < y1; ++y)
-            vao_simd_span(frame, po, sets, counts, y, 0, w, 1, 0, &out(0, y), 1, nullptr);
+          for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
+            for (int y = y0; y < y1; ++y)
+              vao_simd_span(frame, po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns), 1, 0,
+                            &out(0, y), 1, nullptr);
         },
-        options.progress);
+        options.progress, kVaoBandRows);
     return out;
   }
   parallel_for_rows(

@@ -180,137 +180,167 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
   const bool bleeding = o.bleeding_step > 0 && !f.color.pixels().empty();
   const VF inv_radius = hn::Set(df, 1.0f / o.radius);
 
-  for (int i = 0; i < max_n; ++i) {
-    MF live = hn::And(active, hn::RebindMask(df, hn::Lt(hn::Set(di, i), n_active)));
-    VF bx, by, bh;
-    if (uniform) {
-      bx = hn::Set(df, sets.x[std::size_t(base0 + i)]);
-      by = hn::Set(df, sets.y[std::size_t(base0 + i)]);
-      bh = hn::Set(df, sets.h[std::size_t(base0 + i)]);
-    } else {
-      const VI index = hn::IfThenElseZero(hn::RebindMask(di, live), hn::Add(base, hn::Set(di, i)));
-      bx = hn::GatherIndex(df, sets.x.data(), index);
-      by = hn::GatherIndex(df, sets.y.data(), index);
-      bh = o.view_ray_pipes ? zero : hn::GatherIndex(df, sets.h.data(), index);
+  // The samples in chunks: first every sample's texel and gathered depth (independent of
+  // each other, so that the gathers' memory latencies overlap), then their cases, whose
+  // branches would otherwise stall each gather behind a mispredicted one.
+  constexpr int kChunk = 16;
+  const std::size_t lanes = hn::Lanes(df);
+  HWY_ALIGN float chunk_sx[kChunk * hn::MaxLanes(df)], chunk_sy[kChunk * hn::MaxLanes(df)];
+  HWY_ALIGN float chunk_h[kChunk * hn::MaxLanes(df)], chunk_ds[kChunk * hn::MaxLanes(df)];
+  HWY_ALIGN float chunk_live[kChunk * hn::MaxLanes(df)];
+  HWY_ALIGN std::int32_t chunk_ix[kChunk * hn::MaxLanes(di)], chunk_iy[kChunk * hn::MaxLanes(di)];
+  for (int i0 = 0; i0 < max_n; i0 += kChunk) {
+    const int chunk = std::min(kChunk, max_n - i0);
+    for (int j = 0; j < chunk; ++j) {
+      const int i = i0 + j;
+      MF live = hn::And(active, hn::RebindMask(df, hn::Lt(hn::Set(di, i), n_active)));
+      VF bx, by, bh;
+      if (uniform) {
+        bx = hn::Set(df, sets.x[std::size_t(base0 + i)]);
+        by = hn::Set(df, sets.y[std::size_t(base0 + i)]);
+        bh = hn::Set(df, sets.h[std::size_t(base0 + i)]);
+      } else {
+        const VI index =
+            hn::IfThenElseZero(hn::RebindMask(di, live), hn::Add(base, hn::Set(di, i)));
+        bx = hn::GatherIndex(df, sets.x.data(), index);
+        by = hn::GatherIndex(df, sets.y.data(), index);
+        bh = o.view_ray_pipes ? zero : hn::GatherIndex(df, sets.h.data(), index);
+      }
+      VF sx = bx, sy = by;
+      if (rotate) {  // vao_random_rotation, or the tile's rotated set
+        sx = hn::Sub(hn::Mul(ca, bx), hn::Mul(sa, by));
+        sy = hn::MulAdd(sa, bx, hn::Mul(ca, by));
+      }
+      const VF fpx = hn::MulAdd(sp.px_step, sx, sp.px_base);
+      const VF fpy = hn::MulAdd(sp.py_step, sy, sp.py_base);
+      // Off-screen samples carry no information: left out (NaN fails too).
+      live = hn::And(live, hn::And(hn::And(hn::Ge(fpx, zero), hn::Lt(fpx, width)),
+                                   hn::And(hn::Ge(fpy, zero), hn::Lt(fpy, height))));
+      const VI ix = hn::ConvertTo(di, hn::IfThenElseZero(live, fpx));  // truncation: the texel
+      const VI iy = hn::ConvertTo(di, hn::IfThenElseZero(live, fpy));
+      const VI texel = hn::Add(hn::Mul(iy, hn::Set(di, w)), ix);
+      hn::Store(sx, df, chunk_sx + j * lanes);
+      hn::Store(sy, df, chunk_sy + j * lanes);
+      hn::Store(bh, df, chunk_h + j * lanes);
+      hn::Store(ix, di, chunk_ix + j * lanes);
+      hn::Store(iy, di, chunk_iy + j * lanes);
+      hn::Store(hn::GatherIndex(df, f.depth.data(), texel), df, chunk_ds + j * lanes);
+      hn::Store(hn::VecFromMask(df, live), df, chunk_live + j * lanes);
     }
-    VF sx = bx, sy = by;
-    if (rotate) {  // vao_random_rotation, or the tile's rotated set
-      sx = hn::Sub(hn::Mul(ca, bx), hn::Mul(sa, by));
-      sy = hn::MulAdd(sa, bx, hn::Mul(ca, by));
-    }
-    const VF fpx = hn::MulAdd(sp.px_step, sx, sp.px_base);
-    const VF fpy = hn::MulAdd(sp.py_step, sy, sp.py_base);
-    // Off-screen samples carry no information: left out (NaN fails too).
-    live = hn::And(live, hn::And(hn::And(hn::Ge(fpx, zero), hn::Lt(fpx, width)),
-                                 hn::And(hn::Ge(fpy, zero), hn::Lt(fpy, height))));
-    if (hn::AllFalse(df, live)) continue;
-    const VI ix = hn::ConvertTo(di, hn::IfThenElseZero(live, fpx));  // truncation: the texel
-    const VI iy = hn::ConvertTo(di, hn::IfThenElseZero(live, fpy));
-    const VI texel = hn::Add(hn::Mul(iy, hn::Set(di, w)), ix);
-    const VF ds = hn::GatherIndex(df, f.depth.data(), texel);
-    const MF self = hn::RebindMask(df, hn::And(hn::Eq(ix, xi), hn::Eq(iy, yi)));
-
-    VF front, back, full, tol;
-    if (o.view_ray_pipes) {
-      // view_ray_pipe, scaled by 1/L: the ray X = δ v through the texel centre.
-      const VF rx = hn::MulAdd(hn::ConvertTo(df, ix), fx_inv, ray_x0);
-      const VF ry = hn::MulAdd(hn::ConvertTo(df, iy), fy_inv, ray_y0);
-      const VF a = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, one));
-      const VF b = hn::Sub(hn::MulAdd(rx, sp.cx, hn::Mul(ry, sp.cy)), sp.cz);
-      // b² − a·c cancels where the sphere looks small from the camera (c = |C|² − r² > 0,
-      // the far depths): there disc = a r² − |v × C|², whose terms are of the size of the
-      // result. Inside the sphere (c < 0, huge radii) b² − a·c adds two positive terms.
-      const VF cross_x = hn::MulAdd(ry, sp.cz, sp.cy);
-      const VF cross_y = hn::MulAdd(rx, sp.cz, sp.cx);
-      const VF cross_z = hn::MulSub(rx, sp.cy, hn::Mul(ry, sp.cx));
-      const VF cross2 =
-          hn::MulAdd(cross_x, cross_x, hn::MulAdd(cross_y, cross_y, hn::Mul(cross_z, cross_z)));
-      const VF disc =
-          hn::IfThenElse(hn::Lt(sp.c_term, zero), hn::NegMulAdd(a, sp.c_term, hn::Mul(b, b)),
-                         hn::MulSub(a, sp.r2, cross2));
-      // A sample on P's own texel has P's ray, which meets the sphere at P (depth d) and at
-      // d + 2r (v0·n)/|v0|²: its pipe's length without the discriminant, which cancels
-      // there when the sphere is a fraction of a pixel (far, grazing surfaces).
-      const MF own = hn::And(live, self);
-      live = hn::And(live, hn::Or(own, hn::Gt(disc, zero)));
+    for (int j = 0; j < chunk; ++j) {
+      const int i = i0 + j;
+      MF live = hn::MaskFromVec(hn::Load(df, chunk_live + j * lanes));
       if (hn::AllFalse(df, live)) continue;
-      const VF sq = hn::Sqrt(hn::IfThenElse(live, disc, one));
-      const MF b_pos = hn::Ge(b, zero);
-      const VF q = hn::Add(b, hn::CopySign(sq, b));  // b + sign(b) sq: no cancellation
-      const VF root_a = hn::Div(q, a), root_c = hn::Div(sp.c_term, q);
-      const VF back_s = hn::IfThenElse(b_pos, root_a, root_c);
-      const VF front_s = hn::IfThenElse(b_pos, root_c, root_a);
-      back = hn::Mul(back_s, sp.scale);
-      front = hn::Max(zero, hn::Mul(front_s, sp.scale));  // the camera may be inside
-      live = hn::And(live, hn::And(hn::Gt(back, zero), hn::IsFinite(back)));
-      // The scalar code's rounding bound (view_ray_pipe), over L; the reciprocals' estimates
-      // only scale a tolerance.
-      const VF inv_sq = hn::ApproximateReciprocal(sq);
-      const VF inv_a = hn::ApproximateReciprocal(a);
-      const VF t = hn::Abs(q);
-      const VF bound_pos = hn::Mul(
-          hn::Mul(hn::Add(hn::Add(b, sq),
-                          hn::Mul(hn::MulAdd(b, b, hn::Abs(hn::Mul(a, sp.c_term))), inv_sq)),
-                  inv_a),
-          sp.scale);
-      const VF sqrt_a = hn::Mul(a, hn::ApproximateReciprocalSqrt(a));
-      const VF bound_neg =
-          hn::Mul(hn::Abs(back), hn::MulAdd(hn::MulAdd(hn::Add(sp.b_error, sp.b_error), sqrt_a,
-                                                       hn::Mul(hn::Mul(a, sp.c_error), inv_sq)),
-                                            hn::ApproximateReciprocal(t), sp.c_error_rel));
-      tol = hn::Add(hn::Abs(ds), hn::IfThenElse(b_pos, bound_pos, bound_neg));
-      tol = hn::Min(hn::Mul(tol_scale, tol), hn::Set(df, 1e38f));
-      full = hn::IfThenElse(own, self_full, hn::Sub(back, front));
-      live = hn::Or(live, hn::And(own, hn::Gt(self_full, zero)));
-    } else {
-      // Parallel to the view axis through the disc point; Σ full = R Σ h_i: F of eq. 2.
-      const VF half = hn::Mul(r, bh);
-      front = hn::Sub(sp.dc, half);
-      back = hn::Add(sp.dc, half);
-      full = hn::Add(half, half);
-      tol = hn::MulAdd(tol_scale, hn::Abs(ds), axis_tol);
-    }
-    live = hn::And(live, hn::Gt(full, zero));
-    if (hn::AllFalse(df, live)) continue;
-    // Figure 3's cases; on P's own texel the surface is P, where the sphere touches: open.
-    const MF case_b = hn::Or(self, hn::Not(hn::Lt(ds, hn::Sub(back, tol))));
-    const MF case_c = hn::Le(ds, front);
-    VF open = hn::IfThenZeroElse(case_c, hn::Sub(ds, front));
-    if (o.range_check) {  // §4.4: s(d) = u / max(u, d/R) = uR / max(uR, d)
-      const VF behind = hn::Sub(hn::Mul(hn::Set(df, 0.5f), hn::Add(front, back)), ds);
-      const VF s =
-          hn::IfThenElse(hn::Gt(behind, zero), hn::Div(range_u, hn::Max(range_u, behind)), one);
-      open = hn::NegMulAdd(hn::Sub(full, open), s, full);
-    }
-    open = hn::IfThenElse(case_b, full, hn::Min(full, open));
-    out.open = hn::Add(out.open, hn::IfThenElseZero(live, open));
-    out.full = hn::Add(out.full, hn::IfThenElseZero(live, full));
+      const VF sx = hn::Load(df, chunk_sx + j * lanes), sy = hn::Load(df, chunk_sy + j * lanes);
+      const VF bh = hn::Load(df, chunk_h + j * lanes);
+      const VI ix = hn::Load(di, chunk_ix + j * lanes), iy = hn::Load(di, chunk_iy + j * lanes);
+      const VI texel = hn::Add(hn::Mul(iy, hn::Set(di, w)), ix);
+      const VF ds = hn::Load(df, chunk_ds + j * lanes);
+      const MF self = hn::RebindMask(df, hn::And(hn::Eq(ix, xi), hn::Eq(iy, yi)));
 
-    if (bleeding && i % o.bleeding_step == 0) {  // eq. 5 (add_bleeding), on non-background
-      const MF bleeds = hn::And(live, hn::Eq(ds, ds));
-      if (hn::AllFalse(df, bleeds)) continue;
-      const VF ox = hn::Mul(r, sx), oy = hn::Mul(r, sy);
-      const VF tx = hn::MulAdd(r, nx, ox), ty = hn::MulAdd(r, ny, oy), tz = hn::Mul(r, nz);
-      const VF len2 = hn::MulAdd(tx, tx, hn::MulAdd(ty, ty, hn::Mul(tz, tz)));
-      const VF len = hn::Sqrt(len2);  // overflows to ∞ beyond R ~ 1e19, as the scalar float
-      const VF dot = hn::MulAdd(tx, nx, hn::MulAdd(ty, ny, hn::Mul(tz, nz)));
-      const MF has_len = hn::Gt(len, zero);
-      const VF cosine = hn::IfThenElseZero(
-          has_len, hn::Max(zero, hn::Div(dot, hn::IfThenElse(has_len, len, one))));
-      const VF fall = hn::Max(zero, hn::NegMulAdd(len, inv_radius, one));
-      const VF weight = hn::Mul(cosine, hn::Mul(fall, fall));
-      const VI ci = hn::Mul(hn::IfThenElseZero(hn::RebindMask(di, bleeds), texel), hn::Set(di, 3));
-      const float* col = f.color.data();
-      const VF cr = hn::GatherIndex(df, col, ci);
-      const VF cg = hn::GatherIndex(df, col, hn::Add(ci, hn::Set(di, 1)));
-      const VF cb = hn::GatherIndex(df, col, hn::Add(ci, hn::Set(di, 2)));
-      out.br =
-          hn::Add(out.br, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cr, one), one)));
-      out.bg =
-          hn::Add(out.bg, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cg, one), one)));
-      out.bb =
-          hn::Add(out.bb, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cb, one), one)));
-      out.bleed_count = hn::Add(out.bleed_count, hn::IfThenElseZero(bleeds, one));
+      VF front, back, full, tol;
+      if (o.view_ray_pipes) {
+        // view_ray_pipe, scaled by 1/L: the ray X = δ v through the texel centre.
+        const VF rx = hn::MulAdd(hn::ConvertTo(df, ix), fx_inv, ray_x0);
+        const VF ry = hn::MulAdd(hn::ConvertTo(df, iy), fy_inv, ray_y0);
+        const VF a = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, one));
+        const VF b = hn::Sub(hn::MulAdd(rx, sp.cx, hn::Mul(ry, sp.cy)), sp.cz);
+        // b² − a·c cancels where the sphere looks small from the camera (c = |C|² − r² > 0,
+        // the far depths): there disc = a r² − |v × C|², whose terms are of the size of the
+        // result. Inside the sphere (c < 0, huge radii) b² − a·c adds two positive terms.
+        const VF cross_x = hn::MulAdd(ry, sp.cz, sp.cy);
+        const VF cross_y = hn::MulAdd(rx, sp.cz, sp.cx);
+        const VF cross_z = hn::MulSub(rx, sp.cy, hn::Mul(ry, sp.cx));
+        const VF cross2 =
+            hn::MulAdd(cross_x, cross_x, hn::MulAdd(cross_y, cross_y, hn::Mul(cross_z, cross_z)));
+        const VF disc =
+            hn::IfThenElse(hn::Lt(sp.c_term, zero), hn::NegMulAdd(a, sp.c_term, hn::Mul(b, b)),
+                           hn::MulSub(a, sp.r2, cross2));
+        // A sample on P's own texel has P's ray, which meets the sphere at P (depth d) and at
+        // d + 2r (v0·n)/|v0|²: its pipe's length without the discriminant, which cancels
+        // there when the sphere is a fraction of a pixel (far, grazing surfaces).
+        const MF own = hn::And(live, self);
+        live = hn::And(live, hn::Or(own, hn::Gt(disc, zero)));
+        if (hn::AllFalse(df, live)) continue;
+        const VF sq = hn::Sqrt(hn::IfThenElse(live, disc, one));
+        const MF b_pos = hn::Ge(b, zero);
+        const VF q = hn::Add(b, hn::CopySign(sq, b));  // b + sign(b) sq: no cancellation
+        const VF root_a = hn::Div(q, a), root_c = hn::Div(sp.c_term, q);
+        const VF back_s = hn::IfThenElse(b_pos, root_a, root_c);
+        const VF front_s = hn::IfThenElse(b_pos, root_c, root_a);
+        back = hn::Mul(back_s, sp.scale);
+        front = hn::Max(zero, hn::Mul(front_s, sp.scale));  // the camera may be inside
+        live = hn::And(live, hn::And(hn::Gt(back, zero), hn::IsFinite(back)));
+        // The scalar code's rounding bound (view_ray_pipe), over L; the reciprocals' estimates
+        // only scale a tolerance.
+        const VF inv_sq = hn::ApproximateReciprocal(sq);
+        const VF inv_a = hn::ApproximateReciprocal(a);
+        const VF t = hn::Abs(q);
+        const VF bound_pos = hn::Mul(
+            hn::Mul(hn::Add(hn::Add(b, sq),
+                            hn::Mul(hn::MulAdd(b, b, hn::Abs(hn::Mul(a, sp.c_term))), inv_sq)),
+                    inv_a),
+            sp.scale);
+        const VF sqrt_a = hn::Mul(a, hn::ApproximateReciprocalSqrt(a));
+        const VF bound_neg =
+            hn::Mul(hn::Abs(back), hn::MulAdd(hn::MulAdd(hn::Add(sp.b_error, sp.b_error), sqrt_a,
+                                                         hn::Mul(hn::Mul(a, sp.c_error), inv_sq)),
+                                              hn::ApproximateReciprocal(t), sp.c_error_rel));
+        tol = hn::Add(hn::Abs(ds), hn::IfThenElse(b_pos, bound_pos, bound_neg));
+        tol = hn::Min(hn::Mul(tol_scale, tol), hn::Set(df, 1e38f));
+        full = hn::IfThenElse(own, self_full, hn::Sub(back, front));
+        live = hn::Or(live, hn::And(own, hn::Gt(self_full, zero)));
+      } else {
+        // Parallel to the view axis through the disc point; Σ full = R Σ h_i: F of eq. 2.
+        const VF half = hn::Mul(r, bh);
+        front = hn::Sub(sp.dc, half);
+        back = hn::Add(sp.dc, half);
+        full = hn::Add(half, half);
+        tol = hn::MulAdd(tol_scale, hn::Abs(ds), axis_tol);
+      }
+      live = hn::And(live, hn::Gt(full, zero));
+      if (hn::AllFalse(df, live)) continue;
+      // Figure 3's cases; on P's own texel the surface is P, where the sphere touches: open.
+      const MF case_b = hn::Or(self, hn::Not(hn::Lt(ds, hn::Sub(back, tol))));
+      const MF case_c = hn::Le(ds, front);
+      VF open = hn::IfThenZeroElse(case_c, hn::Sub(ds, front));
+      if (o.range_check) {  // §4.4: s(d) = u / max(u, d/R) = uR / max(uR, d)
+        const VF behind = hn::Sub(hn::Mul(hn::Set(df, 0.5f), hn::Add(front, back)), ds);
+        const VF s =
+            hn::IfThenElse(hn::Gt(behind, zero), hn::Div(range_u, hn::Max(range_u, behind)), one);
+        open = hn::NegMulAdd(hn::Sub(full, open), s, full);
+      }
+      open = hn::IfThenElse(case_b, full, hn::Min(full, open));
+      out.open = hn::Add(out.open, hn::IfThenElseZero(live, open));
+      out.full = hn::Add(out.full, hn::IfThenElseZero(live, full));
+
+      if (bleeding && i % o.bleeding_step == 0) {  // eq. 5 (add_bleeding), on non-background
+        const MF bleeds = hn::And(live, hn::Eq(ds, ds));
+        if (hn::AllFalse(df, bleeds)) continue;
+        const VF ox = hn::Mul(r, sx), oy = hn::Mul(r, sy);
+        const VF tx = hn::MulAdd(r, nx, ox), ty = hn::MulAdd(r, ny, oy), tz = hn::Mul(r, nz);
+        const VF len2 = hn::MulAdd(tx, tx, hn::MulAdd(ty, ty, hn::Mul(tz, tz)));
+        const VF len = hn::Sqrt(len2);  // overflows to ∞ beyond R ~ 1e19, as the scalar float
+        const VF dot = hn::MulAdd(tx, nx, hn::MulAdd(ty, ny, hn::Mul(tz, nz)));
+        const MF has_len = hn::Gt(len, zero);
+        const VF cosine = hn::IfThenElseZero(
+            has_len, hn::Max(zero, hn::Div(dot, hn::IfThenElse(has_len, len, one))));
+        const VF fall = hn::Max(zero, hn::NegMulAdd(len, inv_radius, one));
+        const VF weight = hn::Mul(cosine, hn::Mul(fall, fall));
+        const VI ci =
+            hn::Mul(hn::IfThenElseZero(hn::RebindMask(di, bleeds), texel), hn::Set(di, 3));
+        const float* col = f.color.data();
+        const VF cr = hn::GatherIndex(df, col, ci);
+        const VF cg = hn::GatherIndex(df, col, hn::Add(ci, hn::Set(di, 1)));
+        const VF cb = hn::GatherIndex(df, col, hn::Add(ci, hn::Set(di, 2)));
+        out.br =
+            hn::Add(out.br, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cr, one), one)));
+        out.bg =
+            hn::Add(out.bg, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cg, one), one)));
+        out.bb =
+            hn::Add(out.bb, hn::IfThenElseZero(bleeds, hn::MulAdd(weight, hn::Sub(cb, one), one)));
+        out.bleed_count = hn::Add(out.bleed_count, hn::IfThenElseZero(bleeds, one));
+      }
     }
   }
   return out;
@@ -334,11 +364,18 @@ void VaoSimdSpan(const VaoFrame& f, const VaoPixelOptions& o, const VaoSimdSets&
     const VI xs =
         hn::Min(hn::Add(hn::Mul(k, hn::Set(di, stride)), hn::Set(di, offset)), hn::Set(di, w - 1));
     const VI index = hn::Add(xs, hn::Set(di, y * w));
-    const VF d = hn::GatherIndex(df, f.depth.data(), index);
-    const VI index3 = hn::Mul(index, hn::Set(di, 3));
-    const VF nx = hn::GatherIndex(df, normals, index3);
-    const VF ny = hn::GatherIndex(df, normals, hn::Add(index3, hn::Set(di, 1)));
-    const VF nz = hn::GatherIndex(df, normals, hn::Add(index3, hn::Set(di, 2)));
+    VF d, nx, ny, nz;
+    if (stride == 1 && offset == 0 && count == lanes) {  // consecutive pixels: plain loads
+      const std::size_t first = std::size_t(y) * w + std::size_t(k0);
+      d = hn::LoadU(df, f.depth.data() + first);
+      hn::LoadInterleaved3(df, normals + 3 * first, nx, ny, nz);
+    } else {
+      d = hn::GatherIndex(df, f.depth.data(), index);
+      const VI index3 = hn::Mul(index, hn::Set(di, 3));
+      nx = hn::GatherIndex(df, normals, index3);
+      ny = hn::GatherIndex(df, normals, hn::Add(index3, hn::Set(di, 1)));
+      nz = hn::GatherIndex(df, normals, hn::Add(index3, hn::Set(di, 2)));
+    }
     const MF in_span = hn::RebindMask(df, hn::Lt(hn::Iota(di, 0), hn::Set(di, count)));
     const MF geometry = hn::And(in_span, hn::Eq(d, d));  // background is NaN
     if (hn::AllFalse(df, geometry)) continue;

@@ -25,6 +25,12 @@ struct VaoSimdSets {
   void add(const VaoKernel& k);
 };
 
+/// The SIMD loops run tiles of kVaoBandRows rows × kVaoTileColumns columns, so that the
+/// depth a tile's samples read (±R around it) stays in a core's L2 cache; the columns are a
+/// multiple of every vector length (spans start at multiples of it).
+constexpr int kVaoBandRows = 16;
+constexpr int kVaoTileColumns = 128;
+
 /// How many samples each pixel gets: `samples`, or with `adaptive` VAO++'s §4.1 count
 /// (vao_pp_adaptive_samples of the disc's projected diameter, at most `samples`), cut where
 /// `culled` (a row of 0/1 per pixel, or null) is 1: to 0 (`greedy`) or to at most `careful`.

@@ -319,9 +319,9 @@ Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& l
       [&](int y0, int y1) {
         VaoSimdStats stats;
         std::vector<char> top, bottom;
-        std::vector<float> culled(std::size_t(w), 0.0f);
+        // The band's rows of §4.2's decisions (1 = culled), then its tiles.
+        std::vector<float> culled(std::size_t(y1 - y0) * w, 0.0f);
         VaoSimdCounts counts = base;
-        if (r.culling != VaoPpCulling::Off) counts.culled = culled.data();
         for (int y = y0; y < y1; ++y) {
           if (r.culling != VaoPpCulling::Off) {
             // Corner row y is row y − 1's bottom one.
@@ -329,19 +329,25 @@ Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& l
             std::swap(top, bottom);
             occluded_corners(low, y + 1, w, s.cull_threshold, bottom);
             for (int x = 0; x < w; ++x)
-              culled[std::size_t(x)] = (top[std::size_t(x)] | top[std::size_t(x) + 1] |
-                                        bottom[std::size_t(x)] | bottom[std::size_t(x) + 1])
-                                           ? 0.0f
-                                           : 1.0f;
+              culled[std::size_t(y - y0) * w + std::size_t(x)] =
+                  (top[std::size_t(x)] | top[std::size_t(x) + 1] | bottom[std::size_t(x)] |
+                   bottom[std::size_t(x) + 1])
+                      ? 0.0f
+                      : 1.0f;
           }
-          vao_simd_span(r.frame, full_po, sets, counts, y, 0, w, 1, 0, &work(0, y, 0), channels,
-                        &stats);
         }
+        for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
+          for (int y = y0; y < y1; ++y) {
+            counts.culled = culled.data() + std::size_t(y - y0) * w;
+            if (r.culling == VaoPpCulling::Off) counts.culled = nullptr;
+            vao_simd_span(r.frame, full_po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns),
+                          1, 0, &work(0, y, 0), channels, &stats);
+          }
         counters.pixels += stats.pixels;
         counters.culled += stats.culled;
         counters.samples += stats.samples;
       },
-      r.progress);
+      r.progress, kVaoBandRows);
   return work;
 }
 
