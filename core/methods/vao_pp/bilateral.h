@@ -26,5 +26,9 @@ Image cross_bilateral_filter(ConstImageView image, const GBuffer& g, int taps, f
 Image cross_bilateral_filter_simd(ConstImageView image, const GBuffer& g, int taps, float sigma,
                                   float depth_threshold, int threads = 0,
                                   Progress* progress = nullptr);
+/// The same with g's depth given as depth_with_background_as_nan made it (the size of image).
+Image cross_bilateral_filter_simd(ConstImageView image, const float* depth, int taps, float sigma,
+                                  float depth_threshold, int threads = 0,
+                                  Progress* progress = nullptr);
 
 }  // namespace aolab

@@ -64,47 +64,58 @@ namespace aolab {
 
 HWY_EXPORT(BilateralRow);
 
+// Rows per band: the row pass is made again for `half` rows either side of a band, so bands
+// much taller than the filter keep that share small (1 tap in 32 at 3 taps).
+constexpr int kBilateralBandRows = 32;
+
 Image cross_bilateral_filter_simd(ConstImageView image, const GBuffer& g, int taps, float sigma,
                                   float depth_threshold, int threads, Progress* progress) {
-  if (image.channels != 1) {
-    // The taps' weights depend on depth alone: each channel is filtered as an image of its own,
-    // so that a channel's result does not depend on the others'.
-    const int nc = image.channels;
-    Image out(image.width, image.height, nc);
-    for (int c = 0; c < nc; ++c) {
-      Image plane(image.width, image.height);
-      for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) plane(x, y) = image(x, y, c);
-      const Image filtered = cross_bilateral_filter_simd(plane.view(), g, taps, sigma,
-                                                         depth_threshold, threads, progress);
-      for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) out(x, y, c) = filtered(x, y);
-    }
-    return out;
-  }
+  require_same_size("depth", g.depth, "image", image);
+  return cross_bilateral_filter_simd(image, depth_with_background_as_nan(g, threads).data(), taps,
+                                     sigma, depth_threshold, threads, progress);
+}
+
+Image cross_bilateral_filter_simd(ConstImageView image, const float* depth, int taps, float sigma,
+                                  float depth_threshold, int threads, Progress* progress) {
   if (taps < 1 || taps % 2 == 0) throw_invalid("taps", "must be an odd number >= 1", taps);
   if (!(sigma > 0.0f) || !std::isfinite(sigma)) throw_invalid("sigma", "must be > 0", sigma);
   if (!(depth_threshold >= 0.0f)) throw_invalid("depth_threshold", "must be >= 0", depth_threshold);
-  require_same_size("depth", g.depth, "image", image);
-  const int w = image.width, h = image.height, half = taps / 2;
+  const int w = image.width, h = image.height, nc = image.channels, half = taps / 2;
+  if (nc != 1) {
+    // The taps' weights depend on depth alone: each channel is filtered as an image of its own,
+    // so that a channel's result does not depend on the others'.
+    Image out(w, h, nc);
+    for (int c = 0; c < nc; ++c) {
+      Image plane(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) plane(x, y) = image(x, y, c);
+      const Image filtered = cross_bilateral_filter_simd(plane.view(), depth, taps, sigma,
+                                                         depth_threshold, threads, progress);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) out(x, y, c) = filtered(x, y);
+    }
+    return out;
+  }
   std::vector<float> weights(static_cast<std::size_t>(taps));
   for (int i = -half; i <= half; ++i)
     weights[std::size_t(i + half)] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const float nan = std::numeric_limits<float>::quiet_NaN();
 
-  Image tmp(w, h), out(w, h);
-  if (progress) progress->total += 2 * h;
-  // Rows: taps along x, read from copies of the row padded by `half` on each side.
+  Image out(w, h);
+  if (progress) progress->total += h;
+  // Per band: the row pass of the band's rows and `half` rows either side into a buffer of the
+  // band's own (no image-sized intermediate, and it stays in cache), then the column pass.
   parallel_for_rows(
       h, threads,
       [&](int y0, int y1) {
+        const int r0 = std::max(0, y0 - half), r1 = std::min(h, y1 + half);
+        std::vector<float> rows(std::size_t(r1 - r0) * w);
         std::vector<float> depth_pad(std::size_t(w + 2 * half), nan);
         std::vector<float> value_pad(std::size_t(w + 2 * half), 0.0f);
         std::vector<const float*> depth_taps(static_cast<std::size_t>(taps)),
             value_taps(static_cast<std::size_t>(taps));
-        for (int y = y0; y < y1; ++y) {
-          const float* depth_row = depth.data() + std::size_t(y) * w;
+        for (int y = r0; y < r1; ++y) {  // taps along x, from copies padded by `half`
+          const float* depth_row = depth + std::size_t(y) * w;
           const float* src_row = image.data + std::size_t(y) * image.row_stride;
           std::copy(depth_row, depth_row + w, depth_pad.begin() + half);
           std::copy(src_row, src_row + w, value_pad.begin() + half);
@@ -114,29 +125,21 @@ Image cross_bilateral_filter_simd(ConstImageView image, const GBuffer& g, int ta
           }
           HWY_DYNAMIC_DISPATCH(BilateralRow)
           (depth_row, src_row, depth_taps.data(), value_taps.data(), weights.data(), taps, w,
-           depth_threshold, &tmp(0, y));
+           depth_threshold, rows.data() + std::size_t(y - r0) * w);
         }
-      },
-      progress);
-  // Columns: taps along y, rows outside the image left out.
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        std::vector<const float*> depth_taps(static_cast<std::size_t>(taps)),
-            value_taps(static_cast<std::size_t>(taps));
-        for (int y = y0; y < y1; ++y) {
+        for (int y = y0; y < y1; ++y) {  // taps along y, rows outside the image left out
           for (int t = 0; t < taps; ++t) {
             const int yy = y + t - half;
             const bool inside = yy >= 0 && yy < h;
-            depth_taps[std::size_t(t)] = inside ? depth.data() + std::size_t(yy) * w : nullptr;
-            value_taps[std::size_t(t)] = inside ? &tmp(0, yy) : nullptr;
+            depth_taps[std::size_t(t)] = inside ? depth + std::size_t(yy) * w : nullptr;
+            value_taps[std::size_t(t)] = inside ? rows.data() + std::size_t(yy - r0) * w : nullptr;
           }
           HWY_DYNAMIC_DISPATCH(BilateralRow)
-          (depth.data() + std::size_t(y) * w, &tmp(0, y), depth_taps.data(), value_taps.data(),
-           weights.data(), taps, w, depth_threshold, &out(0, y));
+          (depth + std::size_t(y) * w, rows.data() + std::size_t(y - r0) * w, depth_taps.data(),
+           value_taps.data(), weights.data(), taps, w, depth_threshold, &out(0, y));
         }
       },
-      progress);
+      progress, kBilateralBandRows);
   return out;
 }
 

@@ -128,26 +128,40 @@ bool occlusion_nearby(const Image& low, int x, int y, float threshold) {
   return false;
 }
 
-// occlusion_nearby's four fetches, made once per corner for a row of pixels: corner (x, y)
-// of the pixel grid "exhibits occlusion" (the same arithmetic, so the same decisions).
-void occluded_corners(const Image& low, int y, int w, float threshold, std::vector<char>& out) {
-  const int lw = low.width(), lh = low.height();
-  auto texel = [&](int i, int j) {
-    return low(std::clamp(i, 0, lw - 1), std::clamp(j, 0, lh - 1));
-  };
+// occlusion_nearby's four fetches, made once per corner of the pixel grid: corner (x, y)
+// "exhibits occlusion" (the same arithmetic, so the same decisions). What depends on x alone
+// (the texel columns and the weight tu) is made once per run.
+struct CornerColumns {
+  std::vector<int> i0, i1;  // the clamped texel columns of u = x/8 − 0.5
+  std::vector<float> tu;
+  CornerColumns(int w, int lw) {
+    for (int x = 0; x <= w; ++x) {
+      const float u = float(x) / float(kVaoPpCullFactor) - 0.5f;
+      const float fu = std::floor(u);
+      const int i = int(fu);
+      i0.push_back(std::clamp(i, 0, lw - 1));
+      i1.push_back(std::clamp(i + 1, 0, lw - 1));
+      tu.push_back(u - fu);
+    }
+  }
+};
+
+void occluded_corners(const Image& low, const CornerColumns& cols, int y, int w, float threshold,
+                      std::vector<char>& out) {
+  const int lh = low.height();
   const float v = float(y) / float(kVaoPpCullFactor) - 0.5f;
   const float fv = std::floor(v);
   const int j = int(fv);
   const float tv = v - fv;
+  const float* row0 = low.data() + std::size_t(std::clamp(j, 0, lh - 1)) * low.width();
+  const float* row1 = low.data() + std::size_t(std::clamp(j + 1, 0, lh - 1)) * low.width();
   out.resize(std::size_t(w) + 1);
-  for (int x = 0; x <= w; ++x) {
-    const float u = float(x) / float(kVaoPpCullFactor) - 0.5f;
-    const float fu = std::floor(u);
-    const int i = int(fu);
-    const float tu = u - fu;
-    const float top = texel(i, j) + tu * (texel(i + 1, j) - texel(i, j));
-    const float bottom = texel(i, j + 1) + tu * (texel(i + 1, j + 1) - texel(i, j + 1));
-    out[std::size_t(x)] = top + tv * (bottom - top) < threshold;
+  for (std::size_t x = 0; x <= std::size_t(w); ++x) {
+    const int i0 = cols.i0[x], i1 = cols.i1[x];
+    const float tu = cols.tu[x];
+    const float top = row0[i0] + tu * (row0[i1] - row0[i0]);
+    const float bottom = row1[i0] + tu * (row1[i1] - row1[i0]);
+    out[x] = top + tv * (bottom - top) < threshold;
   }
 }
 
@@ -314,6 +328,7 @@ Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& l
   base.adaptive_min_diameter = s.adaptive_min_diameter;
   base.greedy = r.culling == VaoPpCulling::Greedy;
   base.careful = kVaoPpCarefulSamples;
+  const CornerColumns columns(w, r.culling != VaoPpCulling::Off ? low.width() : 1);
   parallel_for_rows(
       h, r.threads,
       [&](int y0, int y1) {
@@ -325,9 +340,9 @@ Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& l
         for (int y = y0; y < y1; ++y) {
           if (r.culling != VaoPpCulling::Off) {
             // Corner row y is row y − 1's bottom one.
-            if (y == y0) occluded_corners(low, y, w, s.cull_threshold, bottom);
+            if (y == y0) occluded_corners(low, columns, y, w, s.cull_threshold, bottom);
             std::swap(top, bottom);
-            occluded_corners(low, y + 1, w, s.cull_threshold, bottom);
+            occluded_corners(low, columns, y + 1, w, s.cull_threshold, bottom);
             for (int x = 0; x < w; ++x)
               culled[std::size_t(y - y0) * w + std::size_t(x)] =
                   (top[std::size_t(x)] | top[std::size_t(x) + 1] | bottom[std::size_t(x)] |
@@ -415,8 +430,8 @@ Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options
   // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
   if (s.filter)
     work = options.kernel == Kernel::Simd
-               ? cross_bilateral_filter_simd(work.view(), g, s.filter_taps, s.filter_sigma,
-                                             s.radius, threads, options.progress)
+               ? cross_bilateral_filter_simd(work.view(), frame.depth.data(), s.filter_taps,
+                                             s.filter_sigma, s.radius, threads, options.progress)
                : cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius,
                                         threads, options.progress);
   if (s.luminance_sensitivity) apply_luminance(r, work);
