@@ -131,6 +131,9 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
   sp.c_error = hn::MulAdd(hn::Mul(hn::Set(df, 4.0f), rs), p_len, p_dot_p);
   sp.c_error_rel = hn::Div(sp.c_error, hn::Abs(sp.c_term));
   sp.b_error = hn::MulAdd(hn::Set(df, 2.0f), rs, p_len);
+  // Every pixel sees its sphere from outside (c > 0, the usual radii): one discriminant form
+  // and one tolerance form serve every sample.
+  const bool outside = hn::AllFalse(df, hn::AndNot(hn::Gt(sp.c_term, zero), active));
   // The sample at disc point (sx, sy) projects to pixel (cx + fx (C.x + r sx)/dc,
   // cy − fy (C.y + r sy)/dc): one division per pixel, one multiply-add per sample.
   const VF kx = hn::Div(hn::Set(df, cam.fx), hn::Neg(sp.cz));
@@ -253,9 +256,11 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
         const VF cross_z = hn::MulSub(rx, sp.cy, hn::Mul(ry, sp.cx));
         const VF cross2 =
             hn::MulAdd(cross_x, cross_x, hn::MulAdd(cross_y, cross_y, hn::Mul(cross_z, cross_z)));
+        const VF disc_outside = hn::MulSub(a, sp.r2, cross2);
         const VF disc =
-            hn::IfThenElse(hn::Lt(sp.c_term, zero), hn::NegMulAdd(a, sp.c_term, hn::Mul(b, b)),
-                           hn::MulSub(a, sp.r2, cross2));
+            outside ? disc_outside
+                    : hn::IfThenElse(hn::Lt(sp.c_term, zero),
+                                     hn::NegMulAdd(a, sp.c_term, hn::Mul(b, b)), disc_outside);
         // A sample on P's own texel has P's ray, which meets the sphere at P (depth d) and at
         // d + 2r (v0·n)/|v0|²: its pipe's length without the discriminant, which cancels
         // there when the sphere is a fraction of a pixel (far, grazing surfaces).
@@ -281,12 +286,16 @@ HWY_INLINE Sums PixelSums(DF df, const VaoFrame& f, const VaoPixelOptions& o,
                             hn::Mul(hn::MulAdd(b, b, hn::Abs(hn::Mul(a, sp.c_term))), inv_sq)),
                     inv_a),
             sp.scale);
-        const VF sqrt_a = hn::Mul(a, hn::ApproximateReciprocalSqrt(a));
-        const VF bound_neg =
-            hn::Mul(hn::Abs(back), hn::MulAdd(hn::MulAdd(hn::Add(sp.b_error, sp.b_error), sqrt_a,
-                                                         hn::Mul(hn::Mul(a, sp.c_error), inv_sq)),
-                                              hn::ApproximateReciprocal(t), sp.c_error_rel));
-        tol = hn::Add(hn::Abs(ds), hn::IfThenElse(b_pos, bound_pos, bound_neg));
+        VF bound = bound_pos;
+        if (!outside) {  // b < 0 needs the camera inside the sphere (c > 0: back > 0 needs b > 0)
+          const VF sqrt_a = hn::Mul(a, hn::ApproximateReciprocalSqrt(a));
+          const VF bound_neg =
+              hn::Mul(hn::Abs(back), hn::MulAdd(hn::MulAdd(hn::Add(sp.b_error, sp.b_error), sqrt_a,
+                                                           hn::Mul(hn::Mul(a, sp.c_error), inv_sq)),
+                                                hn::ApproximateReciprocal(t), sp.c_error_rel));
+          bound = hn::IfThenElse(b_pos, bound_pos, bound_neg);
+        }
+        tol = hn::Add(hn::Abs(ds), bound);
         tol = hn::Min(hn::Mul(tol_scale, tol), hn::Set(df, 1e38f));
         full = hn::IfThenElse(own, self_full, hn::Sub(back, front));
         live = hn::Or(live, hn::And(own, hn::Gt(self_full, zero)));
