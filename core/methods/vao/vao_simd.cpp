@@ -88,7 +88,7 @@ struct Sphere {
   VF px_base, py_base, px_step, py_step;  // a sample's pixel: base + step·(sx, sy)
 };
 
-// vao_pixel on every lane of `pixels` (active lanes), samples up to the lanes' counts.
+// What vao_pixel sums, on every lane.
 struct Sums {
   VF open, full, br, bg, bb, bleed_count;
 };
