@@ -98,12 +98,14 @@ VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
   f.normals = prepared_normals(g, threads);
   if (with_color && g.has_color()) {
     f.color = Image(f.width, f.height, 3);
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x)
-        for (int c = 0; c < 3; ++c) {
-          const float v = g.color(x, y, c);
-          f.color(x, y, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
-        }
+    parallel_for_rows(f.height, threads, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < f.width; ++x)
+          for (int c = 0; c < 3; ++c) {
+            const float v = g.color(x, y, c);
+            f.color(x, y, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+          }
+    });
   }
   return f;
 }
