@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "core/base/parallel.h"
+#include "core/methods/vao/vao_simd.h"
 #include "core/sampling/random.h"
 
 namespace aolab {
@@ -97,12 +98,14 @@ VaoFrame vao_frame(const GBuffer& g, bool with_color, int threads) {
   f.normals = prepared_normals(g, threads);
   if (with_color && g.has_color()) {
     f.color = Image(f.width, f.height, 3);
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x)
-        for (int c = 0; c < 3; ++c) {
-          const float v = g.color(x, y, c);
-          f.color(x, y, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
-        }
+    parallel_for_rows(f.height, threads, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < f.width; ++x)
+          for (int c = 0; c < 3; ++c) {
+            const float v = g.color(x, y, c);
+            f.color(x, y, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+          }
+    });
   }
   return f;
 }
@@ -261,6 +264,24 @@ Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
 
   Image out(w, h, 1, 1.0f);
   if (options.progress) options.progress->total += h;
+  if (options.kernel == Kernel::Simd) {
+    VaoSimdSets sets;
+    sets.add(kernel);
+    sets.random_rotation = s.random_rotation;
+    sets.seed = std::uint32_t(s.seed);
+    VaoSimdCounts counts;
+    counts.samples = s.samples;
+    parallel_for_rows(
+        h, threads,
+        [&](int y0, int y1) {
+          for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
+            for (int y = y0; y < y1; ++y)
+              vao_simd_span(frame, po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns), 1, 0,
+                            &out(0, y), 1, nullptr);
+        },
+        options.progress, kVaoBandRows);
+    return out;
+  }
   parallel_for_rows(
       h, threads,
       [&](int y0, int y1) {
@@ -289,6 +310,7 @@ Method vao_method() {
       "for Real-Time Rendering and Games (as outlined in VAO++ 2017, section 3)",
       kVaoFields, vao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

@@ -4,8 +4,10 @@
 #include <atomic>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/vao/vao_simd.h"
 #include "core/methods/vao_pp/bilateral.h"
 #include "core/sampling/poisson_disk.h"
 #include "core/sampling/random.h"
@@ -50,15 +52,13 @@ int set_index(int n) {
 class SampleSets {
  public:
   SampleSets(bool poisson, int seed) : poisson_(poisson), seed_(std::uint32_t(seed)) {
-    const float seed_angle =
-        seed ? float(2.0 * std::numbers::pi) * pixel_random(seed_, -1, -1, 7) : 0.0f;
+    seed_angle_ = seed ? float(2.0 * std::numbers::pi) * pixel_random(seed_, -1, -1, 7) : 0.0f;
     for (int s = 0; s < 5; ++s) {
       const int n = kSetSizes[s];
       if (poisson) {
         const VaoKernel base = vao_kernel(rotation_aware_poisson_disk(n).points);
         for (int k = 0; k < kPoissonRotations; ++k)
-          sets_[s].push_back(
-              rotated(base, seed_angle + float(2.0 * std::numbers::pi * k / kPoissonRotations)));
+          sets_[s].push_back(rotated(base, tile_angle(k)));
       } else {
         sets_[s].push_back(vao_spiral_kernel(n));
       }
@@ -73,9 +73,31 @@ class SampleSets {
     return scratch;
   }
 
+  // The same sets for the SIMD kernel: the unrotated ones and the tile's nine angles.
+  VaoSimdSets simd() const {
+    VaoSimdSets out;
+    for (int n : kSetSizes)
+      out.add(poisson_ ? vao_kernel(rotation_aware_poisson_disk(n).points) : vao_spiral_kernel(n));
+    out.tiled = poisson_;
+    for (int k = 0; k < kPoissonRotations; ++k) {
+      const double angle = double(tile_angle(k));  // as `rotated` turns it
+      out.rotation_cos[k] = float(std::cos(angle));
+      out.rotation_sin[k] = float(std::sin(angle));
+    }
+    out.random_rotation = !poisson_;
+    out.seed = seed_;
+    return out;
+  }
+
  private:
+  // The angle of the tile's rotation k, turned by the seed's.
+  float tile_angle(int k) const {
+    return seed_angle_ + float(2.0 * std::numbers::pi * k / kPoissonRotations);
+  }
+
   bool poisson_;
   std::uint32_t seed_;
+  float seed_angle_ = 0.0f;
   std::array<std::vector<VaoKernel>, 5> sets_;
 };
 
@@ -104,6 +126,43 @@ bool occlusion_nearby(const Image& low, int x, int y, float threshold) {
       if (top + tv * (bottom - top) < threshold) return true;
     }
   return false;
+}
+
+// occlusion_nearby's four fetches, made once per corner of the pixel grid: corner (x, y)
+// "exhibits occlusion" (the same arithmetic, so the same decisions). What depends on x alone
+// (the texel columns and the weight tu) is made once per run.
+struct CornerColumns {
+  std::vector<int> i0, i1;  // the clamped texel columns of u = x/8 − 0.5
+  std::vector<float> tu;
+  CornerColumns(int w, int lw) {
+    for (int x = 0; x <= w; ++x) {
+      const float u = float(x) / float(kVaoPpCullFactor) - 0.5f;
+      const float fu = std::floor(u);
+      const int i = int(fu);
+      i0.push_back(std::clamp(i, 0, lw - 1));
+      i1.push_back(std::clamp(i + 1, 0, lw - 1));
+      tu.push_back(u - fu);
+    }
+  }
+};
+
+void occluded_corners(const Image& low, const CornerColumns& cols, int y, int w, float threshold,
+                      std::vector<char>& out) {
+  const int lh = low.height();
+  const float v = float(y) / float(kVaoPpCullFactor) - 0.5f;
+  const float fv = std::floor(v);
+  const int j = int(fv);
+  const float tv = v - fv;
+  const float* row0 = low.data() + std::size_t(std::clamp(j, 0, lh - 1)) * low.width();
+  const float* row1 = low.data() + std::size_t(std::clamp(j + 1, 0, lh - 1)) * low.width();
+  out.resize(std::size_t(w) + 1);
+  for (std::size_t x = 0; x <= std::size_t(w); ++x) {
+    const int i0 = cols.i0[x], i1 = cols.i1[x];
+    const float tu = cols.tu[x];
+    const float top = row0[i0] + tu * (row0[i1] - row0[i0]);
+    const float bottom = row1[i0] + tu * (row1[i1] - row1[i0]);
+    out[x] = top + tv * (bottom - top) < threshold;
+  }
 }
 
 // The setting that makes VAO++ read colour ("" = none); colour bleeding is named first.
@@ -232,6 +291,81 @@ Image occlusion_pass(const Pass& r, const Image& low, Counters& counters) {
   return work;
 }
 
+// The SIMD kernel's passes 0 and 1: the pre-pass and occlusion_pass, vao_simd_span on rows.
+Image cull_prepass_simd(const Pass& r, const VaoSimdSets& sets, Counters& counters) {
+  const int w = r.frame.width, h = r.frame.height;
+  const int lw = (w + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
+  const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
+  Image low(lw, lh, 1, 1.0f);
+  VaoSimdCounts counts;
+  counts.samples = kVaoPpCullSamples;
+  parallel_for_rows(
+      lh, r.threads,
+      [&](int j0, int j1) {
+        VaoSimdStats stats;
+        for (int j = j0; j < j1; ++j) {
+          const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
+          vao_simd_span(r.frame, r.po, sets, counts, y, 0, lw, kVaoPpCullFactor,
+                        kVaoPpCullFactor / 2, &low(0, j), 1, &stats);
+        }
+        counters.prepass_pixels += stats.pixels;
+      },
+      r.progress);
+  return low;
+}
+
+Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& low,
+                          Counters& counters) {
+  const VaoPpSettings& s = r.s;
+  const int w = r.frame.width, h = r.frame.height;
+  const int channels = s.color_bleeding ? 4 : 1;
+  Image work(w, h, channels, 1.0f);
+  VaoPixelOptions full_po = r.po;
+  full_po.bleeding_step = s.color_bleeding ? s.bleeding_sample_step : 0;
+  VaoSimdCounts base;
+  base.samples = s.samples;
+  base.adaptive = s.adaptive_sampling;
+  base.adaptive_min_diameter = s.adaptive_min_diameter;
+  base.greedy = r.culling == VaoPpCulling::Greedy;
+  base.careful = kVaoPpCarefulSamples;
+  const CornerColumns columns(w, r.culling != VaoPpCulling::Off ? low.width() : 1);
+  parallel_for_rows(
+      h, r.threads,
+      [&](int y0, int y1) {
+        VaoSimdStats stats;
+        std::vector<char> top, bottom;
+        // The band's rows of §4.2's decisions (1 = culled), then its tiles.
+        std::vector<float> culled(std::size_t(y1 - y0) * w, 0.0f);
+        VaoSimdCounts counts = base;
+        for (int y = y0; y < y1; ++y) {
+          if (r.culling != VaoPpCulling::Off) {
+            // Corner row y is row y − 1's bottom one.
+            if (y == y0) occluded_corners(low, columns, y, w, s.cull_threshold, bottom);
+            std::swap(top, bottom);
+            occluded_corners(low, columns, y + 1, w, s.cull_threshold, bottom);
+            for (int x = 0; x < w; ++x)
+              culled[std::size_t(y - y0) * w + std::size_t(x)] =
+                  (top[std::size_t(x)] | top[std::size_t(x) + 1] | bottom[std::size_t(x)] |
+                   bottom[std::size_t(x) + 1])
+                      ? 0.0f
+                      : 1.0f;
+          }
+        }
+        for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
+          for (int y = y0; y < y1; ++y) {
+            counts.culled = culled.data() + std::size_t(y - y0) * w;
+            if (r.culling == VaoPpCulling::Off) counts.culled = nullptr;
+            vao_simd_span(r.frame, full_po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns),
+                          1, 0, &work(0, y, 0), channels, &stats);
+          }
+        counters.pixels += stats.pixels;
+        counters.culled += stats.culled;
+        counters.samples += stats.samples;
+      },
+      r.progress, kVaoBandRows);
+  return work;
+}
+
 // Pass 3: luminance sensitivity (eq. 3) on the occlusion 1 − A of the geometry pixels.
 void apply_luminance(const Pass& r, Image& work) {
   const GBuffer& g = r.g;
@@ -284,12 +418,22 @@ Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options
   const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
   if (options.progress) options.progress->total += (culling ? lh : 0) + h;
   Counters counters;
-  const Image low = culling ? cull_prepass(r, counters) : Image();
-  Image work = occlusion_pass(r, low, counters);
+  Image work;
+  if (options.kernel == Kernel::Simd) {
+    const VaoSimdSets simd_sets = sets.simd();
+    const Image low = culling ? cull_prepass_simd(r, simd_sets, counters) : Image();
+    work = occlusion_pass_simd(r, simd_sets, low, counters);
+  } else {
+    const Image low = culling ? cull_prepass(r, counters) : Image();
+    work = occlusion_pass(r, low, counters);
+  }
   // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
   if (s.filter)
-    work = cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius, threads,
-                                  options.progress);
+    work = options.kernel == Kernel::Simd
+               ? cross_bilateral_filter_simd(work.view(), frame.depth.data(), s.filter_taps,
+                                             s.filter_sigma, s.radius, threads, options.progress)
+               : cross_bilateral_filter(work.view(), g, s.filter_taps, s.filter_sigma, s.radius,
+                                        threads, options.progress);
   if (s.luminance_sensitivity) apply_luminance(r, work);
   if (stats) {
     stats->pixels = counters.pixels;
@@ -312,6 +456,7 @@ Method vao_pp_method() {
   m.needs_normal = true;
   m.needs_color = true;                // with luminance_sensitivity or color_bleeding only
   m.color_depends_on_settings = true;  // validate_vao_pp checks it
+  m.has_simd_kernel = true;
   return m;
 }
 
