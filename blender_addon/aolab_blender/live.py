@@ -235,9 +235,11 @@ def snapshot(context) -> dict | None:
 
 
 def _start(context) -> None:
+    t0 = time.perf_counter()
     plan = snapshot(context)
     if plan is None:
         return
+    plan["snapshot_s"] = time.perf_counter() - t0
     _state.stats["computes"] += 1
     _state.worker = threading.Thread(target=_compute, args=(plan, _state.results),
                                      name="aolab-live", daemon=True)
@@ -260,27 +262,46 @@ def _apply_results(context) -> None:
         if item.get("error"):
             _set_message(session, f"{method}: {item['error']}", error=True)
             continue
-        t0 = time.perf_counter()
+        t0, cpu0 = time.perf_counter(), time.thread_time()
         name = images.image_name(method)
         images.set_image(name, item["ao"])
-        done = time.perf_counter()
+        done, cpu = time.perf_counter(), time.thread_time() - cpu0
         _store_row(session, context.scene, item, name)
+        # total = wait (debounce, snapshot, G-buffer load, earlier runs of the same compute)
+        # + compute + poll (until the timer saw it) + image.
         update = {"method": method, "compute_ms": 1000 * item["compute_s"],
-                  "image_ms": 1000 * (done - t0), "total_ms": 1000 * (done - item["changed_at"]),
-                  "load_ms": 1000 * item["load_s"], "generation": item["generation"]}
+                  "image_ms": 1000 * (done - t0), "image_cpu_ms": 1000 * cpu,
+                  "total_ms": 1000 * (done - item["changed_at"]),
+                  "wait_ms": 1000 * (item["started_at"] - item["changed_at"]),
+                  "poll_ms": 1000 * (t0 - item["finished_at"]),
+                  "snapshot_ms": 1000 * item["snapshot_s"], "load_ms": 1000 * item["load_s"],
+                  "generation": item["generation"]}
         _state.last = (_state.last + [update])[-64:]
         _state.stats["applied"] += 1
         session.live_method, session.live_compute_ms = method, update["compute_ms"]
         session.live_image_ms, session.live_total_ms = update["image_ms"], update["total_ms"]
         _set_message(session, f"{method} {update['compute_ms']:.1f} ms compute, "
                      f"{update['total_ms']:.1f} ms from the change to the image", error=False)
-        operators._redraw(context)
+        _redraw(context)
+
+
+def _redraw(context) -> None:
+    """Redraws the panel's regions and the Image Editors, not the 3D viewport itself (a
+    heavy scene's viewport would cost more than the update)."""
+    for window in context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == "IMAGE_EDITOR":
+                area.tag_redraw()
+            elif area.type in ("VIEW_3D", "PROPERTIES"):
+                for region in area.regions:
+                    if region.type == ("UI" if area.type == "VIEW_3D" else "WINDOW"):
+                        region.tag_redraw()
 
 
 def _set_message(session, text: str, *, error: bool) -> None:
     if session.live_message != text or session.live_message_is_error != error:
         session.live_message, session.live_message_is_error = text, error
-        operators._redraw(bpy.context)
+        _redraw(bpy.context)
 
 
 def _store_row(session, scene, item: dict, image: str) -> None:
@@ -327,14 +348,16 @@ def _compute(plan: dict, out: queue.Queue) -> None:
     """Each run of the plan on its G-buffer; every result (or error) put into `out`."""
     for run in plan["runs"]:
         item = {**run, "scene": plan["scene"], "size": plan["size"], "ao": None,
-                "compute_s": 0.0, "load_s": 0.0, "error": None}
+                "snapshot_s": plan["snapshot_s"], "compute_s": 0.0, "load_s": 0.0,
+                "error": None}
         try:
             g, item["load_s"] = _load(plan["exr"])
-            t0 = time.perf_counter()
+            item["started_at"] = t0 = time.perf_counter()
             item["ao"] = properties.aolab.compute(
                 run["method"], g, radius=plan["radius"], threads=plan["threads"],
                 blur=run["blur"], **run["settings"])
-            item["compute_s"] = time.perf_counter() - t0
+            item["finished_at"] = time.perf_counter()
+            item["compute_s"] = item["finished_at"] - t0
         except Exception as e:  # noqa: BLE001 - shown in the panel, never a traceback
             item["error"] = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
         out.put(item)

@@ -7,8 +7,9 @@ addon_check.py). Prints one JSON line `RESULT {...}`.
         a change while a compute runs, a preset; every image saved as OUT_DIR/<name>.npy with
         the settings it was computed with; then the add-on disabled with a timer pending.
     live_check.py -- latency SCENE.py CACHE OUT_DIR SCALE REPEAT
-        every method at `medium`, each switched low -> medium REPEAT times; the times of
-        each live update (compute, image, change to image).
+        every method (but the brute-force screen_space_limit) at `medium`, each switched
+        low -> medium REPEAT times; the times of each live update (compute, image, change
+        to image).
 
 Blender runs no timers in -b mode (it has no event loop), so `pump` does what the event loop
 does with bpy.app.timers: calls the registered live.tick when it is due, as often as it asks,
@@ -192,16 +193,21 @@ if mode == "live":
 
 elif mode == "latency":
     scale, repeat = int(args[4]), int(args[5])
+    # screen_space_limit is the brute-force bound of the study (minutes per image), no
+    # interactive method: left out.
+    methods = [m for m in methods if m != "screen_space_limit"]
     s.preview_scale = scale
     for m in methods:
-        group(m).use_method = True
-        group(m).preset = "medium"
+        group(m).use_method = m == methods[0]   # Preview exports the G-buffer
+        if "medium" in properties.presets.names(m):
+            group(m).preset = "medium"
     r["preview"] = sorted(bpy.ops.aolab.preview())
     r["size"] = session.results_size
     session.live = True
-    pump()
     r["times"] = {}
     for m in methods:
+        group(m).use_method = True
+        pump()
         g = group(m)
         rows = []
         names = properties.presets.names(m)
@@ -216,6 +222,7 @@ elif mode == "latency":
                 g.use_blur = False
             pump()
             rows.append(live._state.last[-1])
+            print("LIVE", json.dumps(rows[-1]), flush=True)
         r["times"][m] = rows
 
 print("RESULT " + json.dumps(r, default=str))
