@@ -11,8 +11,9 @@ cost one compute of the latest values each time the worker is free. The worker (
 no bpy) runs aolab.compute (C++, the GIL released) on the G-buffer kept in memory (loaded
 from the cache's EXR once per folder). `tick` writes each finished result into its image,
 unless the method's generation moved on meanwhile (the result is stale: dropped, and the
-newer change has its own compute coming). The timer ends (returns None) when nothing is
-dirty or computing.
+newer change has its own compute coming; a compute of a method that changes while it runs
+is cancelled through its aolab.Progress, so a slow method does not finish a result nobody
+will see). The timer ends (returns None) when nothing is dirty or computing.
 
 The G-buffer is the one Preview uses: a cached render of this scene content at the
 Resolution. Live never exports one (that takes a Blender render): without it the panel says
@@ -58,18 +59,20 @@ class _State:
         self.first_pending = 0.0                # perf_counter of the oldest undone change
         self.last_change = 0.0
         self.worker: threading.Thread | None = None
+        self.computing: tuple | None = None     # (method, aolab.Progress) of the running run
         self.results: queue.Queue = queue.Queue()
         self.hashes: dict[tuple, str] = {}      # (scene, camera, size) -> content hash
         self.folders: dict[tuple, Path] = {}    # (hash, size, passes, cache) -> G-buffer
         self.radius: float | None = None        # R of the last snapshot (world changes)
-        self.stats = {"computes": 0, "applied": 0, "dropped": 0, "snapshots": 0}
+        self.stats = {"computes": 0, "applied": 0, "dropped": 0, "cancelled": 0,
+                      "snapshots": 0}
         self.last: list[dict] = []              # the last applied updates (tests, timing)
         self.closed = False
 
 
 _state = _State()
 _gbuffer_lock = threading.Lock()
-_gbuffer: dict = {}   # {"key": (path, mtime_ns), "g": aolab.GBuffer, "load_s": float}
+_gbuffer: dict = {}   # {"key": (path, mtime_ns), "g": aolab.GBuffer}: one at a time
 
 
 # ---- main thread: changes ----
@@ -85,6 +88,7 @@ def changed(context, method: str = ALL) -> None:
     for m in names:
         _state.generation[m] = _state.generation.get(m, 0) + 1
         _state.changed_at[m] = now
+    _cancel_running(names)
     if not _state.dirty:
         _state.first_pending = now
     _state.dirty.update(names or [ALL])   # no method (not built): the snapshot says why
@@ -93,11 +97,20 @@ def changed(context, method: str = ALL) -> None:
         bpy.app.timers.register(tick, first_interval=DEBOUNCE_S)
 
 
+def _cancel_running(methods) -> None:
+    """A compute of a method that changed is stale: stopped, so that the latest values
+    start sooner (a slow method would otherwise finish a result nobody sees)."""
+    computing = _state.computing
+    if computing is not None and computing[0] in methods:
+        computing[1].cancel()
+
+
 def on_toggle(session, context) -> None:
     """Live switched on: everything ticked is computed (and the G-buffer looked up); off:
     pending changes are forgotten, a running compute's result is dropped."""
     if session.live:
         session.live_message, session.live_message_is_error = "waiting for the first update", False
+        session.live_method = ""   # the times shown are this run's
         changed(context)
     else:
         _forget_pending()
@@ -125,6 +138,7 @@ def gbuffer_exported(context) -> None:
 def _forget_pending() -> None:
     for m in list(_state.generation):   # a running compute's results become stale
         _state.generation[m] += 1
+    _cancel_running(list(_state.generation))
     _state.dirty.clear()
 
 
@@ -254,10 +268,11 @@ def _apply_results(context) -> None:
         except queue.Empty:
             return
         method = item["method"]
-        stale = item["generation"] != _state.generation.get(method) or \
+        stale = item["cancelled"] or item["generation"] != _state.generation.get(method) or \
             item["scene"] != context.scene.name or not session.live
         if stale:
             _state.stats["dropped"] += 1
+            _state.stats["cancelled"] += item["cancelled"]
             continue
         if item.get("error"):
             _set_message(session, f"{method}: {item['error']}", error=True)
@@ -345,21 +360,35 @@ def _load(path: str):
 
 
 def _compute(plan: dict, out: queue.Queue) -> None:
-    """Each run of the plan on its G-buffer; every result (or error) put into `out`."""
+    """Each run of the plan on its G-buffer; every result (or error) put into `out`. A run
+    whose method changed before it started is skipped, and one that changes while it
+    computes is cancelled (aolab.Progress.cancel, from `changed`): both come back stale."""
+    aolab = properties.aolab
     for run in plan["runs"]:
         item = {**run, "scene": plan["scene"], "size": plan["size"], "ao": None,
                 "snapshot_s": plan["snapshot_s"], "compute_s": 0.0, "load_s": 0.0,
-                "error": None}
+                "error": None, "cancelled": False}
+        # Reading the generations (plain Python data, no bpy) is safe under the GIL.
+        if _state.generation.get(run["method"]) != run["generation"]:
+            item["cancelled"] = True
+            out.put(item)
+            continue
+        progress = aolab.Progress()
+        _state.computing = (run["method"], progress)
         try:
             g, item["load_s"] = _load(plan["exr"])
             item["started_at"] = t0 = time.perf_counter()
-            item["ao"] = properties.aolab.compute(
+            item["ao"] = aolab.compute(
                 run["method"], g, radius=plan["radius"], threads=plan["threads"],
-                blur=run["blur"], **run["settings"])
+                blur=run["blur"], progress=progress, **run["settings"])
             item["finished_at"] = time.perf_counter()
             item["compute_s"] = item["finished_at"] - t0
+        except aolab.Cancelled:
+            item["cancelled"] = True
         except Exception as e:  # noqa: BLE001 - shown in the panel, never a traceback
             item["error"] = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
+        finally:
+            _state.computing = None
         out.put(item)
 
 
@@ -380,6 +409,7 @@ def unregister() -> None:
                          (bpy.app.handlers.load_pre, _on_load)):
         if fn in handlers:
             handlers.remove(fn)
+    _forget_pending()   # cancels a running compute
     if _state.worker is not None:
         _state.worker.join(JOIN_S)
     _state.worker = None

@@ -82,6 +82,36 @@ def tick_until_computing(timeout: float = 10.0) -> None:
         time.sleep(live.tick() or 0.0)
 
 
+class Layout:
+    """Stands in for bpy.types.UILayout (which -b cannot make): records the labels, checks
+    that every drawn property exists."""
+
+    def __init__(self, texts):
+        self.texts = texts
+
+    def __getattr__(self, name):   # box, row, column, split, operator, separator, ...
+        return lambda *a, **k: Layout(self.texts)
+
+    def label(self, text="", **k):
+        self.texts.append(text)
+
+    def prop(self, owner, name, **k):
+        if not hasattr(owner, name):
+            raise AttributeError(f"the panel draws {owner!r}.{name}, which does not exist")
+
+
+def panel_text() -> list[str]:
+    """The AO Lab panel's labels, drawn by ui.draw_panel as Blender would."""
+    from types import SimpleNamespace
+    from aolab_blender import ui
+    texts = []
+    c = bpy.context
+    ui.draw_panel(Layout(texts), SimpleNamespace(
+        scene=c.scene, window_manager=c.window_manager, region=None,
+        preferences=c.preferences))
+    return texts
+
+
 r = {"methods": methods}
 if mode == "live":
     s.preview_scale = 100
@@ -93,7 +123,7 @@ if mode == "live":
     r["no_gbuffer_timer"] = bpy.app.timers.is_registered(live.tick)
     pump()
     r["no_gbuffer"] = {"message": session.live_message, "error": session.live_message_is_error,
-                       "stats": stats(),
+                       "stats": stats(), "panel": panel_text(),
                        "images": sorted(i.name for i in bpy.data.images)}
     session.live = False
 
@@ -125,6 +155,7 @@ if mode == "live":
     r["changed_timer"] = bpy.app.timers.is_registered(live.tick)
     pump()
     r["changed"] = {"stats_before": before, "stats": stats(), "hbao": save("changed_hbao", "hbao"),
+                    "panel": panel_text(),
                     "last": live._state.last[-1], "compute_ms": session.live_compute_ms,
                     "total_ms": session.live_total_ms, "message": session.live_message}
 
@@ -145,6 +176,23 @@ if mode == "live":
     g.directions = 8
     pump()
     r["stale"] = {"stats_before": before, "stats": stats(), "hbao": save("stale_hbao", "hbao")}
+
+    # A slow method changed while it computes: cancelled, not finished; the latest shown.
+    slow = group("screen_space_limit")
+    slow.use_method = True
+    pump()
+    r["slow_full_ms"] = live._state.last[-1]["compute_ms"]
+    before = stats()
+    slow.use_blur = True
+    tick_until_computing()
+    time.sleep(0.02)
+    t0 = time.perf_counter()
+    slow.use_blur = False
+    pump()
+    r["slow"] = {"stats_before": before, "stats": stats(),
+                 "ms": 1000 * (time.perf_counter() - t0), "last": live._state.last[-1]}
+    slow.use_method = False
+    pump()
 
     # A preset (it sets every setting of the method): one compute.
     before = stats()

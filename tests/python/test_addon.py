@@ -238,6 +238,7 @@ def test_live_without_a_cached_gbuffer_says_so_and_computes_nothing(live):
     assert "click Preview" in step["message"]
     assert step["stats"]["computes"] == 0 and step["stats"]["applied"] == 0
     assert not [n for n in step["images"] if n.startswith("AO Lab")]
+    assert "no G-buffer of this scene" in " ".join(step["panel"]), step["panel"]  # wrapped
 
 
 def test_live_off_does_nothing(live):
@@ -267,6 +268,8 @@ def test_live_images_follow_the_settings_and_equal_compute(live):
     assert changed["compute_ms"] == pytest.approx(last["compute_ms"], rel=1e-5)
     assert changed["total_ms"] == pytest.approx(last["total_ms"], rel=1e-5)
     assert "ms from the change to the image" in changed["message"]
+    assert "Live: hbao" in changed["panel"], changed["panel"]   # the panel shows the times
+    assert f"{last['total_ms']:.1f} ms change to image" in changed["panel"]
     # A preset sets every setting: one compute of the preset's values.
     preset = r["preset"]
     assert grew(preset, "computes") == 1 and grew(preset, "applied") == 1
@@ -295,6 +298,15 @@ def test_live_coalesces_quick_changes_and_drops_stale_results(live):
     assert grew(stale, "applied") == 1
     assert stale["hbao"]["settings"] == {"steps": 3}   # 8 directions: the default
     assert_live_image(r, work, "stale_hbao", "hbao", stale["hbao"])
+
+
+def test_live_cancels_a_stale_compute(live):
+    r, _ = live
+    slow = r["slow"]   # screen_space_limit changed while it computed
+    assert grew(slow, "cancelled") == 1 and grew(slow, "dropped") == 1
+    assert grew(slow, "applied") == 1 and slow["last"]["method"] == "screen_space_limit"
+    # The stale compute stopped: the change was shown sooner than two full computes.
+    assert slow["ms"] < 2 * r["slow_full_ms"], (slow["ms"], r["slow_full_ms"])
 
 
 def test_live_notices_a_changed_scene(live):
