@@ -29,7 +29,7 @@ import json, statistics, sys
 r = json.load(open(sys.argv[1]))
 if r["error"]:
     sys.exit("live_latency: " + r["error"])
-keys = ["first_callback_ms", "wait_ms", "compute_ms", "poll_ms", "image_ms", "image_cpu_ms",
+keys = ["first_callback_ms", "wait_ms", "compute_ms", "rgba_ms", "poll_ms", "image_ms", "image_cpu_ms",
         "total_ms"]
 print(f"Live at {r['size']}, median over the repeats (ms); the event loop called a 10 ms "
       f"timer back after {statistics.median(r['loop_ms']):.1f} ms (median)")

@@ -29,14 +29,27 @@ def _rgba(h: int, w: int) -> np.ndarray:
     return buf
 
 
-def set_image(name: str, pixels: np.ndarray) -> bpy.types.Image:
-    """Writes an (H, W) grey or (H, W, 3) colour array (row 0 at the top, as aolab returns
-    it) into the image `name`, creating or resizing it. No per-pixel Python: numpy flips
-    the rows into a reused float32 RGBA buffer and one foreach_set copies it."""
+def blender_rgba(pixels: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """An (H, W) grey or (H, W, 3) colour array (row 0 at the top, as aolab returns it) as
+    Blender's float32 RGBA pixels (rows from the bottom, alpha 1), (H, W, 4). Numpy only, no
+    bpy: a worker thread may call it (Live does, so that the main thread only copies)."""
     h, w = pixels.shape[:2]
-    rgba = _rgba(h, w)
-    # Blender's rows start at the bottom.
-    np.copyto(rgba[..., :3], pixels[::-1, :, None] if pixels.ndim == 2 else pixels[::-1, :, :3])
+    if out is None:
+        out = np.empty((h, w, 4), np.float32)
+        out[..., 3] = 1.0
+    np.copyto(out[..., :3], pixels[::-1, :, None] if pixels.ndim == 2 else pixels[::-1, :, :3])
+    return out
+
+
+def set_image(name: str, pixels: np.ndarray, *, rgba: np.ndarray | None = None
+              ) -> bpy.types.Image:
+    """Writes an (H, W) grey or (H, W, 3) colour array (row 0 at the top, as aolab returns
+    it) into the image `name`, creating or resizing it; `rgba`: blender_rgba(pixels),
+    made already. No per-pixel Python: numpy flips the rows into a float32 RGBA buffer
+    (reused) and one foreach_set copies it."""
+    h, w = pixels.shape[:2]
+    if rgba is None:
+        rgba = blender_rgba(pixels, _rgba(h, w))
     image = bpy.data.images.get(name)
     if image is not None and (not image.is_float or image.type != "IMAGE"):
         bpy.data.images.remove(image)

@@ -279,12 +279,13 @@ def _apply_results(context) -> None:
             continue
         t0, cpu0 = time.perf_counter(), time.thread_time()
         name = images.image_name(method)
-        images.set_image(name, item["ao"])
+        images.set_image(name, item["ao"], rgba=item["rgba"])
         done, cpu = time.perf_counter(), time.thread_time() - cpu0
         _store_row(session, context.scene, item, name)
         # total = wait (debounce, snapshot, G-buffer load, earlier runs of the same compute)
-        # + compute + poll (until the timer saw it) + image.
+        # + compute + rgba (the worker's numpy) + poll (until the timer saw it) + image.
         update = {"method": method, "compute_ms": 1000 * item["compute_s"],
+                  "rgba_ms": 1000 * item["rgba_s"],
                   "image_ms": 1000 * (done - t0), "image_cpu_ms": 1000 * cpu,
                   "total_ms": 1000 * (done - item["changed_at"]),
                   "wait_ms": 1000 * (item["started_at"] - item["changed_at"]),
@@ -366,8 +367,8 @@ def _compute(plan: dict, out: queue.Queue) -> None:
     aolab = properties.aolab
     for run in plan["runs"]:
         item = {**run, "scene": plan["scene"], "size": plan["size"], "ao": None,
-                "snapshot_s": plan["snapshot_s"], "compute_s": 0.0, "load_s": 0.0,
-                "error": None, "cancelled": False}
+                "rgba": None, "snapshot_s": plan["snapshot_s"], "compute_s": 0.0,
+                "rgba_s": 0.0, "load_s": 0.0, "error": None, "cancelled": False}
         # Reading the generations (plain Python data, no bpy) is safe under the GIL.
         if _state.generation.get(run["method"]) != run["generation"]:
             item["cancelled"] = True
@@ -381,8 +382,11 @@ def _compute(plan: dict, out: queue.Queue) -> None:
             item["ao"] = aolab.compute(
                 run["method"], g, radius=plan["radius"], threads=plan["threads"],
                 blur=run["blur"], progress=progress, **run["settings"])
+            t1 = time.perf_counter()
+            item["compute_s"] = t1 - t0
+            item["rgba"] = images.blender_rgba(item["ao"])   # numpy: off the main thread
             item["finished_at"] = time.perf_counter()
-            item["compute_s"] = item["finished_at"] - t0
+            item["rgba_s"] = item["finished_at"] - t1
         except aolab.Cancelled:
             item["cancelled"] = True
         except Exception as e:  # noqa: BLE001 - shown in the panel, never a traceback
