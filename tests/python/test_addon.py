@@ -277,6 +277,11 @@ def test_live_images_follow_the_settings_and_equal_compute(live):
     values, blur = presets.preset_values("hbao", "low")
     assert preset["hbao"]["blur"] == blur
     assert_live_image(r, work, "preset_hbao", "hbao", preset["hbao"])
+    # The world's AO distance: every ticked method, through the depsgraph handler.
+    world = r["world"]
+    assert grew(world, "applied") == 2
+    assert world["hbao"]["radius"] == pytest.approx(world["distance"])
+    assert_live_image(r, work, "world_hbao", "hbao", world["hbao"])
     # R: every ticked method.
     radius = r["radius"]
     assert radius["hbao"]["radius"] == pytest.approx(0.6) and grew(radius, "applied") == 2
