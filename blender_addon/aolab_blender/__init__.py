@@ -8,7 +8,7 @@ images) and the bridge's Blender glue (state, export, peers, batch: the entry po
 
 import bpy
 
-from . import operators, preferences, properties, ui
+from . import live, operators, preferences, properties, ui
 
 bl_info = {
     "name": "AO Lab",
@@ -25,13 +25,16 @@ classes = (preferences.AOLAB_AddonPreferences, *operators.CLASSES, *ui.CLASSES)
 
 def register():
     """The classes in order, then the property groups (properties.register builds one per
-    method of aolab.methods() and hooks them onto Scene and WindowManager)."""
+    method of aolab.methods() and hooks them onto Scene and WindowManager), then Live's
+    handlers."""
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register()
+    live.register()
 
 
 def unregister():
+    live.unregister()   # first: no timer may fire into unregistered properties
     properties.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

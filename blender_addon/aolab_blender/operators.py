@@ -87,7 +87,9 @@ def render_passes() -> list[str]:
     return properties.passes.required_passes(infos, [])
 
 
-def scene_inputs(context, *, need_runs: bool = True) -> dict:
+def scene_inputs(context, *, need_runs: bool = True, hash_scene: bool = True) -> dict:
+    """What every operation reads from Blender and checks (UserError: what to fix).
+    `hash_scene=False` leaves out the content hash (Live keeps its own, computed once)."""
     scene = context.scene
     if not properties.available():
         raise UserError(f"{properties.NOT_BUILT} ({properties.IMPORT_ERROR})")
@@ -112,10 +114,12 @@ def scene_inputs(context, *, need_runs: bool = True) -> dict:
         raise UserError("nothing selected: tick at least one method")
     from .export import content_hash
     size = compare_size(scene)
-    return {"scene": scene.name, "radius": float(radius), "size": size, "runs": runs,
-            "passes": render_passes(), "cache": cache,
-            "threads": preferences.threads(context),
-            "scene_hash": content_hash(scene, scene.camera, size)}
+    inputs = {"scene": scene.name, "radius": float(radius), "size": size, "runs": runs,
+              "passes": render_passes(), "cache": cache,
+              "threads": preferences.threads(context)}
+    if hash_scene:
+        inputs["scene_hash"] = content_hash(scene, scene.camera, size)
+    return inputs
 
 
 def find_reference(inputs: dict, spp: int | None) -> Path | None:
@@ -317,6 +321,8 @@ class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):
 
     def finish(self, context, result):
         _store_results(context, result, "Preview", self._plan["size"])
+        from . import live
+        live.gbuffer_exported(context)
         times = ", ".join(f"{r['method']} {r['seconds'] * 1000:.1f} ms" for r in result["runs"])
         return f"Preview {self._plan['size'][0]}x{self._plan['size'][1]}: {times}"
 

@@ -10,7 +10,9 @@
   description from the C++ field table; a choice setting as an enum of its names). The
   method groups are built when the add-on is registered, from aolab.methods() at that time.
 - `window_manager.aolab` (this session only): the running job's progress, the last message,
-  and the results table (AOLAB_PG_result rows) of the last Preview or Compare.
+  the results table (AOLAB_PG_result rows) of the last Preview, Compare or live update, and
+  the Live switch with its last update's times. Every setting's update= callback calls
+  live.py, which does nothing unless Live is on.
 """
 
 import bpy
@@ -35,6 +37,24 @@ METHOD_PREFIX = "m_"
 UI_FIELDS = ("use_method", "show_expanded", "preset", "use_blur")
 INT_LIMIT = 2**31 - 1
 FLOAT_LIMIT = 3.0e38
+
+
+# Every setting's update= callback tells Live (live.py) what changed.
+def _live():
+    from . import live   # imported when first needed: live imports this module
+    return live
+
+
+def _live_toggled(self, context):
+    _live().on_toggle(self, context)
+
+
+def _setting_changed(self, context):
+    _live().on_setting(self, context)
+
+
+def _scene_setting_changed(self, context):
+    _live().on_scene_setting(self, context)
 
 
 class AOLAB_PG_result(bpy.types.PropertyGroup):
@@ -66,12 +86,28 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     message: bpy.props.StringProperty()
     message_is_error: bpy.props.BoolProperty()
     results: bpy.props.CollectionProperty(type=AOLAB_PG_result)
-    results_kind: bpy.props.StringProperty()   # "Preview" or "Compare"
+    results_kind: bpy.props.StringProperty()   # "Preview", "Compare" or "Live"
     results_scene: bpy.props.StringProperty()
     results_size: bpy.props.StringProperty()
     reference_folder: bpy.props.StringProperty()   # the last reference rendered or compared
     gbuffer_folder: bpy.props.StringProperty()     # the G-buffer of the last Preview / Compare
     report_path: bpy.props.StringProperty()
+    live: bpy.props.BoolProperty(
+        name="Live", default=False, update=_live_toggled,  # noqa: F821
+        description="Redraw a method's image whenever its settings, R or the "  # noqa: F722
+                    "Resolution change, from the G-buffer Preview cached (no button press)")
+    live_message: bpy.props.StringProperty()
+    live_message_is_error: bpy.props.BoolProperty()
+    live_method: bpy.props.StringProperty()
+    live_compute_ms: bpy.props.FloatProperty(
+        name="Compute",  # noqa: F821
+        description="aolab.compute of the last live update (ms)")  # noqa: F722
+    live_image_ms: bpy.props.FloatProperty(
+        name="Image",  # noqa: F821
+        description="Writing the last live result into its image (ms)")  # noqa: F722
+    live_total_ms: bpy.props.FloatProperty(
+        name="Total",  # noqa: F821
+        description="From the change to the updated image (ms)")  # noqa: F722
 
 
 def available() -> bool:
@@ -89,16 +125,18 @@ def _setting_property(s: dict):
     if method_settings.is_choice(s):
         items = [(c, c.replace("_", " ").title(), f"{s['name']} = {c}") for c in s["choices"]]
         return bpy.props.EnumProperty(name=name, description=desc, items=items,
-                                      default=s["default"])
+                                      default=s["default"], update=_setting_changed)
     if s["type"] == "bool":
-        return bpy.props.BoolProperty(name=name, description=desc, default=bool(s["default"]))
+        return bpy.props.BoolProperty(name=name, description=desc, default=bool(s["default"]),
+                                      update=_setting_changed)
     if s["type"] == "int":
         return bpy.props.IntProperty(name=name, description=desc, default=int(s["default"]),
                                      min=int(max(s["min"], -INT_LIMIT)),
-                                     max=int(min(s["max"], INT_LIMIT)))
+                                     max=int(min(s["max"], INT_LIMIT)), update=_setting_changed)
     return bpy.props.FloatProperty(name=name, description=desc, default=float(s["default"]),
                                    min=max(s["min"], -FLOAT_LIMIT),
-                                   max=min(s["max"], FLOAT_LIMIT), precision=4)
+                                   max=min(s["max"], FLOAT_LIMIT), precision=4,
+                                   update=_setting_changed)
 
 
 def _preset_label(name: str) -> str:
@@ -126,6 +164,7 @@ def _apply_preset(self, context):
     for s in method_settings.described(self.method_name):
         setattr(self, s["name"], values.get(s["name"], s["default"]))
     self.use_blur = blur
+    _setting_changed(self, context)   # also when the preset changed no value
 
 
 def _method_group(method: str, index: int):
@@ -135,13 +174,14 @@ def _method_group(method: str, index: int):
         raise RuntimeError(f"{method}: settings {clash} clash with the panel's own fields")
     annotations = {
         "use_method": bpy.props.BoolProperty(name=method, default=index == 0,
-                                             description=f"Compare {method}"),
+                                             description=f"Compare {method}",
+                                             update=_setting_changed),
         "show_expanded": bpy.props.BoolProperty(name="Show settings", default=False),
         "preset": bpy.props.EnumProperty(
             name="Preset", items=_preset_items, update=_apply_preset,
             description="Quality preset of the comparison study"),
         "use_blur": bpy.props.BoolProperty(
-            name="Blur", default=False,
+            name="Blur", default=False, update=_setting_changed,
             description="The shared separable Gaussian after the method (sigma 1.5 px, 5 taps)"),
     }
     annotations.update({s["name"]: _setting_property(s) for s in settings})
@@ -153,13 +193,15 @@ def _method_group(method: str, index: int):
 def _scene_group(method_groups: dict):
     annotations = {
         "use_scene_radius": bpy.props.BoolProperty(
-            name="Scene AO Distance", default=True,
+            name="Scene AO Distance", default=True, update=_scene_setting_changed,
             description="Use the world's AO distance (World > Ambient Occlusion) as R"),
         "radius": bpy.props.FloatProperty(
             name="Radius", default=1.0, min=1e-6, max=1e6, subtype="DISTANCE", precision=3,
+            update=_scene_setting_changed,
             description="R, the AO distance of the reference and every method (scene units)"),
         "preview_scale": bpy.props.IntProperty(
             name="Resolution", default=25, min=1, max=100, subtype="PERCENTAGE",
+            update=_scene_setting_changed,
             description="Preview, reference and comparison resolution, as a percentage of the "
                         "scene's output resolution"),
         "reference_samples": bpy.props.IntProperty(

@@ -117,6 +117,23 @@ def _draw_results(layout, session, scene, width: int) -> None:
                  width=width)
 
 
+def _draw_live(layout, session, width: int) -> None:
+    """Live's state: why nothing is computed (no G-buffer cached: which button exports
+    it), or the last update's compute and change-to-image times."""
+    box = layout.box()
+    if session.live_message_is_error:
+        _wrapped(box, "Live: " + session.live_message, icon="ERROR", width=width)
+    elif session.live_method:
+        col = box.column(align=True)
+        col.label(text=f"Live: {session.live_method}", icon="PLAY")
+        col.label(text=f"{session.live_compute_ms:.1f} ms compute, "
+                       f"{session.live_image_ms:.1f} ms image", icon="BLANK1")
+        col.label(text=f"{session.live_total_ms:.1f} ms change to image", icon="BLANK1")
+    else:
+        _wrapped(box, "Live: " + (session.live_message or "change a setting"), icon="PLAY",
+                 width=width)
+
+
 def draw_panel(layout, context) -> None:
     scene = context.scene
     wm = context.window_manager
@@ -140,9 +157,15 @@ def draw_panel(layout, context) -> None:
 
     _draw_methods(layout, scene, width)
 
+    row = layout.row(align=True)
+    sub = row.row(align=True)
+    sub.enabled = not session.busy
+    sub.operator("aolab.preview", icon="HIDE_OFF")
+    row.prop(session, "live", toggle=True, icon="PLAY")
+    if session.live:
+        _draw_live(layout, session, width)
     col = layout.column(align=True)
     col.enabled = not session.busy
-    col.operator("aolab.preview", icon="HIDE_OFF")
     row = col.row(align=True)
     row.operator("aolab.render_reference", icon="RENDER_STILL")
     row.operator("aolab.compare", icon="GRAPH")

@@ -41,10 +41,10 @@ def blender_env(base: Path) -> dict:
                 PYTHONPATH=os.pathsep.join([aolab_dir, os.environ.get("PYTHONPATH", "")]))
 
 
-def run_blender(env, *args, factory=True) -> dict:
+def run_blender(env, *args, factory=True, script=CHECK) -> dict:
     cmd = [BLENDER, "-b"] + (["--factory-startup"] if factory else []) + \
         ["-noaudio", "--python-use-system-env", "--python-exit-code", "1",
-         "--python", str(CHECK), "--", *args]
+         "--python", str(script), "--", *args]
     res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
     lines = [line for line in res.stdout.splitlines() if line.startswith("RESULT ")]
     assert res.returncode == 0 and lines, res.stdout[-4000:] + res.stderr[-3000:]
@@ -195,3 +195,134 @@ def test_compare_metrics_and_images_equal_the_command_line(flow):
     if lighter.any():
         assert np.allclose(err[lighter], [0.1, 0.3, 0.9], atol=1e-6)
     assert r["registered_after_disable"] == []
+
+
+# ---- Live preview (tests/blender/live_check.py) ----
+
+LIVE_CHECK = ROOT / "tests" / "blender" / "live_check.py"
+
+
+@pytest.fixture(scope="module")
+def live(installed, tmp_path_factory):
+    base, env = installed
+    work = tmp_path_factory.mktemp("addon_live")
+    (work / "out").mkdir()
+    r = run_blender(env, "live", str(TINY), str(work / "cache"), str(work / "out"),
+                    script=LIVE_CHECK)
+    return r, work
+
+
+def live_expected(r: dict, method: str, shown: dict) -> np.ndarray:
+    """aolab.compute of the settings an image was shown with, on the G-buffer Preview
+    cached, in this process."""
+    g = aolab.load_gbuffer(Path(r["gbuffer_folder"]) / "reference.exr")
+    return aolab.compute(method, g, radius=shown["radius"], threads=2, blur=shown["blur"],
+                         **shown["settings"])
+
+
+def assert_live_image(r, work, name: str, method: str, shown: dict) -> None:
+    ours = np.load(work / "out" / f"{name}.npy")
+    assert np.array_equal(ours[..., 0], live_expected(r, method, shown)), name
+    assert np.array_equal(ours[..., 0], ours[..., 2]) and np.all(ours[..., 3] == 1), name
+
+
+def grew(step: dict, key: str) -> int:
+    return step["stats"][key] - step["stats_before"][key]
+
+
+def test_live_without_a_cached_gbuffer_says_so_and_computes_nothing(live):
+    r, _ = live
+    step = r["no_gbuffer"]
+    assert r["no_gbuffer_timer"] and step["error"]
+    assert "no G-buffer of this scene at 96x54 is cached" in step["message"]
+    assert "click Preview" in step["message"]
+    assert step["stats"]["computes"] == 0 and step["stats"]["applied"] == 0
+    assert not [n for n in step["images"] if n.startswith("AO Lab")]
+    assert "no G-buffer of this scene" in " ".join(step["panel"]), step["panel"]  # wrapped
+
+
+def test_live_off_does_nothing(live):
+    r, _ = live
+    assert r["preview"] == ["FINISHED"]
+    off = r["off"]
+    assert not off["timer"] and not off["pending"] and not off["image"]
+    assert off["stats"] == off["stats_before"]
+
+
+def test_live_images_follow_the_settings_and_equal_compute(live):
+    r, work = live
+    on = r["on"]
+    assert not on["error"] and on["kind"] == "Live"
+    assert {m for m, _, _ in on["table"]} == {"hbao", "lsao"}
+    assert on["hbao"]["settings"] == {"directions": 5}
+    assert_live_image(r, work, "on_hbao", "hbao", on["hbao"])
+    assert_live_image(r, work, "on_lsao", "lsao", on["lsao"])
+    # One changed setting: one compute, its image, no button press.
+    changed = r["changed"]
+    assert r["changed_timer"]
+    assert grew(changed, "computes") == 1 and grew(changed, "applied") == 1
+    assert changed["hbao"]["settings"] == {"directions": 3}
+    assert_live_image(r, work, "changed_hbao", "hbao", changed["hbao"])
+    last = changed["last"]
+    assert last["method"] == "hbao" and 0 < last["compute_ms"] <= last["total_ms"]
+    assert changed["compute_ms"] == pytest.approx(last["compute_ms"], rel=1e-5)
+    assert changed["total_ms"] == pytest.approx(last["total_ms"], rel=1e-5)
+    assert "ms from the change to the image" in changed["message"]
+    assert "Live: hbao" in changed["panel"], changed["panel"]   # the panel shows the times
+    assert f"{last['total_ms']:.1f} ms change to image" in changed["panel"]
+    # A preset sets every setting: one compute of the preset's values.
+    preset = r["preset"]
+    assert grew(preset, "computes") == 1 and grew(preset, "applied") == 1
+    from aolab import presets
+    values, blur = presets.preset_values("hbao", "low")
+    assert preset["hbao"]["blur"] == blur
+    assert_live_image(r, work, "preset_hbao", "hbao", preset["hbao"])
+    # The world's AO distance: every ticked method, through the depsgraph handler.
+    world = r["world"]
+    assert grew(world, "applied") == 2
+    assert world["hbao"]["radius"] == pytest.approx(world["distance"])
+    assert_live_image(r, work, "world_hbao", "hbao", world["hbao"])
+    # R: every ticked method.
+    radius = r["radius"]
+    assert radius["hbao"]["radius"] == pytest.approx(0.6) and grew(radius, "applied") == 2
+    assert_live_image(r, work, "radius_hbao", "hbao", radius["hbao"])
+    assert_live_image(r, work, "radius_lsao", "lsao", radius["lsao"])
+    # Unticked: out of the table, nothing computed.
+    assert r["untick"]["table"] == ["hbao"] and grew(r["untick"], "computes") == 0
+
+
+def test_live_coalesces_quick_changes_and_drops_stale_results(live):
+    r, work = live
+    quick = r["quick"]
+    assert grew(quick, "computes") == 1 and grew(quick, "applied") == 1
+    assert quick["hbao"]["settings"] == {"directions": 9, "steps": 3}
+    assert quick["hbao"]["blur"] is True
+    assert_live_image(r, work, "quick_hbao", "hbao", quick["hbao"])
+    stale = r["stale"]   # changed while its compute ran: that result dropped, the latest shown
+    assert grew(stale, "computes") == 2 and grew(stale, "dropped") == 1
+    assert grew(stale, "applied") == 1
+    assert stale["hbao"]["settings"] == {"steps": 3}   # 8 directions: the default
+    assert_live_image(r, work, "stale_hbao", "hbao", stale["hbao"])
+
+
+def test_live_cancels_a_stale_compute(live):
+    r, _ = live
+    slow = r["slow"]   # screen_space_limit changed while it computed
+    assert grew(slow, "cancelled") == 1 and grew(slow, "dropped") == 1
+    assert grew(slow, "applied") == 1 and slow["last"]["method"] == "screen_space_limit"
+    # The stale compute stopped: the change was shown sooner than two full computes.
+    assert slow["ms"] < 2 * r["slow_full_ms"], (slow["ms"], r["slow_full_ms"])
+
+
+def test_live_notices_a_changed_scene(live):
+    r, _ = live
+    assert r["moved"]["error"] and "no G-buffer of this scene" in r["moved"]["message"]
+    assert not r["moved_back"]["error"], r["moved_back"]
+
+
+def test_live_unregisters_with_a_pending_timer(live):
+    r, _ = live
+    assert r["pending_before_disable"]
+    after = r["after_disable"]
+    assert not after["timer"] and after["handlers"] == [] and after["threads"] == []
+    assert not after["wm_aolab"]

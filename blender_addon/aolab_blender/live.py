@@ -1,0 +1,427 @@
+"""Live preview: the panel's settings followed on the cached G-buffer, no button press (bpy).
+
+With *Live* ticked (`window_manager.aolab.live`), every change of a method's setting, preset,
+blur or checkbox, of R, of Scene AO Distance or of the Resolution calls `changed()` (an
+`update=` callback, main thread): the methods it affects become dirty, their generation
+goes up, and `tick` is registered with bpy.app.timers. `tick` (main thread, a timer) waits
+until the changes have been quiet for DEBOUNCE_S (at most MAX_DEFER_S after the first), then
+takes a snapshot of the latest settings of the dirty methods and starts one worker thread
+on it; changes made meanwhile only mark methods dirty again, so any number of quick changes
+cost one compute of the latest values each time the worker is free. The worker (`_compute`,
+no bpy) runs aolab.compute (C++, the GIL released) on the G-buffer kept in memory (loaded
+from the cache's EXR once per folder). `tick` writes each finished result into its image,
+unless the method's generation moved on meanwhile (the result is stale: dropped, and the
+newer change has its own compute coming; a compute of a method that changes while it runs
+is cancelled through its aolab.Progress, so a slow method does not finish a result nobody
+will see). The timer ends (returns None) when nothing is dirty or computing.
+
+The G-buffer is the one Preview uses: a cached render of this scene content at the
+Resolution. Live never exports one (that takes a Blender render): without it the panel says
+so and names the Preview button, and nothing is computed. The scene's content hash
+(export.content_hash, which reads every mesh) is computed at most once per scene, camera
+and size, and again only after the depsgraph reported a change to something other than
+the scene's own properties or an image.
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+import time
+from pathlib import Path
+
+import bpy
+
+from . import images, operators, properties
+
+#: Changes closer together than this are coalesced into one compute (a preset sets every
+#: setting of its method; a dragged slider sends a change per mouse move).
+DEBOUNCE_S = 0.015
+#: ... but a compute starts at the latest this long after the first pending change, so that
+#: a slider dragged without a pause still redraws.
+MAX_DEFER_S = 0.05
+#: The timer's interval while a compute runs (its result is shown at most this late).
+POLL_S = 0.005
+#: How long unregister() waits for a running compute (the thread holds no Blender data).
+JOIN_S = 2.0
+#: Only IDs whose change may alter the G-buffer (geometry, transforms, camera, materials).
+#: A Scene update is the panel's own properties; an Image one is Live writing its result.
+_IGNORED_UPDATES = (bpy.types.Scene, bpy.types.Image, bpy.types.WindowManager,
+                    bpy.types.Screen, bpy.types.WorkSpace, bpy.types.Text)
+ALL = "*"   # changed(ALL): every ticked method (R, Resolution)
+
+
+class _State:
+    def __init__(self):
+        self.dirty: set[str] = set()
+        self.generation: dict[str, int] = {}   # method -> changes so far
+        self.changed_at: dict[str, float] = {}  # method -> perf_counter of its latest change
+        self.first_pending = 0.0                # perf_counter of the oldest undone change
+        self.last_change = 0.0
+        self.worker: threading.Thread | None = None
+        self.computing: tuple | None = None     # (method, aolab.Progress) of the running run
+        self.results: queue.Queue = queue.Queue()
+        self.hashes: dict[tuple, str] = {}      # (scene, camera, size) -> content hash
+        self.folders: dict[tuple, Path] = {}    # (hash, size, passes, cache) -> G-buffer
+        self.radius: float | None = None        # R of the last snapshot (world changes)
+        self.stats = {"computes": 0, "applied": 0, "dropped": 0, "cancelled": 0,
+                      "snapshots": 0}
+        self.last: list[dict] = []              # the last applied updates (tests, timing)
+        self.closed = False
+
+
+_state = _State()
+_gbuffer_lock = threading.Lock()
+_gbuffer: dict = {}   # {"key": (path, mtime_ns), "g": aolab.GBuffer}: one at a time
+
+
+# ---- main thread: changes ----
+
+def changed(context, method: str = ALL) -> None:
+    """An `update=` callback's work: marks `method` (or every method) dirty and makes sure
+    the timer runs. Cheap: Blender calls it on every step of a dragged slider."""
+    session = context.window_manager.aolab
+    if not session.live or _state.closed:
+        return
+    now = time.perf_counter()
+    names = properties.methods() if method == ALL else [method]
+    for m in names:
+        _state.generation[m] = _state.generation.get(m, 0) + 1
+        _state.changed_at[m] = now
+    _cancel_running(names)
+    if not _state.dirty:
+        _state.first_pending = now
+    _state.dirty.update(names or [ALL])   # no method (not built): the snapshot says why
+    _state.last_change = now
+    if not bpy.app.timers.is_registered(tick):
+        bpy.app.timers.register(tick, first_interval=DEBOUNCE_S)
+
+
+def _cancel_running(methods) -> None:
+    """A compute of a method that changed is stale: stopped, so that the latest values
+    start sooner (a slow method would otherwise finish a result nobody sees)."""
+    computing = _state.computing
+    if computing is not None and computing[0] in methods:
+        computing[1].cancel()
+
+
+def on_toggle(session, context) -> None:
+    """Live switched on: everything ticked is computed (and the G-buffer looked up); off:
+    pending changes are forgotten, a running compute's result is dropped."""
+    if session.live:
+        session.live_message, session.live_message_is_error = "waiting for the first update", False
+        session.live_method = ""   # the times shown are this run's
+        changed(context)
+    else:
+        _forget_pending()
+        session.live_message = ""
+
+
+def on_setting(group, context) -> None:
+    """update= of a method group's settings, blur and checkbox."""
+    changed(context, group.method_name)
+
+
+def on_scene_setting(group, context) -> None:
+    """update= of R, Scene AO Distance and the Resolution: every method."""
+    changed(context)
+
+
+def gbuffer_exported(context) -> None:
+    """Preview has exported (or found) the G-buffer: the next lookup sees it."""
+    _state.folders.clear()
+    session = context.window_manager.aolab
+    if session.live and session.live_message_is_error:
+        changed(context)
+
+
+def _forget_pending() -> None:
+    for m in list(_state.generation):   # a running compute's results become stale
+        _state.generation[m] += 1
+    _cancel_running(list(_state.generation))
+    _state.dirty.clear()
+
+
+def _on_depsgraph(scene, depsgraph) -> None:
+    """Anything but the panel's properties or an image changed: the content hash must be
+    computed again before the next compute. A world change may be a new AO distance."""
+    ids = [u.id for u in depsgraph.updates]
+    if any(not isinstance(i, _IGNORED_UPDATES) for i in ids):
+        _state.hashes.clear()
+    if any(isinstance(i, bpy.types.World) for i in ids):
+        context = bpy.context
+        session = context.window_manager.aolab
+        if session.live and properties.effective_radius(context.scene) != _state.radius:
+            changed(context)
+
+
+def _on_load(*_args) -> None:
+    """A file is being loaded: its scenes are others; the timers are removed by Blender."""
+    _forget_pending()
+    _state.hashes.clear()
+    _state.folders.clear()
+    _state.radius = None
+    with _gbuffer_lock:
+        _gbuffer.clear()
+
+
+# ---- main thread: the timer ----
+
+def tick() -> float | None:
+    """bpy.app.timers callback: shows finished results, starts the next compute when the
+    changes are quiet. Returns the seconds to the next call, None when nothing is left."""
+    if _state.closed:
+        return None
+    context = bpy.context
+    _apply_results(context)
+    running = _state.worker is not None and _state.worker.is_alive()
+    if not running:
+        _state.worker = None
+    if not _state.dirty:
+        return POLL_S if running else None
+    if running:
+        return POLL_S
+    now = time.perf_counter()
+    wait = min(_state.last_change + DEBOUNCE_S, _state.first_pending + MAX_DEFER_S) - now
+    if wait > 0:
+        return wait
+    _start(context)
+    return POLL_S if _state.worker is not None else None
+
+
+def _scene_hash(context, scene, size) -> str:
+    from .export import content_hash
+    context.evaluated_depsgraph_get()   # pending depsgraph updates reach _on_depsgraph first
+    key = (scene.name, scene.camera.name, tuple(size))
+    h = _state.hashes.get(key)
+    if h is None:
+        h = _state.hashes[key] = content_hash(scene, scene.camera, size)
+    return h
+
+
+def _find_gbuffer(inputs: dict) -> Path | None:
+    """operators.find_reference's G-buffer (any render of this content and size), the
+    folder remembered: the lookup reads every sidecar of the cache."""
+    key = (inputs["scene_hash"], tuple(inputs["size"]), tuple(inputs["passes"]),
+           str(inputs["cache"]))
+    folder = _state.folders.get(key)
+    if folder is None or not (folder / properties.jobs.RESULT_EXR).exists():
+        folder = operators.find_reference(inputs, spp=None)
+        if folder is not None:
+            _state.folders[key] = folder
+    return folder
+
+
+def snapshot(context) -> dict | None:
+    """What the worker needs, read from Blender now: the G-buffer folder, R, threads and the
+    dirty methods' latest runs with their generations. None (and the panel's message set)
+    when nothing can be computed. Clears the dirty set."""
+    session = context.window_manager.aolab
+    scene = context.scene
+    dirty, _state.dirty = _state.dirty, set()
+    _state.stats["snapshots"] += 1
+    try:
+        inputs = operators.scene_inputs(context, need_runs=False, hash_scene=False)
+        inputs["scene_hash"] = _scene_hash(context, scene, inputs["size"])
+        folder = _find_gbuffer(inputs)
+    except operators.UserError as e:
+        _set_message(session, str(e), error=True)
+        return None
+    w, h = inputs["size"]
+    if folder is None:
+        _set_message(session, f"no G-buffer of this scene at {w}x{h} is cached: click "
+                     "Preview once to export it, then changes show live", error=True)
+        return None
+    _state.radius = inputs["radius"]
+    runs = [r for r in inputs["runs"] if r["method"] in dirty]
+    ticked = {r["method"] for r in inputs["runs"]}
+    _drop_rows(session, [m for m in dirty if m not in ticked])
+    if not runs:
+        _set_message(session, "nothing ticked to preview" if not ticked else
+                     session.live_message, error=False)
+        return None
+    for r in runs:
+        r["generation"] = _state.generation.get(r["method"], 0)
+        r["changed_at"] = _state.changed_at.get(r["method"], time.perf_counter())
+    return {"exr": str(Path(folder) / properties.jobs.RESULT_EXR), "runs": runs,
+            "radius": inputs["radius"], "threads": inputs["threads"], "size": (w, h),
+            "scene": scene.name}
+
+
+def _start(context) -> None:
+    t0 = time.perf_counter()
+    plan = snapshot(context)
+    if plan is None:
+        return
+    plan["snapshot_s"] = time.perf_counter() - t0
+    _state.stats["computes"] += 1
+    _state.worker = threading.Thread(target=_compute, args=(plan, _state.results),
+                                     name="aolab-live", daemon=True)
+    _state.worker.start()
+
+
+def _apply_results(context) -> None:
+    session = context.window_manager.aolab
+    while True:
+        try:
+            item = _state.results.get_nowait()
+        except queue.Empty:
+            return
+        method = item["method"]
+        stale = item["cancelled"] or item["generation"] != _state.generation.get(method) or \
+            item["scene"] != context.scene.name or not session.live
+        if stale:
+            _state.stats["dropped"] += 1
+            _state.stats["cancelled"] += item["cancelled"]
+            continue
+        if item.get("error"):
+            _set_message(session, f"{method}: {item['error']}", error=True)
+            continue
+        t0, cpu0 = time.perf_counter(), time.thread_time()
+        name = images.image_name(method)
+        images.set_image(name, item["ao"], rgba=item["rgba"])
+        done, cpu = time.perf_counter(), time.thread_time() - cpu0
+        _store_row(session, context.scene, item, name)
+        # total = wait (debounce, snapshot, G-buffer load, earlier runs of the same compute)
+        # + compute + rgba (the worker's numpy) + poll (until the timer saw it) + image.
+        update = {"method": method, "compute_ms": 1000 * item["compute_s"],
+                  "rgba_ms": 1000 * item["rgba_s"],
+                  "image_ms": 1000 * (done - t0), "image_cpu_ms": 1000 * cpu,
+                  "total_ms": 1000 * (done - item["changed_at"]),
+                  "wait_ms": 1000 * (item["started_at"] - item["changed_at"]),
+                  "poll_ms": 1000 * (t0 - item["finished_at"]),
+                  "snapshot_ms": 1000 * item["snapshot_s"], "load_ms": 1000 * item["load_s"],
+                  "generation": item["generation"]}
+        _state.last = (_state.last + [update])[-64:]
+        _state.stats["applied"] += 1
+        session.live_method, session.live_compute_ms = method, update["compute_ms"]
+        session.live_image_ms, session.live_total_ms = update["image_ms"], update["total_ms"]
+        _set_message(session, f"{method} {update['compute_ms']:.1f} ms compute, "
+                     f"{update['total_ms']:.1f} ms from the change to the image", error=False)
+        _redraw(context)
+
+
+def _redraw(context) -> None:
+    """Redraws the panel's regions and the Image Editors, not the 3D viewport itself (a
+    heavy scene's viewport would cost more than the update)."""
+    for window in context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == "IMAGE_EDITOR":
+                area.tag_redraw()
+            elif area.type in ("VIEW_3D", "PROPERTIES"):
+                for region in area.regions:
+                    if region.type == ("UI" if area.type == "VIEW_3D" else "WINDOW"):
+                        region.tag_redraw()
+
+
+def _set_message(session, text: str, *, error: bool) -> None:
+    if session.live_message != text or session.live_message_is_error != error:
+        session.live_message, session.live_message_is_error = text, error
+        _redraw(bpy.context)
+
+
+def _store_row(session, scene, item: dict, image: str) -> None:
+    """The method's row of the results table: Live's own table (a Preview or Compare table
+    of other images or sizes is replaced)."""
+    size = f"{item['size'][0]}x{item['size'][1]}"
+    if (session.results_kind, session.results_scene, session.results_size) != \
+            ("Live", scene.name, size):
+        session.results.clear()
+        session.results_kind, session.results_scene, session.results_size = \
+            "Live", scene.name, size
+    row = next((r for r in session.results if r.method == item["method"]), None)
+    if row is None:
+        row = session.results.add()
+    row.method, row.label, row.ms = item["method"], item["label"], 1000 * item["compute_s"]
+    row.image, row.error_image, row.has_metrics, row.metrics_json = image, "", False, ""
+
+
+def _drop_rows(session, methods: list[str]) -> None:
+    if session.results_kind != "Live":
+        return
+    for i in reversed(range(len(session.results))):
+        if session.results[i].method in methods:
+            session.results.remove(i)
+
+
+# ---- worker thread: no bpy ----
+
+def _load(path: str):
+    """The G-buffer of `path`, loaded once and kept (a new render of the folder reloads)."""
+    key = (path, Path(path).stat().st_mtime_ns)
+    with _gbuffer_lock:
+        if _gbuffer.get("key") == key:
+            return _gbuffer["g"], 0.0
+        t0 = time.perf_counter()
+        g = properties.aolab.load_gbuffer(path)
+        g.reference = None   # not scored: the G-buffer's AO may be 1 sample
+        _gbuffer.clear()
+        _gbuffer.update(key=key, g=g)
+        return g, time.perf_counter() - t0
+
+
+def _compute(plan: dict, out: queue.Queue) -> None:
+    """Each run of the plan on its G-buffer; every result (or error) put into `out`. A run
+    whose method changed before it started is skipped, and one that changes while it
+    computes is cancelled (aolab.Progress.cancel, from `changed`): both come back stale."""
+    aolab = properties.aolab
+    for run in plan["runs"]:
+        item = {**run, "scene": plan["scene"], "size": plan["size"], "ao": None,
+                "rgba": None, "snapshot_s": plan["snapshot_s"], "compute_s": 0.0,
+                "rgba_s": 0.0, "load_s": 0.0, "error": None, "cancelled": False}
+        # Reading the generations (plain Python data, no bpy) is safe under the GIL.
+        if _state.generation.get(run["method"]) != run["generation"]:
+            item["cancelled"] = True
+            out.put(item)
+            continue
+        progress = aolab.Progress()
+        _state.computing = (run["method"], progress)
+        try:
+            g, item["load_s"] = _load(plan["exr"])
+            item["started_at"] = t0 = time.perf_counter()
+            item["ao"] = aolab.compute(
+                run["method"], g, radius=plan["radius"], threads=plan["threads"],
+                blur=run["blur"], progress=progress, **run["settings"])
+            t1 = time.perf_counter()
+            item["compute_s"] = t1 - t0
+            item["rgba"] = images.blender_rgba(item["ao"])   # numpy: off the main thread
+            item["finished_at"] = time.perf_counter()
+            item["rgba_s"] = item["finished_at"] - t1
+        except aolab.Cancelled:
+            item["cancelled"] = True
+        except Exception as e:  # noqa: BLE001 - shown in the panel, never a traceback
+            item["error"] = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
+        finally:
+            _state.computing = None
+        out.put(item)
+
+
+# ---- registration ----
+
+def register() -> None:
+    _state.__init__()
+    bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph)
+    bpy.app.handlers.load_pre.append(_on_load)
+
+
+def unregister() -> None:
+    """No timer, handler or computing thread is left behind."""
+    _state.closed = True
+    if bpy.app.timers.is_registered(tick):
+        bpy.app.timers.unregister(tick)
+    for handlers, fn in ((bpy.app.handlers.depsgraph_update_post, _on_depsgraph),
+                         (bpy.app.handlers.load_pre, _on_load)):
+        if fn in handlers:
+            handlers.remove(fn)
+    _forget_pending()   # cancels a running compute
+    if _state.worker is not None:
+        _state.worker.join(JOIN_S)
+    _state.worker = None
+    with _gbuffer_lock:
+        _gbuffer.clear()
+
+
+def pending() -> bool:
+    """Whether a change waits or a compute runs (tests)."""
+    return bool(_state.dirty) or (_state.worker is not None and _state.worker.is_alive()) \
+        or not _state.results.empty()

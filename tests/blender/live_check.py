@@ -1,0 +1,285 @@
+"""Inside Blender: the add-on's Live preview (installed by scripts/install_addon.sh, as in
+addon_check.py). Prints one JSON line `RESULT {...}`.
+
+    live_check.py -- live SCENE.py CACHE OUT_DIR
+        the tiny scene: Live with no G-buffer cached (a message, nothing computed), Preview
+        once, then Live off (nothing happens), Live on, a changed setting, quick changes,
+        a change while a compute runs, a preset; every image saved as OUT_DIR/<name>.npy with
+        the settings it was computed with; then the add-on disabled with a timer pending.
+    live_check.py -- latency SCENE.py CACHE OUT_DIR SCALE REPEAT
+        every method (but the brute-force screen_space_limit) at `medium`, each switched
+        low -> medium REPEAT times; the times of each live update (compute, image, change
+        to image).
+
+Blender runs no timers in -b mode (it has no event loop), so `pump` does what the event loop
+does with bpy.app.timers: calls the registered live.tick when it is due, as often as it asks,
+until it returns None.
+"""
+import json
+import os
+import sys
+import threading
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import run_build_script  # noqa: E402
+
+import addon_utils  # noqa: E402
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+ADDON = "aolab_blender"
+args = sys.argv[sys.argv.index("--") + 1:]
+mode, scene_script, cache, out_dir = args[:4]
+
+run_build_script(scene_script)
+addon_utils.enable(ADDON, default_set=True)
+from aolab_blender import images, live, properties  # noqa: E402
+
+prefs = bpy.context.preferences.addons[ADDON].preferences
+prefs.cache_dir = cache
+prefs.threads = 2
+scene = bpy.context.scene
+s = scene.aolab
+session = bpy.context.window_manager.aolab
+methods = properties.methods()
+
+
+def pump(timeout: float = 120.0) -> None:
+    """Blender's event loop, for bpy.app.timers and live.tick only."""
+    deadline = time.perf_counter() + timeout
+    while bpy.app.timers.is_registered(live.tick):
+        if time.perf_counter() > deadline:
+            raise RuntimeError("live.tick still registered after %g s" % timeout)
+        interval = live.tick()
+        if interval is None:
+            bpy.app.timers.unregister(live.tick)   # what Blender does when it returns None
+            return
+        time.sleep(interval)
+
+
+def group(method):
+    return properties.method_group(scene, method)
+
+
+def stats() -> dict:
+    return dict(live._state.stats)
+
+
+def save(name: str, method: str) -> dict:
+    """The image of `method` as OUT_DIR/name.npy, with the run (settings, blur) it shows."""
+    np.save(os.path.join(out_dir, name + ".npy"), images.read_image(images.image_name(method)))
+    run = next(r for r in properties.chosen_runs(scene) if r["method"] == method)
+    return {"settings": run["settings"], "blur": run["blur"],
+            "radius": properties.effective_radius(scene)}
+
+
+def tick_until_computing(timeout: float = 10.0) -> None:
+    deadline = time.perf_counter() + timeout
+    while live._state.worker is None:
+        if time.perf_counter() > deadline:
+            raise RuntimeError("no compute started")
+        time.sleep(live.tick() or 0.0)
+
+
+class Layout:
+    """Stands in for bpy.types.UILayout (which -b cannot make): records the labels, checks
+    that every drawn property exists."""
+
+    def __init__(self, texts):
+        self.texts = texts
+
+    def __getattr__(self, name):   # box, row, column, split, operator, separator, ...
+        return lambda *a, **k: Layout(self.texts)
+
+    def label(self, text="", **k):
+        self.texts.append(text)
+
+    def prop(self, owner, name, **k):
+        if not hasattr(owner, name):
+            raise AttributeError(f"the panel draws {owner!r}.{name}, which does not exist")
+
+
+def panel_text() -> list[str]:
+    """The AO Lab panel's labels, drawn by ui.draw_panel as Blender would."""
+    from types import SimpleNamespace
+    from aolab_blender import ui
+    texts = []
+    c = bpy.context
+    ui.draw_panel(Layout(texts), SimpleNamespace(
+        scene=c.scene, window_manager=c.window_manager, region=None,
+        preferences=c.preferences))
+    return texts
+
+
+r = {"methods": methods}
+if mode == "live":
+    s.preview_scale = 100
+    for m in methods:
+        group(m).use_method = m in ("hbao", "lsao")
+
+    # No G-buffer cached yet: a clear message, nothing computed.
+    session.live = True
+    r["no_gbuffer_timer"] = bpy.app.timers.is_registered(live.tick)
+    pump()
+    r["no_gbuffer"] = {"message": session.live_message, "error": session.live_message_is_error,
+                       "stats": stats(), "panel": panel_text(),
+                       "images": sorted(i.name for i in bpy.data.images)}
+    session.live = False
+
+    # Preview exports the G-buffer once (a 1-sample render in the background).
+    r["preview"] = sorted(bpy.ops.aolab.preview())
+    r["gbuffer_folder"] = session.gbuffer_folder
+    for m in ("hbao", "lsao"):
+        bpy.data.images.remove(bpy.data.images[images.image_name(m)])
+
+    # Live off: a change does nothing.
+    before = stats()
+    group("hbao").directions = 5
+    r["off"] = {"timer": bpy.app.timers.is_registered(live.tick), "pending": live.pending(),
+                "stats_before": before, "stats": stats(),
+                "image": images.image_name("hbao") in bpy.data.images}
+
+    # Live on: every ticked method computed.
+    session.live = True
+    pump()
+    r["on"] = {"stats": stats(), "message": session.live_message,
+               "error": session.live_message_is_error,
+               "hbao": save("on_hbao", "hbao"), "lsao": save("on_lsao", "lsao"),
+               "table": [(row.method, row.ms, row.image) for row in session.results],
+               "kind": session.results_kind}
+
+    # One changed setting: that method's image, no button press.
+    before = stats()
+    group("hbao").directions = 3
+    r["changed_timer"] = bpy.app.timers.is_registered(live.tick)
+    pump()
+    r["changed"] = {"stats_before": before, "stats": stats(), "hbao": save("changed_hbao", "hbao"),
+                    "panel": panel_text(),
+                    "last": live._state.last[-1], "compute_ms": session.live_compute_ms,
+                    "total_ms": session.live_total_ms, "message": session.live_message}
+
+    # Quick changes: one compute of the latest values.
+    before = stats()
+    g = group("hbao")
+    for d in (2, 6, 7, 4, 9):
+        g.directions = d
+    g.steps = 3
+    g.use_blur = True
+    pump()
+    r["quick"] = {"stats_before": before, "stats": stats(), "hbao": save("quick_hbao", "hbao")}
+
+    # A change while a compute runs: its result is stale, dropped; the latest one shown.
+    before = stats()
+    g.directions = 5
+    tick_until_computing()
+    g.directions = 8
+    pump()
+    r["stale"] = {"stats_before": before, "stats": stats(), "hbao": save("stale_hbao", "hbao")}
+
+    # A slow method changed while it computes: cancelled, not finished; the latest shown.
+    slow = group("screen_space_limit")
+    slow.use_method = True
+    pump()
+    r["slow_full_ms"] = live._state.last[-1]["compute_ms"]
+    before = stats()
+    slow.use_blur = True
+    tick_until_computing()
+    time.sleep(0.02)
+    t0 = time.perf_counter()
+    slow.use_blur = False
+    pump()
+    r["slow"] = {"stats_before": before, "stats": stats(),
+                 "ms": 1000 * (time.perf_counter() - t0), "last": live._state.last[-1]}
+    slow.use_method = False
+    pump()
+
+    # A preset (it sets every setting of the method): one compute.
+    before = stats()
+    g.preset = "low"
+    pump()
+    r["preset"] = {"stats_before": before, "stats": stats(), "hbao": save("preset_hbao", "hbao")}
+
+    # The world's AO distance (R with Scene AO Distance on): no update= callback there; the
+    # depsgraph reports the world's change when it is next evaluated (the UI's redraw).
+    before = stats()
+    scene.world.light_settings.distance *= 0.75
+    bpy.context.evaluated_depsgraph_get()
+    pump()
+    r["world"] = {"stats_before": before, "stats": stats(), "hbao": save("world_hbao", "hbao"),
+                  "distance": scene.world.light_settings.distance}
+
+    # R (every ticked method).
+    before = stats()
+    s.use_scene_radius = False
+    s.radius = 0.6
+    pump()
+    r["radius"] = {"stats_before": before, "stats": stats(), "radius": s.radius,
+                   "hbao": save("radius_hbao", "hbao"), "lsao": save("radius_lsao", "lsao")}
+
+    # Unticked: its row leaves the table, nothing computed.
+    before = stats()
+    group("lsao").use_method = False
+    pump()
+    r["untick"] = {"stats_before": before, "stats": stats(),
+                   "table": [row.method for row in session.results]}
+
+    # The geometry changed: the cached G-buffer is not this scene's any more.
+    obj = next(o for o in scene.objects if o.type == "MESH")
+    obj.location.x += 0.5
+    g.directions = 6
+    pump()
+    r["moved"] = {"message": session.live_message, "error": session.live_message_is_error}
+    obj.location.x -= 0.5
+    g.directions = 5
+    pump()
+    r["moved_back"] = {"message": session.live_message, "error": session.live_message_is_error}
+
+    # Disabled with a change pending and a compute running: nothing left behind.
+    g.directions = 7
+    tick_until_computing()
+    g.directions = 9
+    r["pending_before_disable"] = bpy.app.timers.is_registered(live.tick)
+    addon_utils.disable(ADDON, default_set=True)
+    r["after_disable"] = {
+        "timer": bpy.app.timers.is_registered(live.tick),
+        "handlers": [f.__name__ for f in bpy.app.handlers.depsgraph_update_post +
+                     bpy.app.handlers.load_pre if f.__module__.startswith(ADDON)],
+        "threads": [t.name for t in threading.enumerate() if t.name == "aolab-live"],
+        "wm_aolab": hasattr(bpy.types.WindowManager, "aolab")}
+
+elif mode == "latency":
+    scale, repeat = int(args[4]), int(args[5])
+    # screen_space_limit is the brute-force bound of the study (minutes per image), no
+    # interactive method: left out.
+    methods = [m for m in methods if m != "screen_space_limit"]
+    s.preview_scale = scale
+    for m in methods:
+        group(m).use_method = m == methods[0]   # Preview exports the G-buffer
+        if "medium" in properties.presets.names(m):
+            group(m).preset = "medium"
+    r["preview"] = sorted(bpy.ops.aolab.preview())
+    r["size"] = session.results_size
+    session.live = True
+    r["times"] = {}
+    for m in methods:
+        group(m).use_method = True
+        pump()
+        g = group(m)
+        rows = []
+        names = properties.presets.names(m)
+        for _ in range(repeat):
+            if "medium" in names and "low" in names:
+                g.preset = "low"
+                pump()
+                g.preset = "medium"
+            else:   # a method without presets: its blur switched on and off
+                g.use_blur = True
+                pump()
+                g.use_blur = False
+            pump()
+            rows.append(live._state.last[-1])
+            print("LIVE", json.dumps(rows[-1]), flush=True)
+        r["times"][m] = rows
+
+print("RESULT " + json.dumps(r, default=str))
