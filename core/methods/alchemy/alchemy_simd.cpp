@@ -62,6 +62,12 @@ HWY_INLINE VI TapLevel(DF df, VF h, int q, int max_level) {
   return hn::IfThenElseZero(hn::RebindMask(di, hn::Ge(h, hn::Set(df, 1.0f))), level);
 }
 
+// base[index] on every lane.
+template <class D>
+HWY_INLINE hn::Vec<D> Gather(D d, const hn::TFromD<D>* HWY_RESTRICT base, VI index) {
+  return hn::GatherIndex(d, base, index);
+}
+
 }  // namespace
 
 // Pixels [x_begin, x_end) of row y into out (the row).
@@ -74,7 +80,7 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
   const ObscuranceEstimator& e = *f.estimator;
   const int count_taps = taps.size();
   const ObscuranceLevels* lv = f.levels;
-  const bool at_source = lv && !lv->source_x.empty();
+  const bool at_source = lv && !lv->source.empty();
   const int max_level = lv ? lv->count - 1 : 0;
 
   const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
@@ -157,33 +163,45 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
                     hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, height_f)));
         VI sx = hn::ConvertTo(di, hn::IfThenElseZero(inside, sx_f));  // the texel
         VI sy = hn::ConvertTo(di, hn::IfThenElseZero(inside, sy_f));
+        // Level 0 is the full-resolution depth.
+        const VI full_index = hn::Add(hn::Mul(sy, hn::Set(di, w)), sx);
         VF ds;
-        if (!lv) {
-          ds = hn::GatherIndex(df, f.depth, hn::Add(hn::Mul(sy, hn::Set(di, w)), sx));
+        const VI level =
+            lv ? TapLevel(df, hn::Mul(a, r_max), lv->log_max_offset, max_level) : hn::Zero(di);
+        const MI coarse = hn::Gt(level, hn::Zero(di));
+        if (hn::AllFalse(di, coarse)) {
+          ds = Gather(df, f.depth, full_index);
         } else {
-          const VI level = TapLevel(df, hn::Mul(a, r_max), lv->log_max_offset, max_level);
+          // Level m is ⌈W/2^m⌉ × ⌈H/2^m⌉ (each level halves the last, rounding up).
+          const VI round_up = hn::Sub(hn::operator<<(hn::Set(di, 1), level), hn::Set(di, 1));
+          const VI lw = hn::operator>>(hn::Add(hn::Set(di, w), round_up), level);
+          const VI lh = hn::operator>>(hn::Add(hn::Set(di, h), round_up), level);
           const int level0 = hn::GetLane(level);
-          VI lw, lh, off;
-          if (hn::AllTrue(di, hn::Eq(level, hn::Set(di, level0)))) {
-            lw = hn::Set(di, lv->width[std::size_t(level0)]);
-            lh = hn::Set(di, lv->height[std::size_t(level0)]);
-            off = hn::Set(di, lv->offset[std::size_t(level0)]);
-          } else {
-            lw = hn::GatherIndex(di, lv->width.data(), level);
-            lh = hn::GatherIndex(di, lv->height.data(), level);
-            off = hn::GatherIndex(di, lv->offset.data(), level);
-          }
+          const VI off = hn::AllTrue(di, hn::Eq(level, hn::Set(di, level0)))
+                             ? hn::Set(di, lv->offset[std::size_t(level0)])
+                             : Gather(di, lv->offset.data(), level);
           const VI mx = hn::Min(hn::operator>>(sx, level), hn::Sub(lw, hn::Set(di, 1)));
           const VI my = hn::Min(hn::operator>>(sy, level), hn::Sub(lh, hn::Set(di, 1)));
-          const VI t = hn::Add(off, hn::Add(hn::Mul(my, lw), mx));
-          ds = hn::GatherIndex(df, lv->depth.data(), t);
-          const MI coarse = hn::Gt(level, hn::Zero(di));
-          if (at_source && !hn::AllFalse(di, coarse)) {
-            // The pixel the texel was subsampled from (SaoTapPosition::Source); the source
-            // arrays start at level 1.
-            const VI ts = hn::Max(hn::Sub(t, hn::Set(di, lv->offset[1])), hn::Zero(di));
-            sx = hn::IfThenElse(coarse, hn::GatherIndex(di, lv->source_x.data(), ts), sx);
-            sy = hn::IfThenElse(coarse, hn::GatherIndex(di, lv->source_y.data(), ts), sy);
+          const VI t = hn::IfThenElseZero(coarse, hn::Add(off, hn::Add(hn::Mul(my, lw), mx)));
+          ds = Gather(df, lv->depth.data(), t);
+          const bool all_coarse = hn::AllTrue(di, coarse);
+          if (!all_coarse)
+            ds = hn::IfThenElse(hn::RebindMask(df, coarse), ds, Gather(df, f.depth, full_index));
+          if (at_source) {
+            // The pixel the texel was subsampled from (SaoTapPosition::Source), y·W + x: the
+            // row from a float quotient, off by at most one (|error| < 1 for y < 2^22,
+            // ObscuranceLevels), and corrected.
+            const VI src = Gather(di, lv->source.data(), t);
+            VI src_y = hn::ConvertTo(di, hn::Mul(hn::ConvertTo(df, src), hn::Set(df, 1.0f / w)));
+            VI src_x = hn::Sub(src, hn::Mul(src_y, hn::Set(di, w)));
+            const MI low = hn::Lt(src_x, hn::Zero(di));
+            src_y = hn::IfThenElse(low, hn::Sub(src_y, hn::Set(di, 1)), src_y);
+            src_x = hn::IfThenElse(low, hn::Add(src_x, hn::Set(di, w)), src_x);
+            const MI high = hn::Gt(src_x, hn::Set(di, w - 1));
+            src_y = hn::IfThenElse(high, hn::Add(src_y, hn::Set(di, 1)), src_y);
+            src_x = hn::IfThenElse(high, hn::Sub(src_x, hn::Set(di, w)), src_x);
+            sx = hn::IfThenElse(coarse, src_x, sx);
+            sy = hn::IfThenElse(coarse, src_y, sy);
           }
         }
         const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));

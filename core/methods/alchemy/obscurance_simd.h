@@ -14,17 +14,16 @@
 
 namespace aolab {
 
-/// SAO's z pyramid laid out for gathers: every level's texels back to back in one array, so a
-/// lane's tap reads any level with one index (offset[m] + y·width[m] + x).
+/// SAO's z pyramid laid out for gathers: the coarse levels 1..count − 1 back to back in one
+/// array (level 0 is the full-resolution depth itself), so that a lane's tap reads any coarse
+/// level with one index, offset[m] + y·⌈W/2^m⌉ + x.
 struct ObscuranceLevels {
-  int count = 0;                       ///< levels 0..count − 1
-  std::vector<float> depth;            ///< every level's depth (NaN = background)
-  std::vector<std::int32_t> source_x;  ///< per texel, the column it came from (empty: tap)
-  std::vector<std::int32_t> source_y;  ///< per texel, the row it came from
-  std::vector<std::int32_t> offset;    ///< first texel of each level
-  std::vector<std::int32_t> width, height;
-  float r_max_scale = 0.0f;  ///< r·max(fx, fy): h_i = α_i · r_max_scale / d (SAO §2.3)
-  int log_max_offset = 0;    ///< q'
+  int count = 0;                     ///< levels 0..count − 1
+  std::vector<float> depth;          ///< levels 1.. (NaN = background)
+  std::vector<std::int32_t> source;  ///< per coarse texel, y·W + x of its pixel (empty: tap)
+  std::vector<std::int32_t> offset;  ///< first texel of each level in `depth` (level 0: 0)
+  float r_max_scale = 0.0f;          ///< r·max(fx, fy): h_i = α_i · r_max_scale / d (SAO §2.3)
+  int log_max_offset = 0;            ///< q'
 };
 
 /// What the kernel reads and the settings it folds in.

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "core/base/parallel.h"
@@ -69,36 +70,33 @@ HWY_EXPORT(SaoFilterRow);
 
 ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width, int height,
                                      int max_level, SaoGrid grid, bool with_sources, int threads) {
+  // The kernel finds a source's row from a float quotient, exact to ±1 below 2^22 rows.
+  if (height >= (1 << 22))
+    throw std::invalid_argument("sao: the SIMD kernel takes images of fewer than 2^22 rows");
   ObscuranceLevels lv;
   lv.count = max_level + 1;
+  std::vector<int> ws{width}, hs{height};
   std::int64_t total = 0;
-  int w = width, h = height;
-  for (int m = 0; m <= max_level; ++m) {
-    lv.offset.push_back(std::int32_t(total));
-    lv.width.push_back(w);
-    lv.height.push_back(h);
-    total += std::int64_t(w) * h;
-    w = (w + 1) / 2, h = (h + 1) / 2;
-  }
-  if (total > std::numeric_limits<std::int32_t>::max())
-    throw std::invalid_argument("sao: image too large for the SIMD kernel's 32-bit indices");
-  lv.depth.resize(std::size_t(total));
-  std::copy(depth.begin(), depth.end(), lv.depth.begin());
-  const std::size_t coarse = std::size_t(total) - depth.size();
-  if (with_sources) {
-    lv.source_x.resize(coarse);
-    lv.source_y.resize(coarse);
-  }
-  // sao_z_pyramid's rule, level by level (§2.2's rotated grid).
-  const int flip = grid == SaoGrid::Paper ? 1 : 0;
-  const std::size_t base = depth.size();  // the source arrays start at level 1
+  lv.offset.push_back(0);
   for (int m = 1; m <= max_level; ++m) {
-    const int fw = lv.width[std::size_t(m) - 1], fh = lv.height[std::size_t(m) - 1];
-    const int cw = lv.width[std::size_t(m)], ch = lv.height[std::size_t(m)];
-    const float* fine = lv.depth.data() + lv.offset[std::size_t(m) - 1];
+    ws.push_back((ws.back() + 1) / 2), hs.push_back((hs.back() + 1) / 2);
+    lv.offset.push_back(std::int32_t(total));
+    total += std::int64_t(ws.back()) * hs.back();
+    if (total > std::numeric_limits<std::int32_t>::max())
+      throw std::invalid_argument("sao: image too large for the SIMD kernel's 32-bit indices");
+  }
+  lv.depth.resize(std::size_t(total));
+  if (with_sources) lv.source.resize(std::size_t(total));
+  // sao_z_pyramid's rule, level by level (§2.2's rotated grid); level 0 is `depth`.
+  const int flip = grid == SaoGrid::Paper ? 1 : 0;
+  for (int m = 1; m <= max_level; ++m) {
+    const int fw = ws[std::size_t(m) - 1], fh = hs[std::size_t(m) - 1];
+    const int cw = ws[std::size_t(m)], ch = hs[std::size_t(m)];
+    const float* fine = m == 1 ? depth.data() : lv.depth.data() + lv.offset[std::size_t(m) - 1];
+    const std::int32_t* fine_src =
+        m == 1 || !with_sources ? nullptr : lv.source.data() + lv.offset[std::size_t(m) - 1];
     float* out = lv.depth.data() + lv.offset[std::size_t(m)];
-    const std::size_t fine_src = m == 1 ? 0 : std::size_t(lv.offset[std::size_t(m) - 1]) - base;
-    const std::size_t out_src = std::size_t(lv.offset[std::size_t(m)]) - base;
+    std::int32_t* out_src = with_sources ? lv.source.data() + lv.offset[std::size_t(m)] : nullptr;
     parallel_for_rows(ch, m == 1 ? threads : 1, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < cw; ++x) {
@@ -107,14 +105,16 @@ ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width,
           const std::size_t from = std::size_t(fy) * fw + fx;
           const std::size_t to = std::size_t(y) * cw + x;
           out[to] = fine[from];
-          if (!with_sources) continue;
-          lv.source_x[out_src + to] = m == 1 ? fx : lv.source_x[fine_src + from];
-          lv.source_y[out_src + to] = m == 1 ? fy : lv.source_y[fine_src + from];
+          if (out_src) out_src[to] = fine_src ? fine_src[from] : std::int32_t(from);
         }
     });
   }
   return lv;
 }
+
+// Columns of the column pass per strip: a multiple of every target's lane count; a strip's
+// values, 64 × H floats (180 KiB at H = 720), stay in a core's L2 while it is filtered.
+constexpr int kStripColumns = 64;
 
 void sao_bilateral_filter_simd(Image& ao, const std::vector<float>& depth, const SaoBlurParams& p,
                                int threads, Progress* progress) {
@@ -123,10 +123,12 @@ void sao_bilateral_filter_simd(Image& ao, const std::vector<float>& depth, const
   for (int j = 0; j <= p.radius; ++j)
     gauss[std::size_t(j)] = float(std::exp(-double(j) * j / (2.0 * double(p.sigma) * p.sigma)));
   const float inv_edge = p.edge_depth > 0.0f ? 1.0f / p.edge_depth : 0.0f;
-  std::vector<float> tmp(std::size_t(w) * std::size_t(h));
   const int reach = p.radius * p.stride;
   const std::size_t padded = std::size_t(w) + 2 * std::size_t(reach);
+  const auto tap_offset = [&](int k) { return (k < p.radius ? k - p.radius : k - p.radius + 1); };
 
+  // Both passes work in place, each on a copy of only what it reads (a row; a strip of
+  // columns), so that no second image is allocated: fresh pages cost more than the filter.
   // Rows: each row copied into a buffer with `reach` NaN-depth pixels either side, so that a
   // tap's pixels are the centre row shifted by j·stride (off the row: background, skipped).
   parallel_for_rows(
@@ -136,41 +138,50 @@ void sao_bilateral_filter_simd(Image& ao, const std::vector<float>& depth, const
         std::vector<float> z_pad(padded, std::numeric_limits<float>::quiet_NaN());
         std::vector<const float*> taps(2 * std::size_t(p.radius)), depths(taps.size());
         for (int y = y0; y < y1; ++y) {
-          const float* a_row = ao.data() + std::size_t(y) * w;
+          float* a_row = ao.data() + std::size_t(y) * w;
           const float* z_row = depth.data() + std::size_t(y) * w;
           std::copy(a_row, a_row + w, a_pad.begin() + reach);
           std::copy(z_row, z_row + w, z_pad.begin() + reach);
           for (int k = 0; k < 2 * p.radius; ++k) {
-            const int j = k < p.radius ? k - p.radius : k - p.radius + 1;
-            taps[std::size_t(k)] = a_pad.data() + reach + j * p.stride;
-            depths[std::size_t(k)] = z_pad.data() + reach + j * p.stride;
+            taps[std::size_t(k)] = a_pad.data() + reach + tap_offset(k) * p.stride;
+            depths[std::size_t(k)] = z_pad.data() + reach + tap_offset(k) * p.stride;
           }
           HWY_DYNAMIC_DISPATCH(SaoFilterRow)
-          (a_row, z_row, taps.data(), depths.data(), gauss.data(), p.radius, inv_edge, w, false,
-           tmp.data() + std::size_t(y) * w);
+          (a_pad.data() + reach, z_row, taps.data(), depths.data(), gauss.data(), p.radius,
+           inv_edge, w, false, a_row);
         }
       },
       progress);
-  // Columns: tap j of row y is row y + j·stride; rows off the image are no taps.
-  parallel_for_rows(
-      h, threads,
-      [&](int y0, int y1) {
-        std::vector<const float*> taps(2 * std::size_t(p.radius)), depths(taps.size());
-        for (int y = y0; y < y1; ++y) {
-          for (int k = 0; k < 2 * p.radius; ++k) {
-            const int j = k < p.radius ? k - p.radius : k - p.radius + 1;
-            const int ty = y + j * p.stride;
-            const bool in = ty >= 0 && ty < h;
-            taps[std::size_t(k)] = in ? tmp.data() + std::size_t(ty) * w : nullptr;
-            depths[std::size_t(k)] = in ? depth.data() + std::size_t(ty) * w : nullptr;
-          }
-          HWY_DYNAMIC_DISPATCH(SaoFilterRow)
-          (tmp.data() + std::size_t(y) * w, depth.data() + std::size_t(y) * w, taps.data(),
-           depths.data(), gauss.data(), p.radius, inv_edge, w, true,
-           ao.data() + std::size_t(y) * w);
+  // Columns, in strips of columns: tap j of row y is row y + j·stride of the strip's copy;
+  // rows off the image are no taps. Strips are independent, so any thread takes any strip.
+  const int strips = (w + kStripColumns - 1) / kStripColumns;
+  parallel_for_rows(strips, threads, [&](int s0, int s1) {
+    std::vector<float> strip(std::size_t(kStripColumns) * std::size_t(h));
+    std::vector<const float*> taps(2 * std::size_t(p.radius)), depths(taps.size());
+    for (int s = s0; s < s1; ++s) {
+      const int x0 = s * kStripColumns, sw = std::min(kStripColumns, w - x0);
+      for (int y = 0; y < h; ++y) {
+        const float* from = ao.data() + std::size_t(y) * w + x0;
+        std::copy(from, from + sw, strip.begin() + std::ptrdiff_t(y) * sw);
+      }
+      for (int y = 0; y < h; ++y) {
+        for (int k = 0; k < 2 * p.radius; ++k) {
+          const int ty = y + tap_offset(k) * p.stride;
+          const bool in = ty >= 0 && ty < h;
+          taps[std::size_t(k)] = in ? strip.data() + std::size_t(ty) * sw : nullptr;
+          depths[std::size_t(k)] = in ? depth.data() + std::size_t(ty) * w + x0 : nullptr;
         }
-      },
-      progress);
+        HWY_DYNAMIC_DISPATCH(SaoFilterRow)
+        (strip.data() + std::size_t(y) * sw, depth.data() + std::size_t(y) * w + x0, taps.data(),
+         depths.data(), gauss.data(), p.radius, inv_edge, sw, true,
+         ao.data() + std::size_t(y) * w + x0);
+      }
+    }
+  });
+  if (progress) {  // the column pass, counted as the rows it filtered
+    if (progress->cancel) throw Cancelled();
+    progress->done += h;
+  }
 }
 
 }  // namespace aolab

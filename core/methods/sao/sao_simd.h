@@ -13,10 +13,11 @@
 
 namespace aolab {
 
-/// sao_z_pyramid's levels 0..max_level in one array (level 0 = `depth`), with the source
-/// pixel of every coarse texel when `with_sources` (SaoTapPosition::Source). Texel for texel
-/// the same depths and sources as sao_z_pyramid. Throws std::invalid_argument when the levels
-/// hold more than 2^31 − 1 texels (the gathers' indices are 32-bit).
+/// sao_z_pyramid's levels 1..max_level in one array (level 0 is `depth` itself), with the
+/// source pixel of every coarse texel when `with_sources` (SaoTapPosition::Source). Texel for
+/// texel the same depths and sources as sao_z_pyramid. Throws std::invalid_argument when the
+/// coarse levels hold more than 2^31 − 1 texels (the gathers' indices are 32-bit) or the image
+/// has 2^22 rows or more (the kernel's float quotient for a source's row).
 ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width, int height,
                                      int max_level, SaoGrid grid, bool with_sources, int threads);
 

@@ -142,17 +142,16 @@ TEST(SaoSimd, PyramidIsTheScalarPyramid) {
     const auto scalar = sao_z_pyramid(depth, 203, 117, 9, grid, 1);
     const ObscuranceLevels simd = sao_levels_for_simd(depth, 203, 117, 9, grid, true, 2);
     ASSERT_EQ(simd.count, 10);
-    for (int m = 0; m < 10; ++m) {
+    for (int m = 1; m < 10; ++m) {
       const SaoZLevel& lv = scalar[std::size_t(m)];
-      ASSERT_EQ(simd.width[std::size_t(m)], lv.width);
-      ASSERT_EQ(simd.height[std::size_t(m)], lv.height);
+      const std::size_t begin = std::size_t(simd.offset[std::size_t(m)]);
+      const std::size_t end =
+          m == 9 ? simd.depth.size() : std::size_t(simd.offset[std::size_t(m) + 1]);
+      ASSERT_EQ(end - begin, lv.depth.size());
       for (std::size_t t = 0; t < lv.depth.size(); ++t) {
-        const float a = simd.depth[std::size_t(simd.offset[std::size_t(m)]) + t];
-        const float b = lv.depth[t];
+        const float a = simd.depth[begin + t], b = lv.depth[t];
         EXPECT_TRUE(a == b || (a != a && b != b)) << m << " " << t;
-        if (m == 0) continue;
-        const std::size_t s = std::size_t(simd.offset[std::size_t(m)]) + t - depth.size();
-        EXPECT_EQ(simd.source_y[s] * 203 + simd.source_x[s], lv.source[t]) << m << " " << t;
+        EXPECT_EQ(simd.source[begin + t], lv.source[t]) << m << " " << t;
       }
     }
   }
