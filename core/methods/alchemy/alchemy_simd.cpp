@@ -80,7 +80,7 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
   const ObscuranceEstimator& e = *f.estimator;
   const int count_taps = taps.size();
   const ObscuranceLevels* lv = f.levels;
-  const bool at_source = lv && !lv->source.empty();
+  const bool at_source = lv && lv->has_sources();
   const int max_level = lv ? lv->count - 1 : 0;
 
   const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
@@ -183,7 +183,8 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
           const VI mx = hn::Min(hn::operator>>(sx, level), hn::Sub(lw, hn::Set(di, 1)));
           const VI my = hn::Min(hn::operator>>(sy, level), hn::Sub(lh, hn::Set(di, 1)));
           const VI t = hn::IfThenElseZero(coarse, hn::Add(off, hn::Add(hn::Mul(my, lw), mx)));
-          ds = Gather(df, lv->depth.data(), t);
+          const VI at = lv->stride == 2 ? hn::Add(t, t) : t;
+          ds = hn::BitCast(df, Gather(di, lv->texels.data(), at));
           const bool all_coarse = hn::AllTrue(di, coarse);
           if (!all_coarse)
             ds = hn::IfThenElse(hn::RebindMask(df, coarse), ds, Gather(df, f.depth, full_index));
@@ -191,8 +192,9 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
             // The pixel the texel was subsampled from (SaoTapPosition::Source), y·W + x: the
             // row from a float quotient, off by at most one (|error| < 1 for y < 2^22,
             // ObscuranceLevels), and corrected.
-            const VI src = Gather(di, lv->source.data(), t);
-            VI src_y = hn::ConvertTo(di, hn::Mul(hn::ConvertTo(df, src), hn::Set(df, 1.0f / w)));
+            const VI src = Gather(di, lv->texels.data(), hn::Add(at, hn::Set(di, 1)));
+            VI src_y =
+                hn::ConvertTo(di, hn::Mul(hn::ConvertTo(df, src), hn::Set(df, 1.0f / float(w))));
             VI src_x = hn::Sub(src, hn::Mul(src_y, hn::Set(di, w)));
             const MI low = hn::Lt(src_x, hn::Zero(di));
             src_y = hn::IfThenElse(low, hn::Sub(src_y, hn::Set(di, 1)), src_y);

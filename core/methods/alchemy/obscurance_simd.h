@@ -4,6 +4,7 @@
 // against; docs/methods/alchemy.md, "SIMD kernel", says where the two differ.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -16,14 +17,22 @@ namespace aolab {
 
 /// SAO's z pyramid laid out for gathers: the coarse levels 1..count − 1 back to back in one
 /// array (level 0 is the full-resolution depth itself), so that a lane's tap reads any coarse
-/// level with one index, offset[m] + y·⌈W/2^m⌉ + x.
+/// level with one index, t = offset[m] + y·⌈W/2^m⌉ + x. A texel is its depth's bits, followed,
+/// when the taps move to their source pixels, by that pixel's index y·W + x: the tap's second
+/// read then falls in the cache line of its first.
 struct ObscuranceLevels {
   int count = 0;                     ///< levels 0..count − 1
-  std::vector<float> depth;          ///< levels 1.. (NaN = background)
-  std::vector<std::int32_t> source;  ///< per coarse texel, y·W + x of its pixel (empty: tap)
-  std::vector<std::int32_t> offset;  ///< first texel of each level in `depth` (level 0: 0)
+  int stride = 1;                    ///< int32 per texel: 1 (depth) or 2 (depth, source)
+  std::vector<std::int32_t> texels;  ///< levels 1.., `stride` per texel
+  std::vector<std::int32_t> offset;  ///< first texel of each level (level 0: 0)
   float r_max_scale = 0.0f;          ///< r·max(fx, fy): h_i = α_i · r_max_scale / d (SAO §2.3)
   int log_max_offset = 0;            ///< q'
+
+  std::size_t size() const { return texels.size() / std::size_t(stride); }
+  bool has_sources() const { return stride == 2; }
+  /// Texel t's depth (NaN = background) and, with sources, its pixel y·W + x.
+  float depth(std::size_t t) const { return std::bit_cast<float>(texels[t * std::size_t(stride)]); }
+  std::int32_t source(std::size_t t) const { return texels[t * std::size_t(stride) + 1]; }
 };
 
 /// What the kernel reads and the settings it folds in.

@@ -12,6 +12,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -85,27 +86,30 @@ ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width,
     if (total > std::numeric_limits<std::int32_t>::max())
       throw std::invalid_argument("sao: image too large for the SIMD kernel's 32-bit indices");
   }
-  lv.depth.resize(std::size_t(total));
-  if (with_sources) lv.source.resize(std::size_t(total));
+  lv.stride = with_sources ? 2 : 1;
+  lv.texels.resize(std::size_t(total) * std::size_t(lv.stride));
   // sao_z_pyramid's rule, level by level (§2.2's rotated grid); level 0 is `depth`.
   const int flip = grid == SaoGrid::Paper ? 1 : 0;
+  const std::size_t stride = std::size_t(lv.stride);
   for (int m = 1; m <= max_level; ++m) {
     const int fw = ws[std::size_t(m) - 1], fh = hs[std::size_t(m) - 1];
     const int cw = ws[std::size_t(m)], ch = hs[std::size_t(m)];
-    const float* fine = m == 1 ? depth.data() : lv.depth.data() + lv.offset[std::size_t(m) - 1];
-    const std::int32_t* fine_src =
-        m == 1 || !with_sources ? nullptr : lv.source.data() + lv.offset[std::size_t(m) - 1];
-    float* out = lv.depth.data() + lv.offset[std::size_t(m)];
-    std::int32_t* out_src = with_sources ? lv.source.data() + lv.offset[std::size_t(m)] : nullptr;
+    const std::int32_t* fine =
+        lv.texels.data() + stride * std::size_t(lv.offset[std::size_t(m) - 1]);
+    std::int32_t* out = lv.texels.data() + stride * std::size_t(lv.offset[std::size_t(m)]);
     parallel_for_rows(ch, m == 1 ? threads : 1, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < cw; ++x) {
           const int fx = std::min(2 * x + ((y & 1) ^ flip), fw - 1);
           const int fy = std::min(2 * y + ((x & 1) ^ flip), fh - 1);
           const std::size_t from = std::size_t(fy) * fw + fx;
-          const std::size_t to = std::size_t(y) * cw + x;
-          out[to] = fine[from];
-          if (out_src) out_src[to] = fine_src ? fine_src[from] : std::int32_t(from);
+          std::int32_t* texel = out + stride * (std::size_t(y) * cw + x);
+          if (m == 1) {  // from the depth buffer: the source is the pixel itself
+            texel[0] = std::bit_cast<std::int32_t>(depth[from]);
+            if (with_sources) texel[1] = std::int32_t(from);
+          } else {
+            for (std::size_t c = 0; c < stride; ++c) texel[c] = fine[stride * from + c];
+          }
         }
     });
   }

@@ -145,13 +145,12 @@ TEST(SaoSimd, PyramidIsTheScalarPyramid) {
     for (int m = 1; m < 10; ++m) {
       const SaoZLevel& lv = scalar[std::size_t(m)];
       const std::size_t begin = std::size_t(simd.offset[std::size_t(m)]);
-      const std::size_t end =
-          m == 9 ? simd.depth.size() : std::size_t(simd.offset[std::size_t(m) + 1]);
+      const std::size_t end = m == 9 ? simd.size() : std::size_t(simd.offset[std::size_t(m) + 1]);
       ASSERT_EQ(end - begin, lv.depth.size());
       for (std::size_t t = 0; t < lv.depth.size(); ++t) {
-        const float a = simd.depth[begin + t], b = lv.depth[t];
+        const float a = simd.depth(begin + t), b = lv.depth[t];
         EXPECT_TRUE(a == b || (a != a && b != b)) << m << " " << t;
-        EXPECT_EQ(simd.source[begin + t], lv.source[t]) << m << " " << t;
+        EXPECT_EQ(simd.source(begin + t), lv.source[t]) << m << " " << t;
       }
     }
   }
