@@ -145,6 +145,11 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
   validate_settings(s, kSaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
+  // Rows to do: the estimate's (obscurance_simd counts its own) and the filter's two passes.
+  const bool simd = options.kernel == Kernel::Simd;
+  if (options.progress)
+    options.progress->total += (simd ? 0 : h) + (s.filter ? 2 * std::int64_t(h) : 0);
+
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   Image normals = prepared_normals(g, threads);
   if (s.normals == int(SaoNormals::Depth))
@@ -161,9 +166,7 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
                                         double(std::numeric_limits<float>::max())))
                      : 0.0f;
 
-  if (options.kernel == Kernel::Simd) {
-    // The estimate's rows are counted by obscurance_simd, the filter's two passes here.
-    if (options.progress && s.filter) options.progress->total += 2 * std::int64_t(h);
+  if (simd) {
     ObscuranceLevels levels =
         sao_levels_for_simd(depth, w, h, s.max_mip_level, SaoGrid(s.grid),
                             s.tap_position == int(SaoTapPosition::Source), threads);
@@ -178,7 +181,6 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
     return out;
   }
 
-  if (options.progress) options.progress->total += s.filter ? 3 * std::int64_t(h) : h;
   const std::vector<SaoZLevel> levels =
       sao_z_pyramid(depth, w, h, s.max_mip_level, SaoGrid(s.grid), threads);
   const Frame frame{&levels, normals.data(), w, h, g.camera};
