@@ -3,9 +3,11 @@
 // scenes; the same bits for any thread count; hard sizes and inputs. The known-answer tests of
 // alchemy_test.cpp and conformance_test.cpp run the SIMD kernel too (it is the default).
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -119,6 +121,20 @@ TEST(AlchemySimd, MatchesScalarOnReferenceScenes) {
       expect_kernels_agree(g, s, std::string(scene) + ", " + name);
     }
   }
+}
+
+// Every instruction set this machine has (SSE4, AVX2, AVX-512 ...), each run alone: the
+// dispatch picks only the best one, so the others would go untested.
+TEST(AlchemySimd, EveryTargetMatchesScalar) {
+  const SceneFixture f("blocks", 203, 117);
+  const auto all = variants(0.25f);
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (const auto& [name, s] : all)
+      if (name == "defaults" || name == "smooth falloff" || name == "contrast 0.4")
+        expect_kernels_agree(f.g, s, std::string(hwy::TargetName(target)) + ", " + name);
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 TEST(AlchemySimd, SameBitsForAnyThreadCount) {

@@ -6,9 +6,11 @@
 #include "core/methods/sao/sao_simd.h"
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -176,6 +178,20 @@ TEST(SaoSimd, FilterMatchesScalarFilter) {
     constexpr double kFilterTolerance = 1e-6;
     EXPECT_LE(kernel_difference(b, a).worst, kFilterTolerance) << radius << " " << stride;
   }
+}
+
+// Every instruction set this machine has, each run alone (the dispatch picks only the best).
+TEST(SaoSimd, EveryTargetMatchesScalar) {
+  const SceneFixture f("blocks", 203, 117);
+  const auto all = variants(0.25f);
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (const auto& [name, s] : all)
+      if (name == "defaults" || name == "no filter" || name == "q' 0, L_max 16" ||
+          name == "taps at their own pixel" || name == "filter radius 9, stride 1, sigma 0.5")
+        expect_kernels_agree(f.g, s, std::string(hwy::TargetName(target)) + ", " + name);
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 TEST(SaoSimd, SameBitsForAnyThreadCount) {
