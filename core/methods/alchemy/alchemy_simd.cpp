@@ -128,7 +128,9 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
     p.ox = hn::Sub(p.px, hn::Set(df, f.cam.cx)), p.oy = hn::Set(df, py - f.cam.cy);
     const VF r0x = hn::Mul(p.ox, v_inv_fx), r0y = hn::Neg(hn::Mul(p.oy, v_inv_fy));
     p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
-    p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, one))), hn::Abs(p.n_r0));
+    p.grazing = hn::ApproximateReciprocal(  // as grazing_s below: it only scales a tolerance
+        hn::Mul(hn::ApproximateReciprocalSqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, one))),
+                hn::Abs(p.n_r0)));
     p.bias = hn::MulAdd(hn::Set(df, f.bias_per_depth), p.d, hn::Set(df, f.bias_constant));
 
     // The disc of radius r at depth d: r·fx/d pixels across, r·fy/d down (as the scalar code
@@ -236,8 +238,11 @@ void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
         const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_rs);
         const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
         const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
-        const VF grazing_s =
-            hn::Div(hn::Sqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, one))), hn::Abs(n_rs));
+        // |rs|/|n·rs| only scales the tolerance: the hardware estimates (12 bits or better)
+        // will do where the scalar code divides by a square root; |n·rs| = 0 gives inf there too.
+        const VF grazing_s = hn::ApproximateReciprocal(
+            hn::Mul(hn::ApproximateReciprocalSqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, one))),
+                    hn::Abs(n_rs)));
         const VF tol =
             hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))),
                     hn::MulAdd(normal_ulps, hn::Add(p.grazing, grazing_s), tol_ulps));
