@@ -11,8 +11,9 @@
 // - the per-pixel rotation's cos and sin from Highway (a few ulps from the C library's), and
 //   multiplies and adds fused;
 // - the taps' depths gathered for up to 16 taps before any of them is tested, so that the
-//   gathers' latencies overlap; the tangent-plane test (with its division and square root)
-//   runs only when some lane's tap passed the cheap tests.
+//   gathers' latencies overlap; the tangent-plane test (with its division) runs only when
+//   some lane's tap passed the cheap tests, and its grazing factors, which only scale its
+//   tolerance, come from the hardware's reciprocal and 1/sqrt estimates.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/alchemy/alchemy_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
