@@ -1,8 +1,9 @@
 """Alchemy AO (McGuire et al. 2011) and SAO (McGuire, Mara, Luebke 2012) through the Python
 API: the shared estimator (SAO at full resolution, unfiltered, is Alchemy), nothing within r
 gives exactly 1, the wall's occlusion near the crease, the contrast exponent, SAO's z pyramid
-and filter. Open planes, threads, GIL, cancellation and settings: test_conformance.py; hard
-inputs and a scene scaled with its radius: test_stability.py."""
+and filter, the SIMD kernel against the scalar oracle. Open planes, threads, GIL, cancellation
+and settings: test_conformance.py; hard inputs and a scene scaled with its radius:
+test_stability.py."""
 import numpy as np
 
 import aolab
@@ -53,3 +54,21 @@ def test_sao_pyramid_and_filter_keep_the_mean():
     assert abs(filtered.mean() - mip.mean()) < 0.005
     # the filter smooths the rotation's noise: neighbours differ less
     assert np.abs(np.diff(filtered, axis=1)).mean() < np.abs(np.diff(mip, axis=1)).mean()
+
+
+def test_simd_kernel_matches_the_scalar_oracle():
+    # The tolerances of tests/cpp/methods/{alchemy,sao}/*_simd_test.cpp (docs/methods/
+    # alchemy.md, "SIMD kernel"): float rounding on almost every pixel; on a few, an ulp moves
+    # one tap across a texel edge or across |v| = r, by at most its share c*sigma/s of A.
+    g = aolab.analytic_scene("blocks", 203, 117)
+    for method, samples in (("alchemy", 8), ("sao", 9)):
+        for falloff, c in (("alchemy", 2.0), ("smooth", 5.0)):
+            kw = dict(radius=0.25, samples=samples, falloff=falloff)
+            simd = aolab.compute(method, g, kernel="simd", **kw).astype(np.float64)
+            scalar = aolab.compute(method, g, kernel="scalar", **kw)
+            d = np.sort(np.abs(simd - scalar).ravel())
+            assert d.mean() <= 1e-5, (method, falloff)
+            assert d[int(0.999 * (d.size - 1))] <= 1e-3, (method, falloff)
+            assert d[-1] <= c / samples, (method, falloff)
+            assert np.array_equal(aolab.compute(method, g, kernel="simd", threads=1, **kw),
+                                  aolab.compute(method, g, kernel="simd", threads=2, **kw))

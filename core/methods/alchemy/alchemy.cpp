@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/alchemy/obscurance_simd.h"
 
 namespace aolab {
 
@@ -43,6 +44,23 @@ Image alchemy(const GBuffer& g, const AlchemySettings& s, const RunOptions& opti
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
   const SpiralTaps taps(s.samples, s.turns);
   const ObscuranceEstimator e(s.radius, s.samples, s.intensity, s.epsilon, s.contrast, s.falloff);
+  if (options.kernel == Kernel::Simd) {
+    // b = β·d, in units of r for the kernel.
+    const ObscuranceSimdFrame sf{depth.data(),
+                                 normals.data(),
+                                 w,
+                                 h,
+                                 g.camera,
+                                 s.radius,
+                                 s.random_rotation,
+                                 s.seed,
+                                 float(double(s.bias) / s.radius),
+                                 0.0f,
+                                 &taps,
+                                 &e,
+                                 nullptr};
+    return obscurance_simd(sf, threads, options.progress);
+  }
 
   return image_from_pixels(
       w, h, threads, options.progress, [] { return 0; },
@@ -56,6 +74,7 @@ Method alchemy_method() {
       "Algorithm",
       kAlchemyFields, alchemy);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

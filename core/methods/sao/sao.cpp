@@ -11,6 +11,7 @@
 #include "core/base/parallel.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/sao/sao_blur.h"
+#include "core/methods/sao/sao_simd.h"
 #include "core/sampling/random.h"
 
 namespace aolab {
@@ -144,17 +145,45 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
   validate_settings(s, kSaoFields);
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  if (options.progress) options.progress->total += s.filter ? 3 * std::int64_t(h) : h;
+  // Rows to do: the estimate's (obscurance_simd counts its own) and the filter's two passes.
+  const bool simd = options.kernel == Kernel::Simd;
+  if (options.progress)
+    options.progress->total += (simd ? 0 : h) + (s.filter ? 2 * std::int64_t(h) : 0);
 
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   Image normals = prepared_normals(g, threads);
   if (s.normals == int(SaoNormals::Depth))
     normals = sao_quad_normals(g, depth, normals.view(), threads);
+  const SpiralTaps taps(s.samples, s.turns);
+  const ObscuranceEstimator e(s.radius, s.samples, s.intensity, s.epsilon, s.contrast, s.falloff);
+  SaoBlurParams b;
+  b.radius = s.filter_radius;
+  b.stride = s.filter_stride;
+  b.sigma = s.filter_sigma;
+  const double edge = double(kSaoFilterEdgeDepth) * s.radius / s.edge_sharpness;
+  b.edge_depth = s.edge_sharpness > 0.0f
+                     ? float(std::clamp(edge, double(std::numeric_limits<float>::min()),
+                                        double(std::numeric_limits<float>::max())))
+                     : 0.0f;
+
+  if (simd) {
+    ObscuranceLevels levels =
+        sao_levels_for_simd(depth, w, h, s.max_mip_level, SaoGrid(s.grid),
+                            s.tap_position == int(SaoTapPosition::Source), threads);
+    levels.r_max_scale = s.radius * std::max(g.camera.fx, g.camera.fy);
+    levels.log_max_offset = s.log_max_offset;
+    // b = β·r, a constant distance: β in units of r.
+    const ObscuranceSimdFrame sf{
+        depth.data(), normals.data(), w,      h,     g.camera, s.radius, s.random_rotation,
+        s.seed,       0.0f,           s.bias, &taps, &e,       &levels};
+    Image out = obscurance_simd(sf, threads, options.progress);
+    if (s.filter) sao_bilateral_filter_simd(out, depth, b, threads, options.progress);
+    return out;
+  }
+
   const std::vector<SaoZLevel> levels =
       sao_z_pyramid(depth, w, h, s.max_mip_level, SaoGrid(s.grid), threads);
   const Frame frame{&levels, normals.data(), w, h, g.camera};
-  const SpiralTaps taps(s.samples, s.turns);
-  const ObscuranceEstimator e(s.radius, s.samples, s.intensity, s.epsilon, s.contrast, s.falloff);
 
   Image out(w, h, 1, 1.0f);
   parallel_for_rows(
@@ -165,15 +194,6 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
       },
       options.progress);
   if (s.filter) {
-    SaoBlurParams b;
-    b.radius = s.filter_radius;
-    b.stride = s.filter_stride;
-    b.sigma = s.filter_sigma;
-    const double edge = double(kSaoFilterEdgeDepth) * s.radius / s.edge_sharpness;
-    b.edge_depth = s.edge_sharpness > 0.0f
-                       ? float(std::clamp(edge, double(std::numeric_limits<float>::min()),
-                                          double(std::numeric_limits<float>::max())))
-                       : 0.0f;
     sao_bilateral_filter(out, depth, b, threads, options.progress);
     for (float& v : out.pixels()) v = std::clamp(v, 0.0f, 1.0f);  // a mean in [0, 1], rounded
   }
@@ -185,6 +205,7 @@ Method sao_method() {
       registered_method("sao", "Scalable ambient obscurance",
                         "McGuire, Mara, Luebke 2012, Scalable Ambient Obscurance", kSaoFields, sao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

@@ -1,0 +1,299 @@
+// The SIMD kernel of the obscurance estimator that Alchemy AO and SAO share
+// (obscurance_simd.h): obscurance_estimate of obscurance_estimator.h, the oracle it is tested
+// against, on Lanes consecutive pixels of a row at once, compiled by Highway for every target
+// and dispatched at run time. Every setting of both methods is supported; each lane follows the
+// scalar pixel's steps (its own rotation, the same taps, texels, pyramid levels and tests).
+//
+// What it does differently (docs/methods/alchemy.md, "SIMD kernel"):
+// - float instead of double, with v measured in units of r (v/r): the estimator becomes
+//   (c·σ/s) Σ w·max(0, v'·n − b/r)/(v'·v' + ε) with v' = v/r, whose numbers stay near 1 for
+//   every r in [1e-12, 1e30] (the scalar code needs double because r² reaches 1e60);
+// - the per-pixel rotation's cos and sin from Highway (a few ulps from the C library's), and
+//   multiplies and adds fused;
+// - the taps' depths gathered for up to 16 taps before any of them is tested, so that the
+//   gathers' latencies overlap; the tangent-plane test (with its division) runs only when
+//   some lane's tap passed the cheap tests, and its grazing factors, which only scale its
+//   tolerance, come from the hardware's reciprocal and 1/sqrt estimates.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/methods/alchemy/alchemy_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+#include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
+#include "core/methods/alchemy/obscurance_simd.h"
+#include "core/methods/hbao/hbao.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace aolab::HWY_NAMESPACE {
+namespace {
+namespace hn = hwy::HWY_NAMESPACE;
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+using MI = hn::Mask<DI>;
+
+constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
+constexpr int kChunk = 16;                           // taps gathered before they are tested
+
+// The receiver C of each lane (hbao_receiver) and what its taps share.
+struct Receiver {
+  VF d, nx, ny, nz;
+  VF px, py, ox, oy;
+  VI x;
+  VF n_r0, grazing;  // n·r0 and |r0|/|n·r0| (hbao_above_tangent_plane)
+  VF bias;           // b/r
+};
+
+// The pyramid level of a tap at distance h (pixels), SAO §2.3: clamp(⌊log2 h⌋ − q', 0,
+// L_max) for h ≥ 1, else 0. ⌊log2 h⌋ is the exponent field of h ≥ 1 (inf gives 128 and is
+// clamped, NaN fails h ≥ 1), so this is the scalar code's ilogb exactly.
+HWY_INLINE VI TapLevel(DF df, VF h, int q, int max_level) {
+  const DI di;
+  const VI exponent = hn::Sub(hn::ShiftRight<23>(hn::BitCast(di, h)), hn::Set(di, 127 + q));
+  const VI level = hn::Min(hn::Max(exponent, hn::Zero(di)), hn::Set(di, max_level));
+  return hn::IfThenElseZero(hn::RebindMask(di, hn::Ge(h, hn::Set(df, 1.0f))), level);
+}
+
+// base[index] on every lane.
+template <class D>
+HWY_INLINE hn::Vec<D> Gather(D d, const hn::TFromD<D>* HWY_RESTRICT base, VI index) {
+  return hn::GatherIndex(d, base, index);
+}
+
+}  // namespace
+
+// Pixels [x_begin, x_end) of row y into out (the row).
+void ObscuranceSpan(const ObscuranceSimdFrame& f, int y, int x_begin, int x_end,
+                    float* HWY_RESTRICT out) {
+  const DF df;
+  const DI di;
+  const int w = f.width, h = f.height;
+  const SpiralTaps& taps = *f.taps;
+  const ObscuranceEstimator& e = *f.estimator;
+  const int count_taps = taps.size();
+  const ObscuranceLevels* lv = f.levels;
+  const bool at_source = lv && lv->has_sources();
+  const int max_level = lv ? lv->count - 1 : 0;
+
+  const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
+  const float inv_r = 1.0f / f.radius;
+  const VF v_inv_fx = hn::Set(df, inv_fx), v_inv_fy = hn::Set(df, inv_fy);
+  const VF kx = hn::Set(df, inv_fx * inv_r), ky = hn::Set(df, inv_fy * inv_r);
+  const VF v_inv_r = hn::Set(df, inv_r);
+  const VF width_f = hn::Set(df, float(w)), height_f = hn::Set(df, float(h));
+  const VF one = hn::Set(df, 1.0f), zero = hn::Zero(df);
+  const VF epsilon = hn::Set(df, float(e.epsilon * e.inv_r2));      // ε in units of r²
+  const VF scale = hn::Set(df, float(e.scale / double(f.radius)));  // c·σ/s
+  const bool smooth = e.falloff == ObscuranceFalloff::Smooth;
+  const VI row = hn::Set(di, y);
+  const VF tol_ulps = hn::Set(df, kHbaoDepthUlps), normal_ulps = hn::Set(df, kHbaoNormalUlps);
+
+  const float* depth_row = f.depth + std::size_t(y) * w;
+  const float* normal_row = f.normals + 3 * std::size_t(y) * w;
+  const float py = float(y) + 0.5f;
+  const std::size_t lanes = hn::Lanes(df);
+  HWY_ALIGN std::int32_t chunk_sx[kChunk * hn::MaxLanes(di)];
+  HWY_ALIGN std::int32_t chunk_sy[kChunk * hn::MaxLanes(di)];
+  HWY_ALIGN float chunk_ds[kChunk * hn::MaxLanes(df)];
+  HWY_ALIGN float chunk_live[kChunk * hn::MaxLanes(df)];
+
+  ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
+    Receiver p;
+    p.d = LoadRowPart(df, depth_row + x0, count);
+    const MF geometry = hn::Eq(p.d, p.d);  // background is NaN
+    if (hn::AllFalse(df, geometry)) {
+      StoreRowPart(df, one, count, out + x0);
+      return;
+    }
+    if (count == int(lanes)) {
+      hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
+    } else {
+      HWY_ALIGN float n[3][hn::MaxLanes(df)];
+      for (int i = 0; i < int(lanes); ++i)
+        for (int c = 0; c < 3; ++c)
+          n[c][i] = normal_row[3 * std::size_t(x0 + std::min(i, count - 1)) + c];
+      p.nx = hn::Load(df, n[0]), p.ny = hn::Load(df, n[1]), p.nz = hn::Load(df, n[2]);
+    }
+    // A tail lane repeats the row's last pixel's data at its own x; its result is dropped.
+    p.x = hn::Add(hn::Set(di, x0), hn::Iota(di, 0));
+    p.px = PixelCentres(df, x0), p.py = hn::Set(df, py);
+    p.ox = hn::Sub(p.px, hn::Set(df, f.cam.cx)), p.oy = hn::Set(df, py - f.cam.cy);
+    const VF r0x = hn::Mul(p.ox, v_inv_fx), r0y = hn::Neg(hn::Mul(p.oy, v_inv_fy));
+    p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
+    p.grazing = hn::ApproximateReciprocal(  // as grazing_s below: it only scales a tolerance
+        hn::Mul(hn::ApproximateReciprocalSqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, one))),
+                hn::Abs(p.n_r0)));
+    p.bias = hn::MulAdd(hn::Set(df, f.bias_per_depth), p.d, hn::Set(df, f.bias_constant));
+
+    // The disc of radius r at depth d: r·fx/d pixels across, r·fy/d down (as the scalar code
+    // rounds them); the rotation φ = 2π·pixel_random, one cos and sin per pixel.
+    const VF rx = hn::Div(hn::Set(df, f.radius * f.cam.fx), p.d);
+    const VF ry = hn::Div(hn::Set(df, f.radius * f.cam.fy), p.d);
+    const VF r_max = lv ? hn::Div(hn::Set(df, lv->r_max_scale), p.d) : zero;
+    VF cr = one, sr = zero;
+    if (f.random_rotation) {
+      const VF phi = hn::Mul(hn::Set(df, 2.0f * std::numbers::pi_v<float>),
+                             PixelRandom(df, std::uint32_t(f.seed), x0, y, 0));
+      cr = hn::Cos(df, phi), sr = hn::Sin(df, phi);
+    }
+
+    VF sum = zero;
+    for (int i0 = 0; i0 < count_taps; i0 += kChunk) {
+      const int n = std::min(kChunk, count_taps - i0);
+      // First every tap's texel and depth (independent of each other: the gathers overlap).
+      for (int j = 0; j < n; ++j) {
+        const int i = i0 + j;
+        float bc, bs;
+        taps.direction(i, 1.0f, 0.0f, bc, bs);  // the unrotated cos and sin of θ_i
+        const VF vbc = hn::Set(df, bc), vbs = hn::Set(df, bs);
+        const VF c = hn::Sub(hn::Mul(vbc, cr), hn::Mul(vbs, sr));
+        const VF sn = hn::MulAdd(vbs, cr, hn::Mul(vbc, sr));
+        const VF a = hn::Set(df, taps.alpha(i));
+        const VF sx_f = hn::MulAdd(hn::Mul(a, c), rx, p.px);
+        const VF sy_f = hn::NegMulAdd(hn::Mul(a, sn), ry, p.py);  // image y points down
+        // Off the image (NaN and inf fail too): no tap.
+        const MF inside =
+            hn::And(hn::And(geometry, hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, width_f))),
+                    hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, height_f)));
+        VI sx = hn::ConvertTo(di, hn::IfThenElseZero(inside, sx_f));  // the texel
+        VI sy = hn::ConvertTo(di, hn::IfThenElseZero(inside, sy_f));
+        // Level 0 is the full-resolution depth.
+        const VI full_index = hn::Add(hn::Mul(sy, hn::Set(di, w)), sx);
+        VF ds;
+        const VI level =
+            lv ? TapLevel(df, hn::Mul(a, r_max), lv->log_max_offset, max_level) : hn::Zero(di);
+        const MI coarse = hn::Gt(level, hn::Zero(di));
+        if (hn::AllFalse(di, coarse)) {
+          ds = Gather(df, f.depth, full_index);
+        } else {
+          // Level m is ⌈W/2^m⌉ × ⌈H/2^m⌉ (each level halves the last, rounding up).
+          const VI round_up = hn::Sub(hn::operator<<(hn::Set(di, 1), level), hn::Set(di, 1));
+          const VI lw = hn::operator>>(hn::Add(hn::Set(di, w), round_up), level);
+          const VI lh = hn::operator>>(hn::Add(hn::Set(di, h), round_up), level);
+          const int level0 = hn::GetLane(level);
+          const VI off = hn::AllTrue(di, hn::Eq(level, hn::Set(di, level0)))
+                             ? hn::Set(di, lv->offset[std::size_t(level0)])
+                             : Gather(di, lv->offset.data(), level);
+          const VI mx = hn::Min(hn::operator>>(sx, level), hn::Sub(lw, hn::Set(di, 1)));
+          const VI my = hn::Min(hn::operator>>(sy, level), hn::Sub(lh, hn::Set(di, 1)));
+          const VI t = hn::IfThenElseZero(coarse, hn::Add(off, hn::Add(hn::Mul(my, lw), mx)));
+          const VI at = lv->stride == 2 ? hn::Add(t, t) : t;
+          ds = hn::BitCast(df, Gather(di, lv->texels.data(), at));
+          const bool all_coarse = hn::AllTrue(di, coarse);
+          if (!all_coarse)
+            ds = hn::IfThenElse(hn::RebindMask(df, coarse), ds, Gather(df, f.depth, full_index));
+          if (at_source) {
+            // The pixel the texel was subsampled from (SaoTapPosition::Source), y·W + x: the
+            // row from a float quotient, off by at most one (|error| < 1 for y < 2^22,
+            // ObscuranceLevels), and corrected.
+            const VI src = Gather(di, lv->texels.data(), hn::Add(at, hn::Set(di, 1)));
+            VI src_y =
+                hn::ConvertTo(di, hn::Mul(hn::ConvertTo(df, src), hn::Set(df, 1.0f / float(w))));
+            VI src_x = hn::Sub(src, hn::Mul(src_y, hn::Set(di, w)));
+            const MI low = hn::Lt(src_x, hn::Zero(di));
+            src_y = hn::IfThenElse(low, hn::Sub(src_y, hn::Set(di, 1)), src_y);
+            src_x = hn::IfThenElse(low, hn::Add(src_x, hn::Set(di, w)), src_x);
+            const MI high = hn::Gt(src_x, hn::Set(di, w - 1));
+            src_y = hn::IfThenElse(high, hn::Add(src_y, hn::Set(di, 1)), src_y);
+            src_x = hn::IfThenElse(high, hn::Sub(src_x, hn::Set(di, w)), src_x);
+            sx = hn::IfThenElse(coarse, src_x, sx);
+            sy = hn::IfThenElse(coarse, src_y, sy);
+          }
+        }
+        const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
+        hn::Store(sx, di, chunk_sx + j * lanes);
+        hn::Store(sy, di, chunk_sy + j * lanes);
+        hn::Store(ds, df, chunk_ds + j * lanes);
+        hn::Store(hn::VecFromMask(df, hn::AndNot(self, inside)), df, chunk_live + j * lanes);
+      }
+      // Then their terms (obscurance_tap).
+      for (int j = 0; j < n; ++j) {
+        const VI sx = hn::Load(di, chunk_sx + j * lanes), sy = hn::Load(di, chunk_sy + j * lanes);
+        const VF ds = hn::Load(df, chunk_ds + j * lanes);
+        const VF qx = hn::ConvertTo(df, hn::Sub(sx, p.x));
+        const VF qy = hn::ConvertTo(df, hn::Sub(sy, row));
+        const VF dd = hn::Sub(ds, p.d);
+        // v/r, formed without cancellation as the scalar v.
+        const VF vx = hn::Mul(hn::MulAdd(qx, ds, hn::Mul(p.ox, dd)), kx);
+        const VF vy = hn::Neg(hn::Mul(hn::MulAdd(qy, ds, hn::Mul(p.oy, dd)), ky));
+        const VF vz = hn::Neg(hn::Mul(dd, v_inv_r));
+        const VF vv = hn::MulAdd(vx, vx, hn::MulAdd(vy, vy, hn::Mul(vz, vz)));
+        const VF vn = hn::MulAdd(vx, p.nx, hn::MulAdd(vy, p.ny, hn::Mul(vz, p.nz)));
+        // Within r (NaN, the background, fails) and v·n above the bias.
+        MF live = hn::MaskFromVec(hn::Load(df, chunk_live + j * lanes));
+        live = hn::And(live, hn::And(hn::Lt(vv, one), hn::Gt(vn, p.bias)));
+        if (hn::AllFalse(df, live)) continue;
+        // hbao_above_tangent_plane.
+        const VF rsx = hn::Mul(hn::Add(p.ox, qx), v_inv_fx);
+        const VF rsy = hn::Neg(hn::Mul(hn::Add(p.oy, qy), v_inv_fy));
+        const VF n_rs = hn::Sub(hn::MulAdd(p.nx, rsx, hn::Mul(p.ny, rsy)), p.nz);
+        const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_rs);
+        const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
+        const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
+        // |rs|/|n·rs| only scales the tolerance: the hardware estimates (12 bits or better)
+        // will do where the scalar code divides by a square root; |n·rs| = 0 gives inf there too.
+        const VF grazing_s = hn::ApproximateReciprocal(
+            hn::Mul(hn::ApproximateReciprocalSqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, one))),
+                    hn::Abs(n_rs)));
+        const VF tol =
+            hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))),
+                    hn::MulAdd(normal_ulps, hn::Add(p.grazing, grazing_s), tol_ulps));
+        const VF gap = hn::Sub(
+            hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
+        live = hn::And(hn::AndNot(rejected, live), hn::Gt(gap, tol));
+        // The term w·(v·n − b)/(v·v + ε), all in units of r.
+        VF term = hn::Div(hn::Sub(vn, p.bias), hn::Add(vv, epsilon));
+        if (smooth) {
+          const VF fall = hn::Sub(one, vv);
+          term = hn::Mul(term, hn::Mul(fall, hn::Mul(fall, fall)));
+        }
+        sum = hn::Add(sum, hn::IfThenElseZero(live, term));
+      }
+    }
+    // ObscuranceEstimator::visibility: max(0, 1 − (c·σ/s)·Σ)^k in [0, 1], 1 with no tap.
+    VF a = hn::Max(zero, hn::NegMulAdd(scale, sum, one));
+    if (e.contrast != 1.0) {
+      const MF positive = hn::Gt(a, zero);
+      a = hn::IfThenElseZero(positive,
+                             hn::Exp(df, hn::Mul(hn::Set(df, float(e.contrast)),
+                                                 hn::Log(df, hn::IfThenElse(positive, a, one)))));
+    }
+    a = hn::Min(hn::Max(a, zero), one);
+    const VF result = hn::IfThenElse(hn::And(geometry, hn::Gt(sum, zero)), a, one);
+    StoreRowPart(df, result, count, out + x0);
+  });
+}
+
+}  // namespace aolab::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace aolab {
+
+HWY_EXPORT(ObscuranceSpan);
+
+// Tiles of 16 rows × 128 columns, as HBAO's: the depth a tile's taps read (±r' around it)
+// stays in a core's L2 at large radii, where ±r' rows of the whole width would not.
+constexpr int kObscuranceBandRows = 16;
+constexpr int kObscuranceTileColumns = 128;
+
+Image obscurance_simd(const ObscuranceSimdFrame& f, int threads, Progress* progress) {
+  return image_from_tiles(
+      f.width, f.height, threads, progress, kObscuranceBandRows, kObscuranceTileColumns,
+      [] { return 0; },
+      [&](int, int y, int x0, int x1, float* out) {
+        HWY_DYNAMIC_DISPATCH(ObscuranceSpan)(f, y, x0, x1, out);
+      });
+}
+
+}  // namespace aolab
+#endif  // HWY_ONCE
