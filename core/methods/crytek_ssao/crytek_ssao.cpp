@@ -18,7 +18,7 @@ namespace {
 // their own streams, so they depend on the seed alone.
 constexpr std::uint32_t kKernelStream = 101;
 constexpr std::uint32_t kTileStream = 202;
-constexpr std::uint32_t kPixelStream = 303;
+constexpr std::uint32_t kPixelStream = kCrytekSsaoPixelStream;
 
 // A unit vector from two uniforms (uniform on the sphere: z uniform in [−1, 1]).
 glm::vec3 unit_vector(float u1, float u2) {
@@ -32,12 +32,7 @@ glm::vec3 random_unit(std::uint32_t seed, int i, int j, std::uint32_t stream) {
   return unit_vector(pixel_random(seed, i, j, stream), pixel_random(seed, i, j, stream + 1));
 }
 
-struct Frame {
-  const float* depth;    // background replaced by NaN, so every comparison with it fails
-  const float* normals;  // prepared, 3 per pixel; null unless the hemisphere variant
-  int width, height;
-  CameraIntrinsics cam;
-};
+using Frame = CrytekSsaoFrame;
 
 float crytek_pixel(const Frame& f, const CrytekSsaoSettings& s,
                    const std::vector<glm::vec3>& kernel, const glm::vec3 (&tile)[16], int x,
@@ -130,6 +125,8 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
       crytek_ssao_kernel(s.samples, CrytekSsaoDistribution(s.distribution), s.seed);
   glm::vec3 tile[16];
   for (int i = 0; i < 16; ++i) tile[i] = random_unit(std::uint32_t(s.seed), i, 0, kTileStream);
+  if (options.kernel == Kernel::Simd)
+    return crytek_ssao_simd(frame, s, kernel, tile, threads, options.progress);
 
   return image_from_pixels(
       w, h, threads, options.progress, [] { return 0; },
@@ -137,10 +134,12 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
 }
 
 Method crytek_ssao_method() {
-  return registered_method("crytek_ssao", "Crytek screen-space ambient occlusion",
-                           "Mittring 2007, Finding Next Gen: CryEngine 2 (SIGGRAPH course), "
-                           "§8.5.4.3",
-                           kCrytekSsaoFields, crytek_ssao);
+  Method m = registered_method("crytek_ssao", "Crytek screen-space ambient occlusion",
+                               "Mittring 2007, Finding Next Gen: CryEngine 2 (SIGGRAPH course), "
+                               "§8.5.4.3",
+                               kCrytekSsaoFields, crytek_ssao);
+  m.has_simd_kernel = true;
+  return m;
 }
 
 }  // namespace aolab
