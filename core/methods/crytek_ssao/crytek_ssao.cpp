@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -32,7 +33,12 @@ glm::vec3 random_unit(std::uint32_t seed, int i, int j, std::uint32_t stream) {
   return unit_vector(pixel_random(seed, i, j, stream), pixel_random(seed, i, j, stream + 1));
 }
 
-using Frame = CrytekSsaoFrame;
+struct Frame {
+  const float* depth;    // background replaced by NaN, so every comparison with it fails
+  const float* normals;  // prepared, 3 per pixel; null unless the hemisphere variant
+  int width, height;
+  CameraIntrinsics cam;
+};
 
 float crytek_pixel(const Frame& f, const CrytekSsaoSettings& s,
                    const std::vector<glm::vec3>& kernel, const glm::vec3 (&tile)[16], int x,
@@ -117,16 +123,20 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
-  Image normals;
-  if (s.hemisphere) normals = prepared_normals(g, threads);
-  const Frame frame{depth.data(), s.hemisphere ? normals.data() : nullptr, w, h, g.camera};
   const std::vector<glm::vec3> kernel =
       crytek_ssao_kernel(s.samples, CrytekSsaoDistribution(s.distribution), s.seed);
   glm::vec3 tile[16];
   for (int i = 0; i < 16; ++i) tile[i] = random_unit(std::uint32_t(s.seed), i, 0, kTileStream);
-  if (options.kernel == Kernel::Simd)
-    return crytek_ssao_simd(frame, s, kernel, tile, threads, options.progress);
+  Image normals;
+  if (s.hemisphere) normals = prepared_normals(g, threads);
+  // The SIMD kernel's gathers take 32-bit indices.
+  if (options.kernel == Kernel::Simd && g.depth.row_stride > 0 &&
+      double(g.depth.row_stride) * double(h) < double(std::numeric_limits<std::int32_t>::max()))
+    return crytek_ssao_simd(g, s.hemisphere ? normals.data() : nullptr, s, kernel, tile, threads,
+                            options.progress);
+
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Frame frame{depth.data(), s.hemisphere ? normals.data() : nullptr, w, h, g.camera};
 
   return image_from_pixels(
       w, h, threads, options.progress, [] { return 0; },

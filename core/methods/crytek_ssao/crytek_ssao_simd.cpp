@@ -14,6 +14,12 @@
 //   them (4 columns repeated across the vector: its lanes are pixels x0 .. x0 + Lanes − 1 with
 //   x0 a multiple of 4); the per-pixel reflection computes them per lane from the kernel's
 //   u, v, R·k_z by linearity (o = k − 2(k·r)r, so u(o) = u(k) − 2(k·r)·u(r));
+// - the texel's index comes from Floor and the float's bits (x + 2^23 holds the integer x in
+//   its low mantissa bits), which costs less than a float-to-int conversion and its
+//   overflow fix-ups; only on-image lanes use it;
+// - the depth is read where the G-buffer holds it, each read tested for background
+//   (is_geometry), instead of a copy of it with background as NaN, which cost more (an
+//   allocation of the image's size, its page faults and a pass) than the tests;
 // - the range check multiplies by 1/R where the scalar code divides by R;
 // - every test is a mask and the depth read a gather: no branch per point.
 #undef HWY_TARGET_INCLUDE
@@ -25,6 +31,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -47,6 +54,17 @@ struct CrytekTables {
   std::vector<float> kernel;
 };
 constexpr int kReflectedComponents = 6;
+
+// What the kernel reads: the G-buffer's depth as it is (row_stride floats a row), the
+// prepared normals (3 per pixel, rows of width) or null.
+struct CrytekSimdFrame {
+  const float* depth;
+  std::ptrdiff_t stride;
+  const float* normals;
+  int width, height;
+  CameraIntrinsics cam;
+  float background;  // GBuffer::background_depth
+};
 constexpr int kKernelComponents = 6;
 
 }  // namespace
@@ -65,10 +83,14 @@ using MF = hn::Mask<DF>;
 
 // What every point of a row shares.
 struct RowConstants {
-  VF width, height, radius, inv_radius;
-  VI w;
+  VF width, height, radius, inv_radius, background;
+  VI stride, index_bias;
   const float* depth;
 };
+
+// 2^23: for an integer 0 ≤ i < 2^23, the float i + 2^23 holds i in its low mantissa bits.
+constexpr float kMagic = 8388608.0f;
+constexpr std::uint32_t kMagicBits = 0x4B000000u;
 
 // The pixels' part of a point's test.
 struct Pixels {
@@ -91,11 +113,18 @@ HWY_INLINE void AddPoint(DF df, const RowConstants& k, const Pixels& p, VF u, VF
   const MF inside =
       hn::And(hn::And(hn::Gt(depth, zero), hn::And(hn::Ge(qx, zero), hn::Lt(qx, k.width))),
               hn::And(hn::Ge(qy, zero), hn::Lt(qy, k.height)));
-  const VI index = hn::Add(hn::Mul(hn::ConvertTo(di, qy), k.w), hn::ConvertTo(di, qx));
+  // The texel (the scalar code's truncation, qx and qy ≥ 0): the bits of floor(q) + 2^23 are
+  // those of 2^23 plus floor(q), whose bias index_bias removes.
+  const VI bx = hn::BitCast(di, hn::Add(hn::Floor(qx), hn::Set(df, kMagic)));
+  const VI by = hn::BitCast(di, hn::Add(hn::Floor(qy), hn::Set(df, kMagic)));
+  const VI index = hn::Sub(hn::Add(hn::Mul(by, k.stride), bx), k.index_bias);
   const VF stored =
       hn::GatherIndex(df, k.depth, hn::IfThenElseZero(hn::RebindMask(di, inside), index));
   const VF delta = hn::Sub(depth, stored);  // > 0: the stored surface is in front of the point
-  const MF counts = hn::And(inside, hn::Gt(delta, zero));  // background (NaN) fails
+  // Occluded: the stored surface is in front of the point (delta > 0, i.e. stored < depth)
+  // and is geometry (is_geometry: 0 < stored < background; NaN fails).
+  const MF counts =
+      hn::And(hn::And(inside, hn::Gt(stored, zero)), hn::Lt(stored, hn::Min(depth, k.background)));
   VF weight;
   if constexpr (kRange == CrytekSsaoRangeCheck::Smooth) {
     weight = hn::Min(hn::Max(hn::NegMulAdd(delta, k.inv_radius, hn::Set(df, 2.0f)), zero),
@@ -164,16 +193,20 @@ HWY_INLINE VF OccludedPerLane(DF df, const RowConstants& k, const Pixels& p, int
 }
 
 template <CrytekSsaoRangeCheck kRange, bool kHemisphere>
-void SpanT(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s, const CrytekTables& tables, int y,
+void SpanT(const CrytekSimdFrame& f, const CrytekSsaoSettings& s, const CrytekTables& tables, int y,
            int x_begin, int x_end, float* HWY_RESTRICT out) {
   const DF df;
+  const DI di;
   const int w = f.width;
   RowConstants k;
   k.width = hn::Set(df, float(w)), k.height = hn::Set(df, float(f.height));
   k.radius = hn::Set(df, s.radius), k.inv_radius = hn::Set(df, 1.0f / s.radius);
-  k.w = hn::Set(DI(), w);
+  k.background = hn::Set(df, f.background);
+  k.stride = hn::Set(di, std::int32_t(f.stride));
+  // kMagicBits·(stride + 1), wrapped to 32 bits as the vector arithmetic wraps.
+  k.index_bias = hn::Set(di, std::int32_t(kMagicBits * (std::uint32_t(f.stride) + 1u)));
   k.depth = f.depth;
-  const float* depth_row = f.depth + std::size_t(y) * w;
+  const float* depth_row = f.depth + std::size_t(y) * std::size_t(f.stride);
   const float* normal_row = kHemisphere ? f.normals + 3 * std::size_t(y) * w : nullptr;
   const bool per_pixel = s.rotation == int(CrytekSsaoRotation::PerPixel);
   const float* row_table = per_pixel
@@ -190,7 +223,9 @@ void SpanT(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s, const CrytekTa
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Pixels p;
     p.d = LoadRowPart(df, depth_row + x0, count);
-    const MF geometry = hn::Eq(p.d, p.d);  // background is NaN
+    // is_geometry; background lanes get NaN, which fails every test of their points.
+    const MF geometry = hn::And(hn::Gt(p.d, hn::Zero(df)), hn::Lt(p.d, k.background));
+    p.d = hn::IfThenElse(geometry, p.d, hn::Set(df, std::numeric_limits<float>::quiet_NaN()));
     VF result = hn::Set(df, 1.0f);
     if (!hn::AllFalse(df, geometry)) {
       p.px = PixelCentres(df, x0), p.py = hn::Set(df, float(y) + 0.5f);
@@ -237,7 +272,7 @@ void SpanT(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s, const CrytekTa
 }  // namespace
 
 // Pixels [x_begin, x_end) of row y into out (the row); x_begin a multiple of Lanes.
-void CrytekSsaoSpan(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s,
+void CrytekSsaoSpan(const CrytekSimdFrame& f, const CrytekSsaoSettings& s,
                     const CrytekTables& tables, int y, int x_begin, int x_end,
                     float* HWY_RESTRICT out) {
   const bool hemisphere = f.normals != nullptr;
@@ -280,7 +315,7 @@ float offset_v(const CameraIntrinsics& cam, double radius, const glm::vec3& o) {
   return float(-radius * (double(cam.fy) * o.y + double(cam.cy) * o.z));
 }
 
-CrytekTables make_tables(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s,
+CrytekTables make_tables(const CrytekSimdFrame& f, const CrytekSsaoSettings& s,
                          const std::vector<glm::vec3>& kernel, const glm::vec3 (&tile)[16]) {
   CrytekTables t;
   t.samples = int(kernel.size());
@@ -317,9 +352,11 @@ CrytekTables make_tables(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s,
 
 }  // namespace
 
-Image crytek_ssao_simd(const CrytekSsaoFrame& f, const CrytekSsaoSettings& s,
+Image crytek_ssao_simd(const GBuffer& g, const float* normals, const CrytekSsaoSettings& s,
                        const std::vector<glm::vec3>& kernel, const glm::vec3 (&tile)[16],
                        int threads, Progress* progress) {
+  const CrytekSimdFrame f{g.depth.data, g.depth.row_stride, normals,           g.width(),
+                          g.height(),   g.camera,           g.background_depth};
   const CrytekTables tables = make_tables(f, s, kernel, tile);
   return image_from_tiles(
       f.width, f.height, threads, progress, kCrytekBandRows, kCrytekTileColumns, [] { return 0; },
