@@ -50,8 +50,12 @@ struct CrytekTables {
   // Tiled4x4 and None: [row phase y & 3][sample][component][column phase x & 3], the
   // components being u, v, R·o_z, o_x, o_y, o_z of the reflected offset o.
   std::vector<float> reflected;
-  // PerPixel: [sample][component], the components being k_x, k_y, k_z, u(k), v(k), R·k_z.
+  // Every rotation: [sample][component], the components being k_x, k_y, k_z, u(k), v(k),
+  // R·k_z (the per-lane path: the per-pixel reflection, and vectors too short for a period of
+  // the tile).
   std::vector<float> kernel;
+  // Tiled4x4: the 16 reflection vectors, [y & 3][x & 3][component]; None: zeros.
+  float tile[16][3] = {};
 };
 constexpr int kReflectedComponents = 6;
 
@@ -209,10 +213,13 @@ void SpanT(const CrytekSimdFrame& f, const CrytekSsaoSettings& s, const CrytekTa
   const float* depth_row = f.depth + std::size_t(y) * std::size_t(f.stride);
   const float* normal_row = kHemisphere ? f.normals + 3 * std::size_t(y) * w : nullptr;
   const bool per_pixel = s.rotation == int(CrytekSsaoRotation::PerPixel);
-  const float* row_table = per_pixel
-                               ? nullptr
-                               : tables.reflected.data() +
-                                     std::size_t(y & 3) * tables.samples * kReflectedComponents * 4;
+  // The tables hold a row phase's 4 columns; a vector of a multiple of 4 lanes starting at a
+  // multiple of its length repeats them. Shorter vectors (Highway's 1-lane scalar target)
+  // take the per-lane path with the tile's vectors.
+  const bool tabled = !per_pixel && hn::Lanes(df) % 4 == 0;
+  const float* row_table = tabled ? tables.reflected.data() + std::size_t(y & 3) * tables.samples *
+                                                                  kReflectedComponents * 4
+                                  : nullptr;
   const float radius = s.radius;
   const float fx_r = f.cam.fx * radius, fy_r = f.cam.fy * radius;
   const float cx_r = f.cam.cx * radius, cy_r = f.cam.cy * radius;
@@ -242,14 +249,22 @@ void SpanT(const CrytekSimdFrame& f, const CrytekSsaoSettings& s, const CrytekTa
         }
       }
       VF occluded;
-      if (per_pixel) {
-        // random_unit(seed, x, y, kCrytekSsaoPixelStream) on every lane.
-        const VF u1 = PixelRandom(df, seed, x0, y, kCrytekSsaoPixelStream);
-        const VF u2 = PixelRandom(df, seed, x0, y, kCrytekSsaoPixelStream + 1);
-        const VF rz = hn::Sub(hn::Mul(hn::Set(df, 2.0f), u1), hn::Set(df, 1.0f));
-        const VF rr = hn::Sqrt(hn::Max(hn::Zero(df), hn::NegMulAdd(rz, rz, hn::Set(df, 1.0f))));
-        const VF phi = hn::Mul(hn::Set(df, 2.0f * std::numbers::pi_v<float>), u2);
-        const VF rx = hn::Mul(rr, hn::Cos(df, phi)), ry = hn::Mul(rr, hn::Sin(df, phi));
+      if (!tabled) {
+        VF rx, ry, rz;
+        if (per_pixel) {
+          // random_unit(seed, x, y, kCrytekSsaoPixelStream) on every lane.
+          const VF u1 = PixelRandom(df, seed, x0, y, kCrytekSsaoPixelStream);
+          const VF u2 = PixelRandom(df, seed, x0, y, kCrytekSsaoPixelStream + 1);
+          rz = hn::Sub(hn::Mul(hn::Set(df, 2.0f), u1), hn::Set(df, 1.0f));
+          const VF rr = hn::Sqrt(hn::Max(hn::Zero(df), hn::NegMulAdd(rz, rz, hn::Set(df, 1.0f))));
+          const VF phi = hn::Mul(hn::Set(df, 2.0f * std::numbers::pi_v<float>), u2);
+          rx = hn::Mul(rr, hn::Cos(df, phi)), ry = hn::Mul(rr, hn::Sin(df, phi));
+        } else {
+          HWY_ALIGN float r[3][hn::MaxLanes(df)];
+          for (int i = 0; i < int(hn::Lanes(df)); ++i)
+            for (int c = 0; c < 3; ++c) r[c][i] = tables.tile[4 * (y & 3) + ((x0 + i) & 3)][c];
+          rx = hn::Load(df, r[0]), ry = hn::Load(df, r[1]), rz = hn::Load(df, r[2]);
+        }
         const VF ur = hn::MulSub(hn::Set(df, fx_r), rx, hn::Mul(hn::Set(df, cx_r), rz));
         const VF vr = hn::Neg(hn::MulAdd(hn::Set(df, fy_r), ry, hn::Mul(hn::Set(df, cy_r), rz)));
         const VF wr = hn::Mul(hn::Set(df, radius), rz);
@@ -320,13 +335,14 @@ CrytekTables make_tables(const CrytekSimdFrame& f, const CrytekSsaoSettings& s,
   CrytekTables t;
   t.samples = int(kernel.size());
   const auto rotation = CrytekSsaoRotation(s.rotation);
-  if (rotation == CrytekSsaoRotation::PerPixel) {
-    for (const glm::vec3& k : kernel) {
-      t.kernel.insert(t.kernel.end(), {k.x, k.y, k.z, offset_u(f.cam, s.radius, k),
-                                       offset_v(f.cam, s.radius, k), s.radius * k.z});
-    }
-    return t;
+  for (const glm::vec3& k : kernel) {
+    t.kernel.insert(t.kernel.end(), {k.x, k.y, k.z, offset_u(f.cam, s.radius, k),
+                                     offset_v(f.cam, s.radius, k), s.radius * k.z});
   }
+  if (rotation == CrytekSsaoRotation::Tiled4x4)
+    for (int i = 0; i < 16; ++i)
+      for (int c = 0; c < 3; ++c) t.tile[i][c] = tile[i][c];
+  if (rotation == CrytekSsaoRotation::PerPixel) return t;
   t.reflected.resize(std::size_t(4) * t.samples * kReflectedComponents * 4);
   for (int py = 0; py < 4; ++py)
     for (int i = 0; i < t.samples; ++i)

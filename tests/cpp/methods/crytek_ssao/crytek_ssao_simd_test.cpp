@@ -4,9 +4,11 @@
 // known-answer tests of crytek_ssao_test.cpp and conformance_test.cpp run the SIMD kernel
 // too (it is the default).
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <utility>
@@ -136,6 +138,21 @@ TEST(CrytekSsaoSimd, SameBitsForAnyThreadCount) {
     EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
     EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
   }
+}
+
+// Every instruction set the kernel was compiled for that this machine runs (AVX-512, AVX2,
+// SSE4, ... and Highway's 1-lane scalar target, whose vectors are too short for the tile's
+// period and take the per-lane path), each against the scalar code.
+TEST(CrytekSsaoSimd, EveryCompiledTargetMatchesScalar) {
+  const SceneFixture f("blocks", 37, 21);
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  EXPECT_GE(targets.size(), 2u);
+  for (const std::int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (const auto& [name, s] : variants(0.5f))
+      expect_kernels_agree(f.g, s, std::string(hwy::TargetName(target)) + ", " + name);
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to every target the machine has
 }
 
 TEST(CrytekSsaoSimd, TinyImages) {
