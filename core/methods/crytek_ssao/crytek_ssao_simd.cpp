@@ -58,6 +58,7 @@ struct CrytekTables {
   float tile[16][3] = {};
 };
 constexpr int kReflectedComponents = 6;
+constexpr int kKernelComponents = 6;
 
 // What the kernel reads: the G-buffer's depth as it is (row_stride floats a row), the
 // prepared normals (3 per pixel, rows of width) or null.
@@ -69,7 +70,6 @@ struct CrytekSimdFrame {
   CameraIntrinsics cam;
   float background;  // GBuffer::background_depth
 };
-constexpr int kKernelComponents = 6;
 
 }  // namespace
 }  // namespace aolab
