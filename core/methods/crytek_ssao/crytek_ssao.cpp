@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -18,7 +19,7 @@ namespace {
 // their own streams, so they depend on the seed alone.
 constexpr std::uint32_t kKernelStream = 101;
 constexpr std::uint32_t kTileStream = 202;
-constexpr std::uint32_t kPixelStream = 303;
+constexpr std::uint32_t kPixelStream = kCrytekSsaoPixelStream;
 
 // A unit vector from two uniforms (uniform on the sphere: z uniform in [−1, 1]).
 glm::vec3 unit_vector(float u1, float u2) {
@@ -122,14 +123,20 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
-  Image normals;
-  if (s.hemisphere) normals = prepared_normals(g, threads);
-  const Frame frame{depth.data(), s.hemisphere ? normals.data() : nullptr, w, h, g.camera};
   const std::vector<glm::vec3> kernel =
       crytek_ssao_kernel(s.samples, CrytekSsaoDistribution(s.distribution), s.seed);
   glm::vec3 tile[16];
   for (int i = 0; i < 16; ++i) tile[i] = random_unit(std::uint32_t(s.seed), i, 0, kTileStream);
+  Image normals;
+  if (s.hemisphere) normals = prepared_normals(g, threads);
+  // The SIMD kernel's gathers take 32-bit indices.
+  if (options.kernel == Kernel::Simd && g.depth.row_stride > 0 &&
+      double(g.depth.row_stride) * double(h) < double(std::numeric_limits<std::int32_t>::max()))
+    return crytek_ssao_simd(g, s.hemisphere ? normals.data() : nullptr, s, kernel, tile, threads,
+                            options.progress);
+
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Frame frame{depth.data(), s.hemisphere ? normals.data() : nullptr, w, h, g.camera};
 
   return image_from_pixels(
       w, h, threads, options.progress, [] { return 0; },
@@ -137,10 +144,12 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
 }
 
 Method crytek_ssao_method() {
-  return registered_method("crytek_ssao", "Crytek screen-space ambient occlusion",
-                           "Mittring 2007, Finding Next Gen: CryEngine 2 (SIGGRAPH course), "
-                           "§8.5.4.3",
-                           kCrytekSsaoFields, crytek_ssao);
+  Method m = registered_method("crytek_ssao", "Crytek screen-space ambient occlusion",
+                               "Mittring 2007, Finding Next Gen: CryEngine 2 (SIGGRAPH course), "
+                               "§8.5.4.3",
+                               kCrytekSsaoFields, crytek_ssao);
+  m.has_simd_kernel = true;
+  return m;
 }
 
 }  // namespace aolab

@@ -1,0 +1,230 @@
+// Crytek SSAO's SIMD kernel (crytek_ssao_simd.cpp) against its scalar code, the oracle: every
+// setting, on analytic scenes and on committed reference scenes; the same bits for any thread
+// count; hard sizes, background of every kind, a depth view with a row stride. The
+// known-answer tests of crytek_ssao_test.cpp and conformance_test.cpp run the SIMD kernel
+// too (it is the default).
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/io/image_io.h"
+#include "core/methods/crytek_ssao/crytek_ssao.h"
+#include "tests/cpp/test_support.h"
+
+namespace aolab {
+namespace {
+
+using testing::kernel_difference;
+using testing::SceneFixture;
+
+// The two kernels take the same points and, with the tiled reflection or none, the same
+// offsets and point depths to the bit. They differ where the SIMD kernel projects a point
+// with one reciprocal and fused multiply-adds (a few ulps of its pixel coordinates), weighs
+// the smooth range check by Δ·(1/R) instead of Δ/R (an ulp of a weight), and, with the
+// per-pixel reflection, draws the reflection vector with Highway's sin/cos (a few ulps of
+// every offset).
+//
+// Almost every pixel then agrees to a few ulps of its weights: the 99.9th percentile
+// (measured ≤ 1.2e-7 over every scene and setting below).
+constexpr double kUlpTolerance = 1e-6;
+
+// A point's outcome changes only where those ulps move it across a texel edge (into a texel of
+// another depth) or, with the hemisphere, flip an offset lying within ulps of the tangent
+// plane: on a few pixels in 10^4 (measured ≤ 1.3e-4 of the pixels, on `street`), well under
+// the 1e-3 that would move the 99.9th percentile.
+constexpr double kChangedPixelFraction = 1e-3;
+
+// One changed point moves A by at most its weight 1/N, doubled by the rescaled output.
+double point_share(const CrytekSsaoSettings& s) {
+  return (s.output == int(CrytekSsaoOutput::Rescaled) ? 2.0 : 1.0) / s.samples;
+}
+
+// The mean: changed pixels times a point's share, plus the ulps.
+double mean_tolerance(const CrytekSsaoSettings& s) {
+  return kChangedPixelFraction * point_share(s) + kUlpTolerance;
+}
+
+// The worst pixel: measured never more than one changed point in a pixel; two are allowed, as
+// two such edge cases can meet in one pixel.
+double worst_tolerance(const CrytekSsaoSettings& s) { return 2.0 * point_share(s); }
+
+Image run(const GBuffer& g, const CrytekSsaoSettings& s, Kernel kernel, int threads = 0) {
+  RunOptions options;
+  options.kernel = kernel;
+  options.threads = threads;
+  return crytek_ssao(g, s, options);
+}
+
+void expect_kernels_agree(const GBuffer& g, const CrytekSsaoSettings& s, const std::string& what) {
+  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
+  EXPECT_LE(k.mean, mean_tolerance(s)) << what;
+  EXPECT_LE(k.p999, kUlpTolerance) << what;
+  EXPECT_LE(k.worst, worst_tolerance(s)) << what;
+}
+
+// Every setting away from its default at least once, and the combinations that take other
+// paths of the kernel (per-pixel reflection with the hemisphere).
+std::vector<std::pair<std::string, CrytekSsaoSettings>> variants(float radius) {
+  std::vector<std::pair<std::string, CrytekSsaoSettings>> out;
+  CrytekSsaoSettings base;
+  base.radius = radius;
+  out.push_back({"defaults", base});
+  auto add = [&](const std::string& name, auto change) {
+    CrytekSsaoSettings s = base;
+    change(s);
+    out.push_back({name, s});
+  };
+  add("7 points", [](CrytekSsaoSettings& s) { s.samples = 7; });
+  add("64 points", [](CrytekSsaoSettings& s) { s.samples = 64; });
+  add("uniform",
+      [](CrytekSsaoSettings& s) { s.distribution = int(CrytekSsaoDistribution::Uniform); });
+  add("per-pixel reflection",
+      [](CrytekSsaoSettings& s) { s.rotation = int(CrytekSsaoRotation::PerPixel); });
+  add("no reflection", [](CrytekSsaoSettings& s) { s.rotation = int(CrytekSsaoRotation::None); });
+  add("hard range check",
+      [](CrytekSsaoSettings& s) { s.range_check = int(CrytekSsaoRangeCheck::Hard); });
+  add("no range check",
+      [](CrytekSsaoSettings& s) { s.range_check = int(CrytekSsaoRangeCheck::Off); });
+  add("published", [](CrytekSsaoSettings& s) { s.output = int(CrytekSsaoOutput::Published); });
+  add("hemisphere", [](CrytekSsaoSettings& s) { s.hemisphere = true; });
+  add("hemisphere, per-pixel reflection", [](CrytekSsaoSettings& s) {
+    s.hemisphere = true, s.rotation = int(CrytekSsaoRotation::PerPixel);
+  });
+  add("hemisphere, no reflection, no range check", [](CrytekSsaoSettings& s) {
+    s.hemisphere = true, s.rotation = int(CrytekSsaoRotation::None),
+    s.range_check = int(CrytekSsaoRangeCheck::Off);
+  });
+  add("seed 7", [](CrytekSsaoSettings& s) { s.seed = 7; });
+  // Spheres that reach behind the camera plane (points with depth ≤ 0) and off the image.
+  add("radius ×40", [](CrytekSsaoSettings& s) { s.radius *= 40.0f; });
+  return out;
+}
+
+TEST(CrytekSsaoSimd, MatchesScalarOnAnalyticScenes) {
+  for (const char* scene : {"blocks", "wall", "crease", "ceiling", "plane"}) {
+    const SceneFixture f(scene, 203, 117);  // widths that are no multiple of any vector length
+    for (const auto& [name, s] : variants(scene == std::string("blocks") ? 0.25f : 1.0f))
+      expect_kernels_agree(f.g, s, std::string(scene) + ", " + name);
+  }
+}
+
+TEST(CrytekSsaoSimd, MatchesScalarOnReferenceScenes) {
+  for (const char* scene : {"room", "street", "grille"}) {
+    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
+                                          scene + "/reference.exr");
+    const GBuffer g = data.view();
+    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
+    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    for (const auto& [name, s] : variants(radius)) {
+      if (name != "defaults" && name != "per-pixel reflection" && name != "hemisphere" &&
+          name != "published")
+        continue;
+      expect_kernels_agree(g, s, std::string(scene) + ", " + name);
+    }
+  }
+}
+
+TEST(CrytekSsaoSimd, SameBitsForAnyThreadCount) {
+  const SceneFixture f("blocks", 203, 117);
+  for (const auto& [name, s] : variants(0.25f)) {
+    const Image one = run(f.g, s, Kernel::Simd, 1);
+    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
+    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+  }
+}
+
+// Every instruction set the kernel was compiled for that this machine runs (AVX-512, AVX2,
+// SSE4, ... and Highway's 1-lane scalar target, whose vectors are too short for the tile's
+// period and take the per-lane path), each against the scalar code.
+TEST(CrytekSsaoSimd, EveryCompiledTargetMatchesScalar) {
+  const SceneFixture f("blocks", 37, 21);
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  EXPECT_GE(targets.size(), 2u);
+  for (const std::int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (const auto& [name, s] : variants(0.5f))
+      expect_kernels_agree(f.g, s, std::string(hwy::TargetName(target)) + ", " + name);
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to every target the machine has
+}
+
+TEST(CrytekSsaoSimd, TinyImages) {
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}}) {
+    SceneFixture f("blocks", w, h);
+    for (const auto& [name, s] : variants(0.5f)) {
+      const Image simd = run(f.g, s, Kernel::Simd);
+      const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
+      EXPECT_LE(k.worst, worst_tolerance(s)) << w << "x" << h << ", " << name;
+      for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+    }
+  }
+}
+
+// The kernel reads the G-buffer's depth in place and tests each read for background: NaN,
+// infinite, zero, negative depths and depths at or beyond background_depth are background
+// (AO 1) and occlude nothing, as the scalar code's NaN copy makes them.
+TEST(CrytekSsaoSimd, BackgroundOfEveryKind) {
+  const int w = 41, h = 23;
+  SceneFixture f("blocks", w, h);
+  Image depth(w, h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) depth(x, y) = f.g.depth(x, y);
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity(),
+                       0.0f,
+                       -1.0f,
+                       -0.0f,
+                       1e30f};
+  for (int i = 0; i < 6; ++i)
+    for (int x = i % 3; x < w; x += 3) depth(x, 2 + 3 * i) = bad[i];
+  GBuffer g = f.g;
+  g.depth = std::as_const(depth).view();
+  g.background_depth = 1e20f;  // 1e30 is background
+  for (const auto& [name, s] : variants(0.5f)) {
+    const Image simd = run(g, s, Kernel::Simd);
+    const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
+    EXPECT_LE(k.mean, mean_tolerance(s)) << name;
+    EXPECT_LE(k.worst, worst_tolerance(s)) << name;
+    for (int i = 0; i < 6; ++i)
+      for (int x = i % 3; x < w; x += 3) EXPECT_EQ(simd(x, 2 + 3 * i), 1.0f) << name;
+  }
+  // A finite background_depth below some of the scene: those pixels become background.
+  GBuffer near = f.g;
+  float lowest = std::numeric_limits<float>::infinity(), highest = 0.0f;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      lowest = std::min(lowest, f.g.depth(x, y)), highest = std::max(highest, f.g.depth(x, y));
+  near.background_depth = 0.5f * (lowest + highest);
+  for (const auto& [name, s] : variants(0.5f)) {
+    const auto k = kernel_difference(run(near, s, Kernel::Simd), run(near, s, Kernel::Scalar));
+    EXPECT_LE(k.worst, worst_tolerance(s)) << "finite background, " << name;
+  }
+}
+
+// A depth view whose rows are longer than the image (row_stride > width): the kernel's
+// gathers index rows by the stride.
+TEST(CrytekSsaoSimd, DepthViewWithARowStride) {
+  const int w = 75, h = 43, pad = 9;
+  SceneFixture f("blocks", w, h);
+  Image wide(w + pad, h, 1, std::numeric_limits<float>::quiet_NaN());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) wide(x, y) = f.g.depth(x, y);
+  GBuffer g = f.g;
+  g.depth = ConstImageView(std::as_const(wide).data(), w, h, 1, w + pad);
+  CrytekSsaoSettings s;
+  s.radius = 0.5f;
+  const Image strided = run(g, s, Kernel::Simd);
+  EXPECT_EQ(strided.pixels(), run(f.g, s, Kernel::Simd).pixels());
+  const auto k = kernel_difference(strided, run(g, s, Kernel::Scalar));
+  EXPECT_LE(k.worst, worst_tolerance(s));
+}
+
+}  // namespace
+}  // namespace aolab
