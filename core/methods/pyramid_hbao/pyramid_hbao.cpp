@@ -187,6 +187,14 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOpti
   const DepthPyramid pyramid(g, s.reduction, s.levels, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera};
+  if (options.kernel == Kernel::Simd && w < kPyramidHbaoSimdMaxSide &&
+      h < kPyramidHbaoSimdMaxSide) {
+    Image out = pyramid_hbao_simd(
+        PyramidHbaoFrame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera}, s, threads,
+        options.progress);
+    if (s.gaussian_filter) return gaussian_blur(out.view(), g, BlurSettings{}, threads);
+    return out;
+  }
 
   // §3.2 stage 2: the occlusion of every pixel, rows in parallel.
   Image out = image_from_pixels(
@@ -206,6 +214,7 @@ Method pyramid_hbao_method() {
                                "Horizon-based Ambient Occlusion Method",
                                kPyramidHbaoFields, pyramid_hbao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 

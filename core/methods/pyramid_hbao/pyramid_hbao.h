@@ -130,6 +130,28 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& settings,
 /// The registry entry.
 Method pyramid_hbao_method();
 
+/// What the Pyramid HBAO kernels read of a frame: the pyramid (level 0 = depth with
+/// background as NaN), the number of levels to march, prepared normals (3 floats per pixel),
+/// the size and the camera.
+struct PyramidHbaoFrame {
+  const DepthPyramid* pyramid;
+  int levels;
+  const float* normals;
+  int width, height;
+  CameraIntrinsics cam;
+};
+
+/// Longest image side the SIMD kernel takes: below it, the texel of a read on level l,
+/// ⌊⌊x⌋ / K^l⌋, is computed exactly in float (pyramid_hbao_simd.cpp). pyramid_hbao() runs the
+/// scalar code for larger images.
+constexpr int kPyramidHbaoSimdMaxSide = 1 << 22;
+
+/// The SIMD kernel (pyramid_hbao_simd.cpp): the same algorithm as the scalar per-pixel code
+/// for every setting, on consecutive pixels of a row at once. pyramid_hbao() runs it for
+/// Kernel::Simd (without the final Gaussian, which it applies to either kernel's result).
+Image pyramid_hbao_simd(const PyramidHbaoFrame& f, const PyramidHbaoSettings& s, int threads,
+                        Progress* progress);
+
 /// One direction of a pixel (§3.4 step 1, §3.5).
 struct PyramidHbaoDirection {
   float cos_theta;  ///< view-space azimuth θ, measured from +x towards +y (up)
