@@ -184,17 +184,18 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOpti
 
   // §3.2 stage 1: the depth pyramid (level 0 = depth with background as NaN); then the
   // normals made well defined (gbuffer.h).
-  const DepthPyramid pyramid(g, s.reduction, s.levels, threads);
-  const Image normals = prepared_normals(g, threads);
-  const Frame frame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera};
   if (options.kernel == Kernel::Simd && w < kPyramidHbaoSimdMaxSide &&
       h < kPyramidHbaoSimdMaxSide) {
-    Image out = pyramid_hbao_simd(
-        PyramidHbaoFrame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera}, s, threads,
-        options.progress);
+    // The same pyramid laid out for gathers, and the SIMD kernel.
+    const GatherPyramid pyramid(g, s.reduction, s.levels, threads);
+    const Image normals = prepared_normals(g, threads);
+    Image out = pyramid_hbao_simd(pyramid, normals.data(), g.camera, s, threads, options.progress);
     if (s.gaussian_filter) return gaussian_blur(out.view(), g, BlurSettings{}, threads);
     return out;
   }
+  const DepthPyramid pyramid(g, s.reduction, s.levels, threads);
+  const Image normals = prepared_normals(g, threads);
+  const Frame frame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera};
 
   // §3.2 stage 2: the occlusion of every pixel, rows in parallel.
   Image out = image_from_pixels(

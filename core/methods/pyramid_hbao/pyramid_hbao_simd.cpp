@@ -37,30 +37,18 @@
 
 #ifndef AOLAB_PYRAMID_HBAO_SIMD_TYPES_
 #define AOLAB_PYRAMID_HBAO_SIMD_TYPES_
-namespace aolab {
-namespace pyramid_simd {
+namespace aolab::pyramid_simd {
 
-// One level as the kernel gathers it. Texel (X, Y) is depth[stride · (Y·width + X)]; on
-// levels ≥ 1 a negative depth marks a texel whose centroid (cx, cy at Y·width + X) is not
-// its footprint's centre K^l·(X + ½, Y + ½).
-struct Level {
-  const float* depth;
-  const float* cx;
-  const float* cy;
-  int stride, width, height, scale;
-};
-
-// Every level of a frame, and what the kernel reads besides.
+// What the kernel reads of a frame.
 struct Frame {
-  const Level* levels;
+  const GatherPyramidLevel* levels;
   int level_count;
-  const float* normals;
+  const float* normals;  // prepared, 3 per pixel
   int width, height;
   CameraIntrinsics cam;
 };
 
-}  // namespace pyramid_simd
-}  // namespace aolab
+}  // namespace aolab::pyramid_simd
 #endif  // AOLAB_PYRAMID_HBAO_SIMD_TYPES_
 
 HWY_BEFORE_NAMESPACE();
@@ -73,7 +61,7 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 using pyramid_simd::Frame;
-using pyramid_simd::Level;
+using Level = GatherPyramidLevel;
 
 constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
 
@@ -141,90 +129,124 @@ HWY_INLINE void ExactRead(DF df, const Receiver& p, const RowConstants& k, MF ma
   best = hn::IfThenElse(counts, hn::Max(best, term), best);
 }
 
+// The state of one direction's march on every lane.
+struct March {
+  VF ux, uy;   // the unit image direction
+  VF reach;    // the projected radius along it, pixels
+  VF t;        // distance marched from P's centre, pixels
+  VF best;     // eq. 8's max so far
+  MF alive;    // still marching
+};
+
+// Texel indices from float coordinates: with kFloatIndex (levels of fewer than 2^23 texels)
+// Y·width + X is exact in float and becomes an int by the bits of its sum with 2^23 (two
+// cheap operations, where a conversion takes five); otherwise by converting X and Y.
+template <bool kFloatIndex>
+HWY_INLINE VI TexelIndex(DF df, VF tx, VF ty, VF width_f, VI width_i) {
+  const DI di;
+  if constexpr (kFloatIndex) {
+    const VF magic = hn::Set(df, 8388608.0f);  // 2^23: its sum with n < 2^23 holds n's bits
+    return hn::Sub(hn::BitCast(di, hn::Add(hn::MulAdd(ty, width_f, tx), magic)),
+                   hn::BitCast(di, magic));
+  } else {
+    (void)df, (void)width_f;
+    return hn::Add(hn::Mul(hn::ConvertTo(di, ty), width_i), hn::ConvertTo(di, tx));
+  }
+}
+
+// The S reads of level l (kBase: level 0) of march_direction on every lane; false once every
+// lane's march has ended.
+template <bool kBase, bool kFloatIndex>
+HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, const Receiver& p,
+                           const RowConstants& k, March& a) {
+  const DI di;
+  const VF zero = hn::Zero(df);
+  const float scale_f = float(level.scale);
+  const VF scale = hn::Set(df, scale_f);
+  const VF step = hn::Mul(m, scale);
+  // ⌊n / K^l⌋ of an integer n ≥ 0 as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
+  // from an integer, farther than the product's rounding below 2^22 (kPyramidHbaoSimdMaxSide).
+  const VF inv_scale = hn::Set(df, 1.0f / scale_f);
+  const VF half_inv_scale = hn::Set(df, 0.5f / scale_f);
+  // P's texel on this level.
+  const VF own_x = kBase ? p.xf : hn::Floor(hn::MulAdd(p.xf, inv_scale, half_inv_scale));
+  const VF own_y = hn::Set(df, kBase ? k.yf : float(int(k.yf) / level.scale));
+  // The centroid of a whole footprint, K^l·(X + ½), less P's pixel centre.
+  const VF centre_x = hn::Sub(hn::Set(df, 0.5f * scale_f), p.px);
+  const VF centre_y = hn::Sub(hn::Set(df, 0.5f * scale_f), p.py);
+  const VF width_f = hn::Set(df, float(level.width));
+  const VI width_i = hn::Set(di, level.width);
+  for (int i = 0; i < samples; ++i) {
+    a.t = hn::Add(a.t, step);
+    // Past the projected radius, or out of the image: the lane's march ends (t and the
+    // position only grow along the line, so it never comes back). NaN fails.
+    const VF sx = hn::MulAdd(a.t, a.ux, p.px), sy = hn::MulAdd(a.t, a.uy, p.py);
+    a.alive = hn::And(a.alive, hn::And(hn::Le(a.t, a.reach),
+                                       hn::And(hn::And(hn::Ge(sx, zero), hn::Lt(sx, k.width)),
+                                               hn::And(hn::Ge(sy, zero), hn::Lt(sy, k.height)))));
+    if (hn::AllFalse(df, a.alive)) return false;
+    VF tx = hn::Floor(hn::IfThenElseZero(a.alive, sx));
+    VF ty = hn::Floor(hn::IfThenElseZero(a.alive, sy));
+    if (!kBase) {
+      tx = hn::Floor(hn::MulAdd(tx, inv_scale, half_inv_scale));
+      ty = hn::Floor(hn::MulAdd(ty, inv_scale, half_inv_scale));
+    }
+    const MF live = hn::AndNot(hn::And(hn::Eq(tx, own_x), hn::Eq(ty, own_y)), a.alive);
+    const VI texel = TexelIndex<kFloatIndex>(df, tx, ty, width_f, width_i);
+    const VF g = hn::GatherIndex(df, level.depth, texel);
+    VF ds, qx, qy;
+    if (kBase) {
+      // Level 0: the texel is P's pixel + (qx, qy), its centroid the pixel centre.
+      ds = g;
+      qx = hn::Sub(tx, p.xf);
+      qy = hn::Sub(ty, hn::Set(df, k.yf));
+    } else {
+      ds = hn::Abs(g);
+      qx = hn::MulAdd(tx, scale, centre_x);
+      qy = hn::MulAdd(ty, scale, centre_y);
+      const MF marked = hn::And(live, hn::Lt(g, zero));
+      if (HWY_UNLIKELY(!hn::AllFalse(df, marked))) {
+        qx = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cx, texel), p.px), qx);
+        qy = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cy, texel), p.py), qy);
+      }
+    }
+    // The prefilter: where the sample's ray meets the tangent plane in front of the camera
+    // (n·rs < 0 and n·r0 < 0, d > 0), the exact test needs tau > ds·(1 + 16·2^-24) (its
+    // tolerance is at least 2^-24·ds·(8 + 4·(1 + 1)), each g ≥ 1), i.e.
+    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). 12 of the 16 ulps here, the rest for the rounding
+    // of n·rs rebuilt by two multiply-adds: a lane it drops would fail the exact test, and on
+    // an open surface, where tau and ds agree to a few ulps, it drops every one. Where n·rs ≥ 0
+    // the comparison holds by itself (its left side is negative), and where n·r0 ≥ 0 the bound
+    // is −inf: every read goes to the exact test.
+    const VF n_rs = hn::MulAdd(p.a, qx, hn::MulAdd(p.b, qy, p.n_r0));
+    const MF maybe = hn::And(live, hn::Lt(p.dn_margin, hn::Mul(ds, n_rs)));
+    if (HWY_UNLIKELY(!hn::AllFalse(df, maybe)))
+      ExactRead(df, p, k, maybe, qx, qy, ds, float(l), a.best);
+  }
+  return true;
+}
+
 // march_direction on every lane: eq. 8's term max_i W(r_i)·sin α_i of the direction
 // (c, sn) with start multiplier m.
+template <bool kFloatIndex>
 HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s,
                              const Receiver& p, const RowConstants& k, MF geometry, VF c, VF sn,
                              VF m) {
-  const DI di;
-  const VF zero = hn::Zero(df);
   // The azimuth as an image direction (rows go down) and the projected radius along it.
   const VF ex = hn::Mul(c, hn::Set(df, f.cam.fx));
   const VF ey = hn::Neg(hn::Mul(sn, hn::Set(df, f.cam.fy)));
   const VF e_len = hn::Sqrt(hn::MulAdd(ex, ex, hn::Mul(ey, ey)));
-  const VF ux = hn::Div(ex, e_len), uy = hn::Div(ey, e_len);
-  const VF reach = hn::Div(hn::Mul(hn::Set(df, s.radius), e_len), p.d);
-  VF best = zero;
-  VF t = zero;
-  MF alive = geometry;
-  for (int l = 0; l < f.level_count; ++l) {
-    const Level& level = f.levels[l];
-    const float scale_f = float(level.scale);
-    const VF scale = hn::Set(df, scale_f);
-    const VF step = hn::Mul(m, scale);
-    // ⌊n / K^l⌋ of an integer n ≥ 0 as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
-    // from an integer, farther than the product's rounding below 2^22 (kPyramidHbaoSimdMaxSide).
-    const VF inv_scale = hn::Set(df, 1.0f / scale_f);
-    const VF half_inv_scale = hn::Set(df, 0.5f / scale_f);
-    const VF own_x = l == 0 ? p.xf : hn::Floor(hn::MulAdd(p.xf, inv_scale, half_inv_scale));
-    const VF own_y = hn::Set(
-        df, l == 0 ? k.yf : float(int(k.yf) / level.scale));  // P's texel on this level
-    // The centroid of a whole footprint, K^l·(X + ½), less P's pixel centre.
-    const VF centre_x = hn::Sub(hn::Set(df, 0.5f * scale_f), p.px);
-    const VF centre_y = hn::Sub(hn::Set(df, 0.5f * scale_f), p.py);
-    const VI row_width = hn::Set(di, level.width);
-    const VI base_stride = hn::Set(di, f.levels[0].stride);  // levels ≥ 1 have stride 1
-    const float levelf = float(l);
-    for (int i = 0; i < s.samples; ++i) {
-      t = hn::Add(t, step);
-      // Past the projected radius, or out of the image: the lane's march ends (t and the
-      // position only grow along the line, so it never comes back). NaN fails.
-      const VF sx = hn::MulAdd(t, ux, p.px), sy = hn::MulAdd(t, uy, p.py);
-      alive = hn::And(alive, hn::And(hn::Le(t, reach),
-                                     hn::And(hn::And(hn::Ge(sx, zero), hn::Lt(sx, k.width)),
-                                             hn::And(hn::Ge(sy, zero), hn::Lt(sy, k.height)))));
-      if (hn::AllFalse(df, alive)) return best;
-      VF tx = hn::Floor(hn::IfThenElseZero(alive, sx));
-      VF ty = hn::Floor(hn::IfThenElseZero(alive, sy));
-      if (l > 0) {
-        tx = hn::Floor(hn::MulAdd(tx, inv_scale, half_inv_scale));
-        ty = hn::Floor(hn::MulAdd(ty, inv_scale, half_inv_scale));
-      }
-      const MF own = hn::And(hn::Eq(tx, own_x), hn::Eq(ty, own_y));
-      const MF live = hn::AndNot(own, alive);
-      const VI texel = hn::Add(hn::Mul(hn::ConvertTo(di, ty), row_width), hn::ConvertTo(di, tx));
-      const VI index = l == 0 ? hn::Mul(texel, base_stride) : texel;
-      const VF g = hn::GatherIndex(df, level.depth, index);
-      VF ds, qx, qy;
-      if (l == 0) {
-        // Level 0: the texel is P's pixel + (qx, qy), its centroid the pixel centre.
-        ds = g;
-        qx = hn::Sub(tx, p.xf);
-        qy = hn::Sub(ty, hn::Set(df, k.yf));
-      } else {
-        ds = hn::Abs(g);
-        qx = hn::MulAdd(tx, scale, centre_x);
-        qy = hn::MulAdd(ty, scale, centre_y);
-        const MF marked = hn::And(live, hn::Lt(g, zero));
-        if (!hn::AllFalse(df, marked)) {
-          qx = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cx, texel), p.px), qx);
-          qy = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cy, texel), p.py), qy);
-        }
-      }
-      // The prefilter: where the sample's ray meets the tangent plane in front of the camera
-      // (n·rs < 0 and n·r0 < 0, d > 0), the exact test needs tau > ds·(1 + 16·2^-24) (its
-      // tolerance is at least 2^-24·ds·(8 + 4·(1 + 1)), each g ≥ 1), i.e.
-      // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). 12 of the 16 ulps here, the rest for the
-      // rounding of n·rs rebuilt by two multiply-adds: a lane it drops would fail the exact
-      // test, and on an open surface, where tau and ds agree to a few ulps, it drops every one.
-      const VF n_rs = hn::MulAdd(p.a, qx, hn::MulAdd(p.b, qy, p.n_r0));
-      const MF meets = hn::And(hn::Lt(n_rs, zero), p.faces);
-      const MF maybe =
-          hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.dn_margin, hn::Mul(ds, n_rs))));
-      if (!hn::AllFalse(df, maybe)) ExactRead(df, p, k, maybe, qx, qy, ds, levelf, best);
-    }
-  }
-  return best;
+  March a;
+  a.ux = hn::Div(ex, e_len), a.uy = hn::Div(ey, e_len);
+  a.reach = hn::Div(hn::Mul(hn::Set(df, s.radius), e_len), p.d);
+  a.t = hn::Zero(df), a.best = hn::Zero(df);
+  a.alive = geometry;
+  if (f.level_count < 1 ||
+      !MarchLevel<true, kFloatIndex>(df, f.levels[0], 0, s.samples, m, p, k, a))
+    return a.best;
+  for (int l = 1; l < f.level_count; ++l)
+    if (!MarchLevel<false, kFloatIndex>(df, f.levels[l], l, s.samples, m, p, k, a)) break;
+  return a.best;
 }
 
 }  // namespace
@@ -245,7 +267,7 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   k.yf = float(y);
   k.attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
   const Level& base = f.levels[0];
-  const float* depth_row = base.depth + std::size_t(base.stride) * std::size_t(y) * w;
+  const float* depth_row = base.depth + std::size_t(y) * w;
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
   const float py = float(y) + 0.5f;
   const float sector = float(2.0 * std::numbers::pi / s.directions);
@@ -256,13 +278,15 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   const int shift_x = int(noise_hash & 31u), shift_y = int((noise_hash >> 5) & 31u);
   const auto& ranks = blue_noise_ranks();
   const int lanes = int(hn::Lanes(df));
+  // Level 0 is the largest.
+  const bool float_index = std::size_t(w) * std::size_t(f.height) < (std::size_t(1) << 23);
 
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Receiver p;
     HWY_ALIGN float lane[4][hn::MaxLanes(df)];
     for (int i = 0; i < lanes; ++i) {
       const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
-      lane[0][i] = depth_row[base.stride * at];
+      lane[0][i] = depth_row[at];
       for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
     }
     p.d = hn::Load(df, lane[0]);
@@ -279,9 +303,11 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
       p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
                           hn::Abs(p.n_r0));
       p.dn = hn::Mul(p.d, p.n_r0);
-      p.dn_margin = hn::Mul(p.dn, hn::Set(df, 1.0f / (1.0f + 12.0f * kUnitRoundoff)));
-      p.a = hn::Mul(p.nx, k.inv_fx), p.b = hn::Neg(hn::Mul(p.ny, k.inv_fy));
       p.faces = hn::Lt(p.n_r0, hn::Zero(df));
+      p.dn_margin =
+          hn::IfThenElse(p.faces, hn::Mul(p.dn, hn::Set(df, 1.0f / (1.0f + 12.0f * kUnitRoundoff))),
+                         hn::Set(df, -std::numeric_limits<float>::infinity()));
+      p.a = hn::Mul(p.nx, k.inv_fx), p.b = hn::Neg(hn::Mul(p.ny, k.inv_fy));
 
       // pyramid_hbao_directions: the blue-noise rotation of each lane, as the scalar code.
       HWY_ALIGN float rotation_lanes[hn::MaxLanes(df)];
@@ -307,8 +333,10 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
                           hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
                                   PixelRandom(df, seed, x0, y, 2u * std::uint32_t(dir) + 1u)))
                 : hn::Set(df, 1.0f);
-        occlusion = hn::Add(occlusion, MarchDirection(df, f, s, p, k, geometry, hn::Cos(df, theta),
-                                                      hn::Sin(df, theta), m));
+        const VF c = hn::Cos(df, theta), sn = hn::Sin(df, theta);
+        occlusion = hn::Add(occlusion,
+                            float_index ? MarchDirection<true>(df, f, s, p, k, geometry, c, sn, m)
+                                        : MarchDirection<false>(df, f, s, p, k, geometry, c, sn, m));
       }
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
@@ -327,69 +355,19 @@ namespace aolab {
 
 HWY_EXPORT(PyramidHbaoSpan);
 
-namespace {
-
-// Tiles of 16 rows × 128 columns, as HBAO's: the reads of a tile (±R around it on level 0,
-// a few texels on the coarser levels) stay in the core's L2.
+// Tiles of 16 rows × 128 columns, as HBAO's: the reads of a tile (a few pixels around it on
+// level 0, a few texels on the coarser levels) stay in the core's L1 and L2.
 constexpr int kPyramidHbaoBandRows = 16;
 constexpr int kPyramidHbaoTileColumns = 128;
 
-// The levels ≥ 1 of a DepthPyramid split into arrays for gathers (pyramid_simd::Level); level 0
-// is read in place.
-class GatherPyramid {
- public:
-  GatherPyramid(const DepthPyramid& pyramid, int levels, int threads) {
-    levels_.resize(std::size_t(levels));
-    storage_.resize(std::size_t(levels));
-    for (int l = 0; l < levels; ++l) {
-      const DepthPyramidLevel& src = pyramid.level(l);
-      pyramid_simd::Level& dst = levels_[std::size_t(l)];
-      dst.width = src.width, dst.height = src.height, dst.scale = src.scale;
-      if (l == 0) {
-        dst.depth = &src.texels[0].depth;
-        dst.cx = &src.texels[0].x;
-        dst.cy = &src.texels[0].y;
-        dst.stride = int(sizeof(PyramidTexel) / sizeof(float));
-        continue;
-      }
-      Arrays& a = storage_[std::size_t(l)];
-      const std::size_t n = src.texels.size();
-      a.depth.resize(n), a.cx.resize(n), a.cy.resize(n);
-      const double scale = src.scale;
-      parallel_for_rows(src.height, threads, [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < src.width; ++x) {
-            const std::size_t i = std::size_t(y) * src.width + x;
-            const PyramidTexel& t = src.texels[i];
-            const bool centred = t.x == float(scale * (x + 0.5)) && t.y == float(scale * (y + 0.5));
-            a.depth[i] = centred ? t.depth : -t.depth;
-            a.cx[i] = t.x, a.cy[i] = t.y;
-          }
-      });
-      dst.depth = a.depth.data(), dst.cx = a.cx.data(), dst.cy = a.cy.data();
-      dst.stride = 1;
-    }
-  }
-  const pyramid_simd::Level* levels() const { return levels_.data(); }
-
- private:
-  struct Arrays {
-    std::vector<float> depth, cx, cy;
-  };
-  std::vector<pyramid_simd::Level> levels_;
-  std::vector<Arrays> storage_;
-};
-
-}  // namespace
-
-static_assert(sizeof(PyramidTexel) == 3 * sizeof(float), "level 0 is gathered with stride 3");
-
-Image pyramid_hbao_simd(const PyramidHbaoFrame& f, const PyramidHbaoSettings& s, int threads,
+Image pyramid_hbao_simd(const GatherPyramid& pyramid, const float* normals,
+                        const CameraIntrinsics& cam, const PyramidHbaoSettings& s, int threads,
                         Progress* progress) {
-  const GatherPyramid gather(*f.pyramid, f.levels, threads);
-  const pyramid_simd::Frame frame{gather.levels(), f.levels, f.normals, f.width, f.height, f.cam};
+  const GatherPyramidLevel& base = pyramid.level(0);
+  const pyramid_simd::Frame frame{pyramid.data(), pyramid.levels(), normals, base.width,
+                                  base.height, cam};
   return image_from_tiles(
-      f.width, f.height, threads, progress, kPyramidHbaoBandRows, kPyramidHbaoTileColumns,
+      base.width, base.height, threads, progress, kPyramidHbaoBandRows, kPyramidHbaoTileColumns,
       [] { return 0; },
       [&](int, int y, int x0, int x1, float* out) {
         HWY_DYNAMIC_DISPATCH(PyramidHbaoSpan)(frame, s, y, x0, x1, out);
