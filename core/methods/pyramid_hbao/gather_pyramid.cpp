@@ -25,16 +25,17 @@ GatherPyramid::GatherPyramid(const GBuffer& g, int reduction, int levels, int th
   // positive, as DepthPyramid) as NaN.
   {
     Arrays& a = storage_[0];
-    a.depth.resize(std::size_t(w) * std::size_t(h));
+    GatherPyramidLevel& base = levels_[0];
+    base.width = w, base.height = h, base.stride = w + 2, base.scale = 1;
+    a.depth.assign(std::size_t(w + 2) * std::size_t(h + 2), nan);
     parallel_for_rows(h, threads, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w; ++x) {
           const float d = g.depth(x, y);
-          a.depth[std::size_t(y) * w + x] =
-              g.valid(x, y) && std::isfinite(d) && d > 0.0f ? d : nan;
+          a.depth[base.at(x, y)] = g.valid(x, y) && std::isfinite(d) && d > 0.0f ? d : nan;
         }
     });
-    levels_[0] = {w, h, 1, a.depth.data(), nullptr, nullptr};
+    base.depth = a.depth.data();
   }
 
   const int k = reduction;
@@ -44,9 +45,10 @@ GatherPyramid::GatherPyramid(const GBuffer& g, int reduction, int levels, int th
     Arrays& a = storage_[std::size_t(l)];
     coarse.width = (fine.width + k - 1) / k;
     coarse.height = (fine.height + k - 1) / k;
+    coarse.stride = coarse.width + 2;
     coarse.scale = fine.scale * k;
-    const std::size_t n = std::size_t(coarse.width) * std::size_t(coarse.height);
-    a.depth.resize(n), a.cx.resize(n), a.cy.resize(n);
+    const std::size_t n = std::size_t(coarse.stride) * std::size_t(coarse.height + 2);
+    a.depth.assign(n, nan), a.cx.assign(n, 0.0f), a.cy.assign(n, 0.0f);
     const double scale = coarse.scale;
     parallel_for_rows(coarse.height, threads, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
@@ -59,7 +61,7 @@ GatherPyramid::GatherPyramid(const GBuffer& g, int reduction, int levels, int th
           const int cx_end = std::min(fine.width, (x + 1) * k);
           for (int cy = y * k; cy < cy_end; ++cy)
             for (int cx = x * k; cx < cx_end; ++cx) {
-              const std::size_t i = std::size_t(cy) * fine.width + cx;
+              const std::size_t i = fine.at(cx, cy);
               const float d = fine.depth[i];
               if (!(d == d)) continue;  // background
               sum_d += std::abs(d);
@@ -70,7 +72,7 @@ GatherPyramid::GatherPyramid(const GBuffer& g, int reduction, int levels, int th
               }
               ++count_children;
             }
-          const std::size_t i = std::size_t(y) * coarse.width + x;
+          const std::size_t i = coarse.at(x, y);
           const float centre_x = float(scale * (x + 0.5)), centre_y = float(scale * (y + 0.5));
           if (count_children == 0) {
             a.depth[i] = nan, a.cx[i] = centre_x, a.cy[i] = centre_y;

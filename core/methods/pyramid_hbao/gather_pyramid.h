@@ -12,22 +12,30 @@
 //   each texel equals DepthPyramid's (tested); it does not build DepthPyramid.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "core/base/gbuffer.h"
 
 namespace aolab {
 
-/// One level, as the kernel gathers it.
+/// One level, as the kernel gathers it. Texel (X, Y) is at [(Y + 1)·stride + X + 1] of each
+/// array: a border of one background texel (NaN) surrounds the level, so that a read that
+/// rounding puts just outside the image reads background instead of memory it does not own.
 struct GatherPyramidLevel {
   int width = 0, height = 0;
-  int scale = 1;  ///< K^l
-  /// Row-major mean depth: NaN for background; negative (the mean's negation) where the
-  /// centroid is not the footprint's centre.
+  int stride = 0;  ///< width + 2
+  int scale = 1;   ///< K^l
+  /// Mean depth: NaN for background; negative (the mean's negation) where the centroid is
+  /// not the footprint's centre.
   const float* depth = nullptr;
-  /// The centroids (levels ≥ 1; nullptr on level 0), row-major, in full-resolution pixels.
+  /// The centroids (levels ≥ 1; nullptr on level 0), in full-resolution pixels.
   const float* cx = nullptr;
   const float* cy = nullptr;
+
+  std::size_t at(int x, int y) const {
+    return std::size_t(y + 1) * std::size_t(stride) + std::size_t(x + 1);
+  }
 };
 
 class GatherPyramid {

@@ -131,27 +131,42 @@ HWY_INLINE void ExactRead(DF df, const Receiver& p, const RowConstants& k, MF ma
 
 // The state of one direction's march on every lane.
 struct March {
-  VF ux, uy;   // the unit image direction
-  VF reach;    // the projected radius along it, pixels
-  VF t;        // distance marched from P's centre, pixels
-  VF best;     // eq. 8's max so far
-  MF alive;    // still marching
+  VF ux, uy;  // the unit image direction
+  VF end;     // the march ends past t = end: the projected radius, or where it leaves the image
+  VF t;       // distance marched from P's centre, pixels
+  VF best;    // eq. 8's max so far
 };
 
-// Texel indices from float coordinates: with kFloatIndex (levels of fewer than 2^23 texels)
-// Y·width + X is exact in float and becomes an int by the bits of its sum with 2^23 (two
-// cheap operations, where a conversion takes five); otherwise by converting X and Y.
+// The array index of texel (tx, ty) (GatherPyramidLevel::at). With kFloatIndex (levels of
+// fewer than 2^23 texels with their border) the index is exact in float and becomes an int
+// by the bits of its sum with 2^23 (two cheap operations, where a conversion takes five);
+// otherwise by converting tx and ty.
 template <bool kFloatIndex>
-HWY_INLINE VI TexelIndex(DF df, VF tx, VF ty, VF width_f, VI width_i) {
+HWY_INLINE VI TexelIndex(DF df, VF tx, VF ty, VF stride_f, VF offset_f, VI stride_i,
+                         VI offset_i) {
   const DI di;
   if constexpr (kFloatIndex) {
-    const VF magic = hn::Set(df, 8388608.0f);  // 2^23: its sum with n < 2^23 holds n's bits
-    return hn::Sub(hn::BitCast(di, hn::Add(hn::MulAdd(ty, width_f, tx), magic)),
-                   hn::BitCast(di, magic));
+    // offset_f = 2^23 + stride + 1: the sum holds the index in its low bits.
+    return hn::Sub(hn::BitCast(di, hn::Add(hn::MulAdd(ty, stride_f, tx), offset_f)),
+                   hn::BitCast(di, hn::Set(df, 8388608.0f)));
   } else {
-    (void)df, (void)width_f;
-    return hn::Add(hn::Mul(hn::ConvertTo(di, ty), width_i), hn::ConvertTo(di, tx));
+    (void)df, (void)stride_f, (void)offset_f;
+    return hn::Add(hn::Add(hn::Mul(hn::ConvertTo(di, ty), stride_i), hn::ConvertTo(di, tx)),
+                   offset_i);
   }
+}
+
+// The exact test of the lanes `maybe` of a read on level l ≥ 1 (ExactRead), first reading
+// the centroid of the lanes whose texel is marked.
+HWY_NOINLINE void ExactCoarseRead(DF df, const Level& level, const Receiver& p,
+                                  const RowConstants& k, MF maybe, VI texel, VF g, VF qx, VF qy,
+                                  float l, VF& best) {
+  const MF marked = hn::And(maybe, hn::Lt(g, hn::Zero(df)));
+  if (!hn::AllFalse(df, marked)) {
+    qx = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cx, texel), p.px), qx);
+    qy = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cy, texel), p.py), qy);
+  }
+  ExactRead(df, p, k, maybe, qx, qy, hn::Abs(g), l, best);
 }
 
 // The S reads of level l (kBase: level 0) of march_direction on every lane; false once every
@@ -164,52 +179,47 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
   const float scale_f = float(level.scale);
   const VF scale = hn::Set(df, scale_f);
   const VF step = hn::Mul(m, scale);
-  // ⌊n / K^l⌋ of an integer n ≥ 0 as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
+  // ⌊n / K^l⌋ of an integer n ≥ −1 as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
   // from an integer, farther than the product's rounding below 2^22 (kPyramidHbaoSimdMaxSide).
   const VF inv_scale = hn::Set(df, 1.0f / scale_f);
   const VF half_inv_scale = hn::Set(df, 0.5f / scale_f);
-  // P's texel on this level.
-  const VF own_x = kBase ? p.xf : hn::Floor(hn::MulAdd(p.xf, inv_scale, half_inv_scale));
-  const VF own_y = hn::Set(df, kBase ? k.yf : float(int(k.yf) / level.scale));
   // The centroid of a whole footprint, K^l·(X + ½), less P's pixel centre.
   const VF centre_x = hn::Sub(hn::Set(df, 0.5f * scale_f), p.px);
   const VF centre_y = hn::Sub(hn::Set(df, 0.5f * scale_f), p.py);
-  const VF width_f = hn::Set(df, float(level.width));
-  const VI width_i = hn::Set(di, level.width);
+  const VF stride_f = hn::Set(df, float(level.stride));
+  const VF offset_f = hn::Set(df, 8388608.0f + float(level.stride + 1));
+  const VI stride_i = hn::Set(di, level.stride);
+  const VI offset_i = hn::Set(di, level.stride + 1);
+  // P's own texel on this level, which the march skips. (On level 0 it needs no test: its
+  // read is P itself, r = 0, which the exact test rejects, and the prefilter already does.)
+  VI own = hn::Zero(di);
+  if (!kBase) {
+    const VF own_x = hn::Floor(hn::MulAdd(p.xf, inv_scale, half_inv_scale));
+    const VF own_y = hn::Set(df, float(int(k.yf) / level.scale));
+    own = TexelIndex<kFloatIndex>(df, own_x, own_y, stride_f, offset_f, stride_i, offset_i);
+  }
   for (int i = 0; i < samples; ++i) {
     a.t = hn::Add(a.t, step);
-    // Past the projected radius, or out of the image: the lane's march ends (t and the
-    // position only grow along the line, so it never comes back). NaN fails.
-    const VF sx = hn::MulAdd(a.t, a.ux, p.px), sy = hn::MulAdd(a.t, a.uy, p.py);
-    a.alive = hn::And(a.alive, hn::And(hn::Le(a.t, a.reach),
-                                       hn::And(hn::And(hn::Ge(sx, zero), hn::Lt(sx, k.width)),
-                                               hn::And(hn::Ge(sy, zero), hn::Lt(sy, k.height)))));
-    if (hn::AllFalse(df, a.alive)) return false;
-    VF tx = hn::Floor(hn::IfThenElseZero(a.alive, sx));
-    VF ty = hn::Floor(hn::IfThenElseZero(a.alive, sy));
+    // Past the projected radius, or out of the image: the lane's march ends (t only grows).
+    const MF alive = hn::Le(a.t, a.end);
+    if (hn::AllFalse(df, alive)) return false;
+    // An ended lane reads at its last t, inside the image.
+    const VF t = hn::Min(a.t, a.end);
+    const VF sx = hn::MulAdd(t, a.ux, p.px), sy = hn::MulAdd(t, a.uy, p.py);
+    VF tx = hn::Floor(sx), ty = hn::Floor(sy);
     if (!kBase) {
       tx = hn::Floor(hn::MulAdd(tx, inv_scale, half_inv_scale));
       ty = hn::Floor(hn::MulAdd(ty, inv_scale, half_inv_scale));
     }
-    const MF live = hn::AndNot(hn::And(hn::Eq(tx, own_x), hn::Eq(ty, own_y)), a.alive);
-    const VI texel = TexelIndex<kFloatIndex>(df, tx, ty, width_f, width_i);
+    const VI texel =
+        TexelIndex<kFloatIndex>(df, tx, ty, stride_f, offset_f, stride_i, offset_i);
     const VF g = hn::GatherIndex(df, level.depth, texel);
-    VF ds, qx, qy;
-    if (kBase) {
-      // Level 0: the texel is P's pixel + (qx, qy), its centroid the pixel centre.
-      ds = g;
-      qx = hn::Sub(tx, p.xf);
-      qy = hn::Sub(ty, hn::Set(df, k.yf));
-    } else {
-      ds = hn::Abs(g);
-      qx = hn::MulAdd(tx, scale, centre_x);
-      qy = hn::MulAdd(ty, scale, centre_y);
-      const MF marked = hn::And(live, hn::Lt(g, zero));
-      if (HWY_UNLIKELY(!hn::AllFalse(df, marked))) {
-        qx = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cx, texel), p.px), qx);
-        qy = hn::IfThenElse(marked, hn::Sub(hn::GatherIndex(df, level.cy, texel), p.py), qy);
-      }
-    }
+    const MF live = kBase ? alive : hn::AndNot(hn::RebindMask(df, hn::Eq(texel, own)), alive);
+    // The read's centroid less P's centre: on level 0 the pixel centre; on a coarser level
+    // the footprint's centre, except where the texel is marked (g < 0), whose lanes always go
+    // to the exact test, which reads the centroid.
+    const VF qx = kBase ? hn::Sub(tx, p.xf) : hn::MulAdd(tx, scale, centre_x);
+    const VF qy = kBase ? hn::Sub(ty, hn::Set(df, k.yf)) : hn::MulAdd(ty, scale, centre_y);
     // The prefilter: where the sample's ray meets the tangent plane in front of the camera
     // (n·rs < 0 and n·r0 < 0, d > 0), the exact test needs tau > ds·(1 + 16·2^-24) (its
     // tolerance is at least 2^-24·ds·(8 + 4·(1 + 1)), each g ≥ 1), i.e.
@@ -217,11 +227,17 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
     // of n·rs rebuilt by two multiply-adds: a lane it drops would fail the exact test, and on
     // an open surface, where tau and ds agree to a few ulps, it drops every one. Where n·rs ≥ 0
     // the comparison holds by itself (its left side is negative), and where n·r0 ≥ 0 the bound
-    // is −inf: every read goes to the exact test.
+    // is −inf: every read goes to the exact test. Background (NaN) fails.
     const VF n_rs = hn::MulAdd(p.a, qx, hn::MulAdd(p.b, qy, p.n_r0));
-    const MF maybe = hn::And(live, hn::Lt(p.dn_margin, hn::Mul(ds, n_rs)));
-    if (HWY_UNLIKELY(!hn::AllFalse(df, maybe)))
-      ExactRead(df, p, k, maybe, qx, qy, ds, float(l), a.best);
+    MF maybe = hn::Lt(p.dn_margin, hn::Mul(g, n_rs));
+    if (!kBase) maybe = hn::Or(maybe, hn::Lt(g, zero));  // marked
+    maybe = hn::And(live, maybe);
+    if (HWY_UNLIKELY(!hn::AllFalse(df, maybe))) {
+      if (kBase)
+        ExactRead(df, p, k, maybe, qx, qy, g, 0.0f, a.best);
+      else
+        ExactCoarseRead(df, level, p, k, maybe, texel, g, qx, qy, float(l), a.best);
+    }
   }
   return true;
 }
@@ -232,20 +248,35 @@ template <bool kFloatIndex>
 HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s,
                              const Receiver& p, const RowConstants& k, MF geometry, VF c, VF sn,
                              VF m) {
+  const VF zero = hn::Zero(df);
+  const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
   // The azimuth as an image direction (rows go down) and the projected radius along it.
   const VF ex = hn::Mul(c, hn::Set(df, f.cam.fx));
   const VF ey = hn::Neg(hn::Mul(sn, hn::Set(df, f.cam.fy)));
   const VF e_len = hn::Sqrt(hn::MulAdd(ex, ex, hn::Mul(ey, ey)));
   March a;
   a.ux = hn::Div(ex, e_len), a.uy = hn::Div(ey, e_len);
-  a.reach = hn::Div(hn::Mul(hn::Set(df, s.radius), e_len), p.d);
-  a.t = hn::Zero(df), a.best = hn::Zero(df);
-  a.alive = geometry;
-  if (f.level_count < 1 ||
-      !MarchLevel<true, kFloatIndex>(df, f.levels[0], 0, s.samples, m, p, k, a))
-    return a.best;
-  for (int l = 1; l < f.level_count; ++l)
-    if (!MarchLevel<false, kFloatIndex>(df, f.levels[l], l, s.samples, m, p, k, a)) break;
+  const VF reach = hn::Div(hn::Mul(hn::Set(df, s.radius), e_len), p.d);
+  // Where the line leaves the image: x = 0 or x = W, y = 0 or y = H (inf along an axis it
+  // does not cross). The scalar march tests each read's position instead; the two differ only
+  // for a read within rounding of the image's edge, which then reads the border (background)
+  // or is not read.
+  const VF exit_x = hn::Div(hn::IfThenElse(hn::Gt(a.ux, zero), hn::Sub(k.width, p.px),
+                                           hn::Neg(p.px)),
+                            a.ux);
+  const VF exit_y = hn::Div(hn::IfThenElse(hn::Gt(a.uy, zero), hn::Sub(k.height, p.py),
+                                           hn::Neg(p.py)),
+                            a.uy);
+  // Background (NaN reach) and the tail's lanes end before the first read.
+  a.end = hn::IfThenElse(geometry,
+                         hn::Min(reach, hn::Min(hn::IfThenElse(hn::IsNaN(exit_x), inf, exit_x),
+                                                hn::IfThenElse(hn::IsNaN(exit_y), inf, exit_y))),
+                         hn::Set(df, -1.0f));
+  a.end = hn::IfThenElse(hn::IsNaN(reach), hn::Set(df, -1.0f), a.end);
+  a.t = zero, a.best = zero;
+  if (f.level_count > 0 && MarchLevel<true, kFloatIndex>(df, f.levels[0], 0, s.samples, m, p, k, a))
+    for (int l = 1; l < f.level_count; ++l)
+      if (!MarchLevel<false, kFloatIndex>(df, f.levels[l], l, s.samples, m, p, k, a)) break;
   return a.best;
 }
 
@@ -267,7 +298,7 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   k.yf = float(y);
   k.attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
   const Level& base = f.levels[0];
-  const float* depth_row = base.depth + std::size_t(y) * w;
+  const float* depth_row = base.depth + base.at(0, y);
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
   const float py = float(y) + 0.5f;
   const float sector = float(2.0 * std::numbers::pi / s.directions);
@@ -279,7 +310,8 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   const auto& ranks = blue_noise_ranks();
   const int lanes = int(hn::Lanes(df));
   // Level 0 is the largest.
-  const bool float_index = std::size_t(w) * std::size_t(f.height) < (std::size_t(1) << 23);
+  const bool float_index =
+      std::size_t(base.stride) * std::size_t(base.height + 2) < (std::size_t(1) << 23);
 
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Receiver p;
@@ -291,7 +323,8 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
     }
     p.d = hn::Load(df, lane[0]);
     p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
-    const MF geometry = hn::Eq(p.d, p.d);  // background is NaN
+    // Background is NaN; the tail's lanes (repeating the row's last pixel) are not marched.
+    const MF geometry = hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
     VF result = hn::Set(df, 1.0f);
     if (!hn::AllFalse(df, geometry)) {
       // hbao_receiver; a tail lane repeats the row's last pixel at its own x (dropped).
