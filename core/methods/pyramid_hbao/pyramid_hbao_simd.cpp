@@ -65,6 +65,32 @@ using Level = GatherPyramidLevel;
 
 constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
 
+// pixel_random(seed, x, y, stream) for the pixels x0, x0 + 1, ... of row y, bit for bit, in
+// two parts: PixelHash hashes the seed and the pixel once, PixelStream each stream of it
+// (PixelRandom of simd-inl.h hashes all three for every stream).
+HWY_INLINE hn::Vec<hn::RebindToUnsigned<DF>> PixelHash(DF df, std::uint32_t seed, int x0, int y) {
+  const hn::RebindToUnsigned<DF> du;
+  const std::uint32_t h0 = pcg_hash(seed ^ 0x9E3779B9u);
+  auto h = hn::Xor(hn::Set(du, h0), hn::Add(hn::Set(du, std::uint32_t(x0)), hn::Iota(du, 0)));
+  h = PcgHash(du, h);
+  (void)df;
+  return PcgHash(du, hn::Xor(h, hn::Set(du, std::uint32_t(y) * 0x85EBCA6Bu)));
+}
+
+HWY_INLINE VF PixelStream(DF df, hn::Vec<hn::RebindToUnsigned<DF>> pixel, std::uint32_t stream) {
+  const hn::RebindToUnsigned<DF> du;
+  const auto h = PcgHash(du, hn::Add(pixel, hn::Set(du, stream * 0xC2B2AE35u)));
+  return hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<8>(h))),
+                 hn::Set(df, kUnitRoundoff));
+}
+
+// 1/v to about 1 ulp: the hardware estimate and one Newton step, a few cheap operations where
+// a division is several times slower.
+HWY_INLINE VF Reciprocal(DF df, VF v) {
+  const VF r = hn::ApproximateReciprocal(v);
+  return hn::Mul(r, hn::NegMulAdd(v, r, hn::Set(df, 2.0f)));
+}
+
 // The receiver P of each lane (hbao_receiver), and what its reads share.
 struct Receiver {
   VF d, nx, ny, nz;
@@ -87,8 +113,8 @@ struct RowConstants {
 // The exact test and term of texel_contribution (pyramid_hbao.cpp) on the lanes `maybe` of a
 // read whose centroid lies at P's pixel centre + (qx, qy), depth ds, on level l; the largest
 // term into best.
-HWY_INLINE void ExactRead(DF df, const Receiver& p, const RowConstants& k, MF maybe, VF qx,
-                          VF qy, VF ds, float level, VF& best) {
+HWY_INLINE void ExactRead(DF df, const Receiver& p, const RowConstants& k, MF maybe, VF qx, VF qy,
+                          VF ds, float level, VF& best) {
   const VF zero = hn::Zero(df);
   // D = S − P without cancellation.
   const VF dd = hn::Sub(ds, p.d);
@@ -108,13 +134,12 @@ HWY_INLINE void ExactRead(DF df, const Receiver& p, const RowConstants& k, MF ma
   const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
   counts = hn::AndNot(hn::AndNot(hn::Gt(tau, ds), hits), counts);
   if (hn::AllFalse(df, counts)) return;
-  const VF grazing_s =
-      hn::Div(hn::Sqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, hn::Set(df, 1.0f)))),
-              hn::Abs(n_rs));
+  const VF grazing_s = hn::Div(
+      hn::Sqrt(hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, hn::Set(df, 1.0f)))), hn::Abs(n_rs));
   const VF ulps = hn::MulAdd(hn::Set(df, kPyramidHbaoNormalUlps), hn::Add(p.grazing, grazing_s),
                              hn::Set(df, kPyramidHbaoDepthUlps + kPyramidHbaoLevelUlps * level));
-  const VF tol =
-      hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))), ulps);
+  const VF tol = hn::Mul(
+      hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))), ulps);
   const VF gap =
       hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
   counts = hn::And(counts, hn::Gt(gap, tol));
@@ -142,8 +167,7 @@ struct March {
 // by the bits of its sum with 2^23 (two cheap operations, where a conversion takes five);
 // otherwise by converting tx and ty.
 template <bool kFloatIndex>
-HWY_INLINE VI TexelIndex(DF df, VF tx, VF ty, VF stride_f, VF offset_f, VI stride_i,
-                         VI offset_i) {
+HWY_INLINE VI TexelIndex(DF df, VF tx, VF ty, VF stride_f, VF offset_f, VI stride_i, VI offset_i) {
   const DI di;
   if constexpr (kFloatIndex) {
     // offset_f = 2^23 + stride + 1: the sum holds the index in its low bits.
@@ -211,8 +235,7 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
       tx = hn::Floor(hn::MulAdd(tx, inv_scale, half_inv_scale));
       ty = hn::Floor(hn::MulAdd(ty, inv_scale, half_inv_scale));
     }
-    const VI texel =
-        TexelIndex<kFloatIndex>(df, tx, ty, stride_f, offset_f, stride_i, offset_i);
+    const VI texel = TexelIndex<kFloatIndex>(df, tx, ty, stride_f, offset_f, stride_i, offset_i);
     const VF g = hn::GatherIndex(df, level.depth, texel);
     const MF live = kBase ? alive : hn::AndNot(hn::RebindMask(df, hn::Eq(texel, own)), alive);
     // The read's centroid less P's centre: on level 0 the pixel centre; on a coarser level
@@ -245,9 +268,8 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
 // march_direction on every lane: eq. 8's term max_i W(r_i)·sin α_i of the direction
 // (c, sn) with start multiplier m.
 template <bool kFloatIndex>
-HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s,
-                             const Receiver& p, const RowConstants& k, MF geometry, VF c, VF sn,
-                             VF m) {
+HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s, const Receiver& p,
+                             const RowConstants& k, MF geometry, VF c, VF sn, VF m) {
   const VF zero = hn::Zero(df);
   const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
   // The azimuth as an image direction (rows go down) and the projected radius along it.
@@ -255,18 +277,20 @@ HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s
   const VF ey = hn::Neg(hn::Mul(sn, hn::Set(df, f.cam.fy)));
   const VF e_len = hn::Sqrt(hn::MulAdd(ex, ex, hn::Mul(ey, ey)));
   March a;
+  // Divisions, as the scalar code: a read's position then differs from its only by the
+  // rounding of sin and cos and of the fused t·u + P.
   a.ux = hn::Div(ex, e_len), a.uy = hn::Div(ey, e_len);
   const VF reach = hn::Div(hn::Mul(hn::Set(df, s.radius), e_len), p.d);
   // Where the line leaves the image: x = 0 or x = W, y = 0 or y = H (inf along an axis it
   // does not cross). The scalar march tests each read's position instead; the two differ only
   // for a read within rounding of the image's edge, which then reads the border (background)
   // or is not read.
-  const VF exit_x = hn::Div(hn::IfThenElse(hn::Gt(a.ux, zero), hn::Sub(k.width, p.px),
-                                           hn::Neg(p.px)),
-                            a.ux);
-  const VF exit_y = hn::Div(hn::IfThenElse(hn::Gt(a.uy, zero), hn::Sub(k.height, p.py),
-                                           hn::Neg(p.py)),
-                            a.uy);
+  const VF exit_x =
+      hn::Mul(hn::IfThenElse(hn::Gt(a.ux, zero), hn::Sub(k.width, p.px), hn::Neg(p.px)),
+              Reciprocal(df, a.ux));
+  const VF exit_y =
+      hn::Mul(hn::IfThenElse(hn::Gt(a.uy, zero), hn::Sub(k.height, p.py), hn::Neg(p.py)),
+              Reciprocal(df, a.uy));
   // Background (NaN reach) and the tail's lanes end before the first read.
   a.end = hn::IfThenElse(geometry,
                          hn::Min(reach, hn::Min(hn::IfThenElse(hn::IsNaN(exit_x), inf, exit_x),
@@ -324,7 +348,8 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
     p.d = hn::Load(df, lane[0]);
     p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
     // Background is NaN; the tail's lanes (repeating the row's last pixel) are not marched.
-    const MF geometry = hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
+    const MF geometry =
+        hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
     VF result = hn::Set(df, 1.0f);
     if (!hn::AllFalse(df, geometry)) {
       // hbao_receiver; a tail lane repeats the row's last pixel at its own x (dropped).
@@ -341,6 +366,7 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
           hn::IfThenElse(p.faces, hn::Mul(p.dn, hn::Set(df, 1.0f / (1.0f + 12.0f * kUnitRoundoff))),
                          hn::Set(df, -std::numeric_limits<float>::infinity()));
       p.a = hn::Mul(p.nx, k.inv_fx), p.b = hn::Neg(hn::Mul(p.ny, k.inv_fy));
+      const auto pixel_hash = PixelHash(df, seed, x0, y);
 
       // pyramid_hbao_directions: the blue-noise rotation of each lane, as the scalar code.
       HWY_ALIGN float rotation_lanes[hn::MaxLanes(df)];
@@ -355,21 +381,20 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
       const VF rotation = hn::Load(df, rotation_lanes);
       VF occlusion = hn::Zero(df);
       for (int dir = 0; dir < s.directions; ++dir) {
-        const VF place = s.random_directions
-                             ? PixelRandom(df, seed, x0, y, 2u * std::uint32_t(dir))
-                             : hn::Zero(df);
-        const VF theta =
-            hn::Mul(hn::Set(df, sector), hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
+        const VF place = s.random_directions ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir))
+                                             : hn::Zero(df);
+        const VF theta = hn::Mul(hn::Set(df, sector),
+                                 hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
         const VF m =
             s.random_start
                 ? hn::Add(hn::Set(df, kPyramidHbaoStartMin),
                           hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
-                                  PixelRandom(df, seed, x0, y, 2u * std::uint32_t(dir) + 1u)))
+                                  PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
                 : hn::Set(df, 1.0f);
         const VF c = hn::Cos(df, theta), sn = hn::Sin(df, theta);
-        occlusion = hn::Add(occlusion,
-                            float_index ? MarchDirection<true>(df, f, s, p, k, geometry, c, sn, m)
-                                        : MarchDirection<false>(df, f, s, p, k, geometry, c, sn, m));
+        occlusion = hn::Add(
+            occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, geometry, c, sn, m)
+                                   : MarchDirection<false>(df, f, s, p, k, geometry, c, sn, m));
       }
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
@@ -397,8 +422,8 @@ Image pyramid_hbao_simd(const GatherPyramid& pyramid, const float* normals,
                         const CameraIntrinsics& cam, const PyramidHbaoSettings& s, int threads,
                         Progress* progress) {
   const GatherPyramidLevel& base = pyramid.level(0);
-  const pyramid_simd::Frame frame{pyramid.data(), pyramid.levels(), normals, base.width,
-                                  base.height, cam};
+  const pyramid_simd::Frame frame{pyramid.data(), pyramid.levels(), normals,
+                                  base.width,     base.height,      cam};
   return image_from_tiles(
       base.width, base.height, threads, progress, kPyramidHbaoBandRows, kPyramidHbaoTileColumns,
       [] { return 0; },
