@@ -222,6 +222,20 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
     const VF own_y = hn::Set(df, float(int(k.yf) / level.scale));
     own = TexelIndex<kFloatIndex>(df, own_x, own_y, stride_f, offset_f, stride_i, offset_i);
   }
+  // A read's position in texels of this level, (P + t·u)/K^l: the same texel as the scalar
+  // code's ⌊⌊x⌋ / K^l⌋ (equal in exact arithmetic; the rounding differs only for a read
+  // within an ulp of a texel edge).
+  const VF px_l = kBase ? p.px : hn::Mul(p.px, inv_scale);
+  const VF py_l = kBase ? p.py : hn::Mul(p.py, inv_scale);
+  const VF ux_l = kBase ? a.ux : hn::Mul(a.ux, inv_scale);
+  const VF uy_l = kBase ? a.uy : hn::Mul(a.uy, inv_scale);
+  // n·rs of texel (tx, ty) as a·tx + b·ty + c (the read's centroid less P's centre is
+  // tx − x on level 0, tx·K^l + centre_x on a coarser one; likewise y).
+  const VF ya = hn::Set(df, k.yf);
+  const VF a_l = kBase ? p.a : hn::Mul(p.a, scale);
+  const VF b_l = kBase ? p.b : hn::Mul(p.b, scale);
+  const VF c_l = kBase ? hn::NegMulAdd(p.a, p.xf, hn::NegMulAdd(p.b, ya, p.n_r0))
+                       : hn::MulAdd(p.a, centre_x, hn::MulAdd(p.b, centre_y, p.n_r0));
   for (int i = 0; i < samples; ++i) {
     a.t = hn::Add(a.t, step);
     // Past the projected radius, or out of the image: the lane's march ends (t only grows).
@@ -229,20 +243,11 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
     if (hn::AllFalse(df, alive)) return false;
     // An ended lane reads at its last t, inside the image.
     const VF t = hn::Min(a.t, a.end);
-    const VF sx = hn::MulAdd(t, a.ux, p.px), sy = hn::MulAdd(t, a.uy, p.py);
-    VF tx = hn::Floor(sx), ty = hn::Floor(sy);
-    if (!kBase) {
-      tx = hn::Floor(hn::MulAdd(tx, inv_scale, half_inv_scale));
-      ty = hn::Floor(hn::MulAdd(ty, inv_scale, half_inv_scale));
-    }
+    const VF tx = hn::Floor(hn::MulAdd(t, ux_l, px_l));
+    const VF ty = hn::Floor(hn::MulAdd(t, uy_l, py_l));
     const VI texel = TexelIndex<kFloatIndex>(df, tx, ty, stride_f, offset_f, stride_i, offset_i);
     const VF g = hn::GatherIndex(df, level.depth, texel);
     const MF live = kBase ? alive : hn::AndNot(hn::RebindMask(df, hn::Eq(texel, own)), alive);
-    // The read's centroid less P's centre: on level 0 the pixel centre; on a coarser level
-    // the footprint's centre, except where the texel is marked (g < 0), whose lanes always go
-    // to the exact test, which reads the centroid.
-    const VF qx = kBase ? hn::Sub(tx, p.xf) : hn::MulAdd(tx, scale, centre_x);
-    const VF qy = kBase ? hn::Sub(ty, hn::Set(df, k.yf)) : hn::MulAdd(ty, scale, centre_y);
     // The prefilter: where the sample's ray meets the tangent plane in front of the camera
     // (n·rs < 0 and n·r0 < 0, d > 0), the exact test needs tau > ds·(1 + 16·2^-24) (its
     // tolerance is at least 2^-24·ds·(8 + 4·(1 + 1)), each g ≥ 1), i.e.
@@ -250,16 +255,19 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
     // of n·rs rebuilt by two multiply-adds: a lane it drops would fail the exact test, and on
     // an open surface, where tau and ds agree to a few ulps, it drops every one. Where n·rs ≥ 0
     // the comparison holds by itself (its left side is negative), and where n·r0 ≥ 0 the bound
-    // is −inf: every read goes to the exact test. Background (NaN) fails.
-    const VF n_rs = hn::MulAdd(p.a, qx, hn::MulAdd(p.b, qy, p.n_r0));
+    // is −inf: every read goes to the exact test. Background (NaN) fails. On a coarser level
+    // the centroid is the footprint's centre, except where the texel is marked (g < 0), whose
+    // lanes always go to the exact test, which reads the centroid.
+    const VF n_rs = hn::MulAdd(a_l, tx, hn::MulAdd(b_l, ty, c_l));
     MF maybe = hn::Lt(p.dn_margin, hn::Mul(g, n_rs));
     if (!kBase) maybe = hn::Or(maybe, hn::Lt(g, zero));  // marked
     maybe = hn::And(live, maybe);
     if (HWY_UNLIKELY(!hn::AllFalse(df, maybe))) {
       if (kBase)
-        ExactRead(df, p, k, maybe, qx, qy, g, 0.0f, a.best);
+        ExactRead(df, p, k, maybe, hn::Sub(tx, p.xf), hn::Sub(ty, ya), g, 0.0f, a.best);
       else
-        ExactCoarseRead(df, level, p, k, maybe, texel, g, qx, qy, float(l), a.best);
+        ExactCoarseRead(df, level, p, k, maybe, texel, g, hn::MulAdd(tx, scale, centre_x),
+                        hn::MulAdd(ty, scale, centre_y), float(l), a.best);
     }
   }
   return true;

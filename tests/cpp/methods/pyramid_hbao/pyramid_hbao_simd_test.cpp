@@ -29,11 +29,13 @@ using testing::SceneFixture;
 // and a sample whose height above P's tangent plane lies within an ulp of the rounding
 // tolerance (docs/methods/pyramid_hbao.md, "Rounding") counts in one kernel and not the
 // other; its term is then about that tolerance times depth over distance, 1e-6 to 1e-4
-// (measured: mean ≤ 1.3e-7 and 99.9th percentile ≤ 1.9e-5 on `room`, below 1e-7 on the
-// analytic scenes). Rarely, an ulp moves a read across a texel edge, where it snaps, or
+// (measured: mean ≤ 2.1e-7 and 99.9th percentile ≤ 1.9e-5 on `room`, below 1e-7 on the
+// analytic scenes). Rarely, an ulp moves a read across a texel edge, where it snaps (the
+// SIMD kernel computes ⌊x / K^l⌋ where the scalar code computes ⌊⌊x⌋ / K^l⌋), or
 // across the image's edge, where the SIMD march ends at a precomputed t instead of testing
 // the read's position: that changes one direction's term, by at most its whole share of A,
-// 1/D (each term lies in [0, 1]; the Gaussian, a weighted mean, cannot make it larger).
+// 1/D (each term lies in [0, 1]; the Gaussian, a weighted mean, cannot make it larger;
+// measured worst 0.019 on `blocks` at 1280×720, 0.017 on `room`).
 constexpr double kMeanTolerance = 1e-5;
 constexpr double kP999Tolerance = 1e-4;
 
