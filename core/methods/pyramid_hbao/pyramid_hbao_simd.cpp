@@ -84,6 +84,36 @@ HWY_INLINE VF PixelStream(DF df, hn::Vec<hn::RebindToUnsigned<DF>> pixel, std::u
                  hn::Set(df, kUnitRoundoff));
 }
 
+// sin θ and cos θ for 0 ≤ θ ≤ 4π (a direction's azimuth) to about an ulp: one reduction to
+// r ∈ [−π/4, π/4] by a multiple q of π/2 (Cody and Waite's three-part π/2), shared by both,
+// Cephes' minimax polynomials of sinf and cosf on r, and the quadrant q mod 4. Highway's Sin
+// and Cos would each reduce θ on their own.
+HWY_INLINE void SinCos(DF df, VF theta, VF& sin_theta, VF& cos_theta) {
+  const DI di;
+  const VF q = hn::Round(hn::Mul(theta, hn::Set(df, float(2.0 / std::numbers::pi))));
+  VF r = hn::NegMulAdd(q, hn::Set(df, 1.57079637050628662109375f), theta);
+  r = hn::NegMulAdd(q, hn::Set(df, -4.37113900018624283e-8f), r);
+  r = hn::NegMulAdd(q, hn::Set(df, -1.71512451000597e-15f), r);
+  const VF r2 = hn::Mul(r, r);
+  const VF ps =
+      hn::MulAdd(hn::MulAdd(hn::Set(df, -1.9515295891e-4f), r2, hn::Set(df, 8.3321608736e-3f)), r2,
+                 hn::Set(df, -1.6666654611e-1f));
+  const VF sin_r = hn::MulAdd(hn::Mul(ps, r2), r, r);
+  const VF pc = hn::MulAdd(
+      hn::MulAdd(hn::Set(df, 2.443315711809948e-5f), r2, hn::Set(df, -1.388731625493765e-3f)), r2,
+      hn::Set(df, 4.166664568298827e-2f));
+  const VF cos_r =
+      hn::MulAdd(hn::Mul(pc, r2), r2, hn::NegMulAdd(hn::Set(df, 0.5f), r2, hn::Set(df, 1.0f)));
+  // θ = q·π/2 + r: q odd swaps sin and cos; sin is negative for q mod 4 ∈ {2, 3}, cos for
+  // q mod 4 ∈ {1, 2}.
+  const VI qi = hn::ConvertTo(di, q);
+  const MF odd = hn::RebindMask(df, hn::Ne(hn::And(qi, hn::Set(di, 1)), hn::Zero(di)));
+  const VI sin_sign = hn::ShiftLeft<30>(hn::And(qi, hn::Set(di, 2)));
+  const VI cos_sign = hn::ShiftLeft<30>(hn::And(hn::Add(qi, hn::Set(di, 1)), hn::Set(di, 2)));
+  sin_theta = hn::Xor(hn::IfThenElse(odd, cos_r, sin_r), hn::BitCast(df, sin_sign));
+  cos_theta = hn::Xor(hn::IfThenElse(odd, sin_r, cos_r), hn::BitCast(df, cos_sign));
+}
+
 // 1/v to about 1 ulp: the hardware estimate and one Newton step, a few cheap operations where
 // a division is several times slower.
 HWY_INLINE VF Reciprocal(DF df, VF v) {
@@ -103,11 +133,15 @@ struct Receiver {
   MF faces;               // n·r0 < 0
 };
 
+// Levels a pyramid can have (DepthPyramid: sides below 2^24, K ≥ 2).
+constexpr int kMaxLevels = 40;
+
 // What every read of a row shares.
 struct RowConstants {
   VF inv_fx, inv_fy, cx, cy, width, height, radius2, inv_radius;
   float yf;  // the row's index as a float
   bool attenuate;
+  float own_y[kMaxLevels];  // the row's texel ⌊y / K^l⌋ on each level
 };
 
 // The exact test and term of texel_contribution (pyramid_hbao.cpp) on the lanes `maybe` of a
@@ -219,7 +253,7 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
   VI own = hn::Zero(di);
   if (!kBase) {
     const VF own_x = hn::Floor(hn::MulAdd(p.xf, inv_scale, half_inv_scale));
-    const VF own_y = hn::Set(df, float(int(k.yf) / level.scale));
+    const VF own_y = hn::Set(df, k.own_y[l]);
     own = TexelIndex<kFloatIndex>(df, own_x, own_y, stride_f, offset_f, stride_i, offset_i);
   }
   // A read's position in texels of this level, (P + t·u)/K^l: the same texel as the scalar
@@ -329,6 +363,8 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   k.inv_radius = hn::Set(df, 1.0f / s.radius);
   k.yf = float(y);
   k.attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
+  for (int l = 0; l < f.level_count && l < kMaxLevels; ++l)
+    k.own_y[l] = float(y / f.levels[l].scale);
   const Level& base = f.levels[0];
   const float* depth_row = base.depth + base.at(0, y);
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
@@ -399,7 +435,8 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
                           hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
                                   PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
                 : hn::Set(df, 1.0f);
-        const VF c = hn::Cos(df, theta), sn = hn::Sin(df, theta);
+        VF c, sn;
+        SinCos(df, theta, sn, c);
         occlusion = hn::Add(
             occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, geometry, c, sn, m)
                                    : MarchDirection<false>(df, f, s, p, k, geometry, c, sn, m));
