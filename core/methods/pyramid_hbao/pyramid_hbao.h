@@ -131,9 +131,9 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& settings,
 /// The registry entry.
 Method pyramid_hbao_method();
 
-/// Longest image side the SIMD kernel takes: below it, the texel of a read on level l,
-/// ⌊⌊x⌋ / K^l⌋, is computed exactly in float (pyramid_hbao_simd.cpp). pyramid_hbao() runs the
-/// scalar code for larger images.
+/// Longest image side the SIMD kernel takes: below it, P's own texel on level l, ⌊x / K^l⌋,
+/// is computed exactly in float (pyramid_hbao_simd.cpp). pyramid_hbao() runs the scalar code
+/// for larger images.
 constexpr int kPyramidHbaoSimdMaxSide = 1 << 22;
 
 /// The SIMD kernel (pyramid_hbao_simd.cpp): the same algorithm as the scalar per-pixel code

@@ -2,21 +2,22 @@
 // tested against) on Lanes consecutive pixels of a row at once, compiled by Highway for every
 // target and dispatched at run time. Every setting is supported; each lane follows the scalar
 // pixel's steps (its own directions and start steps, the same reads on the same levels, the
-// same tests), so the two differ only by float rounding (FMA, Highway's sin/cos).
+// same tests), so the two differ only by float rounding (FMA, the sine and cosine).
 //
 // What it does differently (docs/methods/pyramid_hbao.md, "SIMD kernel"):
-// - the levels are laid out for gathers: level 0 is read in place (the depth of the pyramid's
-//   texels, a stride of 3 floats); every coarser level is split into arrays of depth and of
-//   centroid x and y, and a texel's depth has its sign bit set where its centroid is not its
-//   footprint's centre (the image border or background cut the footprint). A read then gathers
-//   one float, and computes the centroid from the texel's coordinates; the two centroid
-//   gathers run only when a lane meets a marked texel;
-// - the texel ⌊⌊x⌋ / K^l⌋ of a read is a float multiply and floor, exact below
-//   kPyramidHbaoSimdMaxSide;
+// - the levels are laid out for gathers (GatherPyramid): one array of depths per level, with a
+//   border of background texels; a texel's depth has its sign bit set where its centroid is
+//   not its footprint's centre (the image border or background cut the footprint). A read
+//   then gathers one float and computes the centroid from the texel's coordinates; the
+//   centroid gathers run only in the exact test, for marked texels;
+// - a read's texel is ⌊x / K^l⌋ from its position in texels of its level (the scalar code's
+//   ⌊⌊x⌋ / K^l⌋ in exact arithmetic), its index made in float;
+// - a lane's march ends at a precomputed t (the projected radius or the image's edge) instead
+//   of four bounds tests per read;
 // - the tangent-plane test first runs a division-free form of its sign test with the least
-//   tolerance, on n·r_S rebuilt from P's n·r_P by two multiply-adds; the exact test (the
-//   scalar code's expressions, its rounding tolerance, square roots and divisions) runs only
-//   when a lane passes it — on open surfaces no lane does.
+//   tolerance, on n·r_S rebuilt by two multiply-adds; the exact test (the scalar code's
+//   expressions, its rounding tolerance, square roots and divisions) runs only when a lane
+//   passes it — on open surfaces no lane does.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/pyramid_hbao/pyramid_hbao_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -133,7 +134,7 @@ struct Receiver {
   MF faces;               // n·r0 < 0
 };
 
-// Levels a pyramid can have (DepthPyramid: sides below 2^24, K ≥ 2).
+// More levels than a pyramid can have (sides below 2^24 and K ≥ 2 give at most 25).
 constexpr int kMaxLevels = 40;
 
 // What every read of a row shares.
@@ -237,7 +238,7 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
   const float scale_f = float(level.scale);
   const VF scale = hn::Set(df, scale_f);
   const VF step = hn::Mul(m, scale);
-  // ⌊n / K^l⌋ of an integer n ≥ −1 as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
+  // P's column ⌊n / K^l⌋ as ⌊(n + ½)·(1/K^l)⌋: (n + ½)/K^l lies at least ½/K^l
   // from an integer, farther than the product's rounding below 2^22 (kPyramidHbaoSimdMaxSide).
   const VF inv_scale = hn::Set(df, 1.0f / scale_f);
   const VF half_inv_scale = hn::Set(df, 0.5f / scale_f);
