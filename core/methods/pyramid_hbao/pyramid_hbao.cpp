@@ -184,6 +184,15 @@ Image pyramid_hbao(const GBuffer& g, const PyramidHbaoSettings& s, const RunOpti
 
   // §3.2 stage 1: the depth pyramid (level 0 = depth with background as NaN); then the
   // normals made well defined (gbuffer.h).
+  if (options.kernel == Kernel::Simd && w < kPyramidHbaoSimdMaxSide &&
+      h < kPyramidHbaoSimdMaxSide) {
+    // The same pyramid laid out for gathers, and the SIMD kernel.
+    const GatherPyramid pyramid(g, s.reduction, s.levels, threads);
+    const Image normals = prepared_normals(g, threads);
+    Image out = pyramid_hbao_simd(pyramid, normals.data(), g.camera, s, threads, options.progress);
+    if (s.gaussian_filter) return gaussian_blur(out.view(), g, BlurSettings{}, threads);
+    return out;
+  }
   const DepthPyramid pyramid(g, s.reduction, s.levels, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{&pyramid, pyramid.levels(), normals.data(), w, h, g.camera};
@@ -206,6 +215,7 @@ Method pyramid_hbao_method() {
                                "Horizon-based Ambient Occlusion Method",
                                kPyramidHbaoFields, pyramid_hbao);
   m.needs_normal = true;
+  m.has_simd_kernel = true;
   return m;
 }
 
