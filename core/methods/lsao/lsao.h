@@ -304,4 +304,15 @@ inline double lsao_gather_radius(const SweepDirection& d, double line_spacing) {
 Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
                   const RunOptions& options = {});
 
+/// The SIMD sweep (lsao_simd.cpp, Kernel::Simd): Algorithm 1 on a vector of parallel lines at
+/// once; lsao_sweep's buffer within the tolerance of tests/cpp/methods/lsao/lsao_simd_test.cpp
+/// (the same samples and depths; the values rounded differently).
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {});
+
+/// The SIMD gather (lsao_simd.cpp, Kernel::Simd): lsao_gather's result within the tolerance
+/// of tests/cpp/methods/lsao/lsao_simd_test.cpp (it picks the same samples; the weighted sums
+/// are rounded in float). With sampling = interpolate it is lsao_gather.
+Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
+                       const RunOptions& options = {});
+
 }  // namespace aolab

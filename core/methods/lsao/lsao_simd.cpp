@@ -1,0 +1,726 @@
+// LSAO's SIMD kernel: the gather (§5.1) on Lanes consecutive pixels of a row at once, compiled
+// by Highway for every target and dispatched at run time. The scalar code of lsao.cpp is the
+// oracle it is tested against (docs/methods/lsao.md, "SIMD kernel").
+//
+// The scalar gather scatters: every sample is offered to the pixels of its stencil, one pixel
+// at a time. Here the gather reads instead: per band of rows and per pair of opposite
+// directions ("axis"), the samples are first written into a dense map of texels — the
+// sample's depth and its coverage-weighted pair value, at the texel it was evaluated at —
+// and every pixel then walks the stencil of texel offsets nearest first, taking the first
+// sample that passes the tests. One offset is then one contiguous load for Lanes pixels, with
+// no gather and no per-pixel branch; a vector stops when all of its pixels have their sample.
+// The stencil is sorted by distance and, for equal distances, by the samples' order in the
+// buffer (line, then position along it), which is the scalar code's tie rule, so both pick the
+// same sample; the values differ only by float rounding of the weighted sums.
+//
+// Aligned direction sets (§5.2) with sampling = snap only, where every sample is a texel centre
+// and the lines are lines of texel centres: an interpolated sample sits between texels and has
+// no place in the map, and the samples of a uniform set, snapped up to half a texel off lines
+// D_L apart, are not ordered across by their lines, so the stencil's order is not the tie
+// rule; both run the scalar gather.
+// The kernel evaluates the scalar code's expressions in its order with its IEEE operations
+// (division and square root are exact in both), so GCC must not fuse a multiply and an add
+// (-ffp-contract=fast is its default; the scalar code, built for baseline x86-64, has no FMA):
+// the sweep then gives the scalar code's bits.
+#pragma GCC optimize("fp-contract=off")
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/methods/lsao/lsao_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "core/base/check.h"
+#include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
+#include "core/methods/lsao/lsao.h"
+
+#ifndef AOLAB_LSAO_SIMD_SHARED_
+#define AOLAB_LSAO_SIMD_SHARED_
+namespace aolab::lsao_simd {
+
+// One texel offset of an axis's stencil.
+struct Offset {
+  int dx, dy;
+};
+
+// A pair of opposite directions sharing their samples, as the gather sees it.
+struct Axis {
+  int lines = 0;                // index into plan.lines
+  int k[2] = {-1, -1};          // its directions (k[1] = −1 if only one)
+  float pair_weight = 0;        // Σ w_k over them
+  std::vector<Offset> stencil;  // nearest first; equal distances in buffer order
+};
+
+// Rows per band: a band's maps (rows + 2·reach, padded width) and its four accumulators stay
+// within a core's L2 (~0.4 MiB at 1280 columns).
+constexpr int kBandRows = 16;
+
+// What every band reads.
+struct Inputs {
+  const LsaoPlan* plan;
+  const LsaoSweep* sweep;
+  std::vector<Axis> axes;
+  const float* depth;    // W·H, background as NaN
+  const float* normals;  // prepared, 3 per pixel; only with normal_aware
+  bool normal_aware;
+  float tolerance;
+  int width, height;
+  int reach;       // the largest stencil's |dy| and |dx|
+  int pad_left;    // map columns left of x = 0
+  int map_stride;  // floats per map row
+  int map_rows;    // kBandRows + 2·reach
+};
+
+// Per worker: the maps of one axis over one band (and the normals there), and the band's
+// coverage-weighted sums over the axes done so far.
+struct Scratch {
+  std::vector<float> depth, pair, nx, ny, nz;
+  std::vector<float> sum, weight, sum_any, weight_any;
+  explicit Scratch(const Inputs& in) {
+    const std::size_t map = std::size_t(in.map_rows) * std::size_t(in.map_stride);
+    depth.assign(map, 0.0f), pair.assign(map, 0.0f);
+    if (in.normal_aware) nx.assign(map, 0.0f), ny.assign(map, 0.0f), nz.assign(map, 0.0f);
+    const std::size_t acc = std::size_t(kBandRows) * std::size_t(in.map_stride);
+    for (auto* v : {&sum, &weight, &sum_any, &weight_any}) v->assign(acc, 0.0f);
+  }
+};
+
+// ---- The sweep ----
+
+// What every batch of lines reads.
+struct SweepInputs {
+  const LsaoPlan* plan;
+  const LsaoSettings* s;
+  const float* depth;    // W·H, background as NaN
+  const float* normals;  // prepared, 3 per pixel; only for tangent strategies 1 and 2
+  float inv_r;           // 1/r = 1/(C R²)
+  std::vector<std::vector<int>> directions_of;  // per plan.lines entry: the directions using it
+  float* buffer;                                // the sweep's records
+};
+
+// Per worker: the samples of a batch's lines, transposed (step s of lane l at s·N + l), each
+// lane's stack the same way, and the values before they go to the records.
+struct SweepScratch {
+  std::vector<std::vector<LsaoSample>> samples;  // per lane, line order
+  std::vector<float> x, y, d, hx, hy, hd, value;
+};
+
+}  // namespace aolab::lsao_simd
+#endif  // AOLAB_LSAO_SIMD_SHARED_
+
+HWY_BEFORE_NAMESPACE();
+namespace aolab::HWY_NAMESPACE {
+namespace {
+namespace hn = hwy::HWY_NAMESPACE;
+using DF = hn::ScalableTag<float>;
+using VF = hn::Vec<DF>;
+using MF = hn::Mask<DF>;
+using lsao_simd::Axis;
+using lsao_simd::Inputs;
+using lsao_simd::Scratch;
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// floor for |x| < 2^62 (the scalar code's floor_ll).
+inline long long FloorLL(double x) {
+  const long long t = (long long)x;
+  return t - (double(t) > x ? 1 : 0);
+}
+
+// The samples of one axis whose texel lies in map rows [row_lo, row_hi) (image rows), written
+// into the maps at their texel: depth, and Σ w_k O_k of the axis's directions. Samples are
+// visited in buffer order and a texel keeps its first, as the scalar code's strict "nearer"
+// keeps the first of equally near samples.
+void FillMaps(const Inputs& in, const Axis& axis, int row_lo, int row_hi, int map_row0,
+              Scratch& s) {
+  const LsaoPlan& plan = *in.plan;
+  const LsaoLines& lines = plan.lines[std::size_t(axis.lines)];
+  const SweepDirection& d = plan.directions[std::size_t(lines.direction)];
+  const float* buffer = in.sweep->buffer.data();
+  const std::size_t stride = std::size_t(plan.stride[std::size_t(axis.lines)]);
+  const std::size_t base = plan.base[std::size_t(axis.lines)];
+  int slot[2] = {0, 0};
+  double weight[2] = {0.0, 0.0};
+  for (int n = 0; n < 2; ++n)
+    if (axis.k[n] >= 0) {
+      slot[n] = plan.slot[std::size_t(axis.k[n])];
+      weight[n] = plan.directions[std::size_t(axis.k[n])].weight;
+    }
+  // Empty texels: NaN depth (the pair value of an empty texel is never read).
+  std::fill(s.depth.begin(), s.depth.end(), kNaN);
+  const double lo = row_lo - 1.0, hi = row_hi + 1.0;  // line positions that can snap inside
+  for (const LsaoLine& line : lines.lines) {
+    if (line.count == 0) continue;
+    long long j_lo = line.first, j_hi = line.first + line.count - 1;
+    if (d.step_y == 0.0) {
+      if (!(line.origin_y >= lo && line.origin_y <= hi)) continue;
+    } else {
+      const double ja = (lo - line.origin_y) / d.step_y, jb = (hi - line.origin_y) / d.step_y;
+      j_lo = std::max(j_lo, -FloorLL(-std::min(ja, jb)));
+      j_hi = std::min(j_hi, FloorLL(std::max(ja, jb)));
+    }
+    for (long long j = j_lo; j <= j_hi; ++j) {
+      double sx, sy;
+      lsao_sample_position(line, d, int(j), sx, sy);
+      const long long ty = FloorLL(sy);
+      if (ty < row_lo || ty >= row_hi) continue;
+      const std::size_t i = line.offset + std::size_t(j - line.first);
+      const float* record = buffer + base + i * stride;
+      const float dq = record[0];
+      if (!(dq == dq)) continue;  // background sample: no value
+      const std::size_t m = std::size_t(ty - row_lo + map_row0) * std::size_t(in.map_stride) +
+                            std::size_t(in.pad_left + FloorLL(sx));
+      if (s.depth[m] == s.depth[m]) continue;  // the texel keeps its first sample
+      s.depth[m] = dq;
+      double pair = 0.0;
+      for (int n = 0; n < 2; ++n)
+        if (axis.k[n] >= 0) pair += weight[n] * double(record[slot[n]]);
+      s.pair[m] = float(pair);
+    }
+  }
+}
+
+// The prepared normals of image rows [row_lo, row_hi) as three padded planes.
+void FillNormals(const Inputs& in, int row_lo, int row_hi, int map_row0, Scratch& s) {
+  for (int y = row_lo; y < row_hi; ++y) {
+    const std::size_t m =
+        std::size_t(y - row_lo + map_row0) * std::size_t(in.map_stride) + std::size_t(in.pad_left);
+    const float* n = in.normals + 3 * std::size_t(y) * std::size_t(in.width);
+    for (int x = 0; x < in.width; ++x) {
+      s.nx[m + x] = n[3 * x], s.ny[m + x] = n[3 * x + 1], s.nz[m + x] = n[3 * x + 2];
+    }
+  }
+}
+
+// One band: per axis, the maps, then every pixel's nearest passing sample (and nearest sample
+// regardless); then A = 1 − Σ w O / Σ w.
+void GatherBand(const Inputs& in, int band, Scratch& s, float* out_image) {
+  const DF df;
+  const int y0 = band * lsao_simd::kBandRows;
+  const int y1 = std::min(in.height, y0 + lsao_simd::kBandRows);
+  const int row_lo = std::max(0, y0 - in.reach), row_hi = std::min(in.height, y1 + in.reach);
+  const int map_row0 = row_lo - (y0 - in.reach);  // map row of image row row_lo
+  const std::size_t ms = std::size_t(in.map_stride);
+  for (auto* v : {&s.sum, &s.weight, &s.sum_any, &s.weight_any})
+    std::fill(v->begin(), v->end(), 0.0f);
+  if (in.normal_aware) {
+    // Rows outside the image are never read: their depth map stays NaN.
+    FillNormals(in, row_lo, row_hi, map_row0, s);
+  }
+  const VF tolerance = hn::Set(df, in.tolerance);
+  const VF normal_cos = hn::Set(df, kLsaoGatherNormalCos);
+  for (const Axis& axis : in.axes) {
+    FillMaps(in, axis, row_lo, row_hi, map_row0, s);
+    const VF pair_weight = hn::Set(df, axis.pair_weight);
+    for (int y = y0; y < y1; ++y) {
+      const float* depth_row = in.depth + std::size_t(y) * std::size_t(in.width);
+      // Map index of (x = 0, y): y is map row y − y0 + reach.
+      const std::size_t centre = std::size_t(y - y0 + in.reach) * ms + std::size_t(in.pad_left);
+      const std::size_t acc_row = std::size_t(y - y0) * ms;
+      ForEachRowVector(df, in.width, [&](int x0, int count) {
+        const VF dp = LoadRowPart(df, depth_row + x0, count);
+        const MF geometry = hn::Eq(dp, dp);
+        const VF limit = hn::Mul(tolerance, dp);
+        VF npx, npy, npz;
+        if (in.normal_aware) {
+          const std::size_t c = centre + std::size_t(x0);
+          npx = hn::LoadU(df, s.nx.data() + c), npy = hn::LoadU(df, s.ny.data() + c);
+          npz = hn::LoadU(df, s.nz.data() + c);
+        }
+        // Background pixels are done before they start (they stay 1).
+        MF found = hn::Not(geometry), found_any = found;
+        VF pair = hn::Zero(df), pair_any = hn::Zero(df);
+        for (const lsao_simd::Offset& o : axis.stencil) {
+          const std::size_t m = std::size_t(std::ptrdiff_t(centre) + std::ptrdiff_t(x0) +
+                                            std::ptrdiff_t(o.dy) * std::ptrdiff_t(ms) + o.dx);
+          const VF dq = hn::LoadU(df, s.depth.data() + m);
+          const MF sample = hn::Eq(dq, dq);
+          const MF first_any = hn::AndNot(found_any, sample);
+          MF pass = hn::And(hn::AndNot(found, sample), hn::Le(hn::Abs(hn::Sub(dq, dp)), limit));
+          if (in.normal_aware && !hn::AllFalse(df, pass)) {
+            const VF dot = hn::Add(hn::Add(hn::Mul(npx, hn::LoadU(df, s.nx.data() + m)),
+                                           hn::Mul(npy, hn::LoadU(df, s.ny.data() + m))),
+                                   hn::Mul(npz, hn::LoadU(df, s.nz.data() + m)));
+            pass = hn::And(pass, hn::Ge(dot, normal_cos));
+          }
+          if (!hn::AllFalse(df, hn::Or(first_any, pass))) {
+            const VF value = hn::LoadU(df, s.pair.data() + m);
+            pair_any = hn::IfThenElse(first_any, value, pair_any);
+            pair = hn::IfThenElse(pass, value, pair);
+            found_any = hn::Or(found_any, first_any);
+            found = hn::Or(found, pass);
+            // A passing sample is also the nearest of all or nearer ones were taken before.
+            if (hn::AllTrue(df, found)) break;
+          }
+        }
+        const MF tested = hn::And(found, geometry), any = hn::And(found_any, geometry);
+        float* sum = s.sum.data() + acc_row + x0;
+        float* weight = s.weight.data() + acc_row + x0;
+        float* sum_any = s.sum_any.data() + acc_row + x0;
+        float* weight_any = s.weight_any.data() + acc_row + x0;
+        hn::StoreU(hn::Add(hn::LoadU(df, sum), hn::IfThenElseZero(tested, pair)), df, sum);
+        hn::StoreU(hn::Add(hn::LoadU(df, weight), hn::IfThenElseZero(tested, pair_weight)), df,
+                   weight);
+        hn::StoreU(hn::Add(hn::LoadU(df, sum_any), hn::IfThenElseZero(any, pair_any)), df, sum_any);
+        hn::StoreU(hn::Add(hn::LoadU(df, weight_any), hn::IfThenElseZero(any, pair_weight)), df,
+                   weight_any);
+      });
+    }
+  }
+  // A = 1 − Σ w_k O_k / Σ w_k over the directions taken; with none passing the tests, the
+  // nearest values regardless; with none at all, 1.
+  const VF one = hn::Set(df, 1.0f), zero = hn::Zero(df);
+  for (int y = y0; y < y1; ++y) {
+    const std::size_t acc_row = std::size_t(y - y0) * ms;
+    float* out = out_image + std::size_t(y) * std::size_t(in.width);
+    ForEachRowVector(df, in.width, [&](int x0, int count) {
+      const std::size_t a = acc_row + std::size_t(x0);
+      const VF weight = hn::LoadU(df, s.weight.data() + a);
+      const MF tested = hn::Gt(weight, zero);
+      const VF total = hn::IfThenElse(tested, weight, hn::LoadU(df, s.weight_any.data() + a));
+      const VF sum = hn::IfThenElse(tested, hn::LoadU(df, s.sum.data() + a),
+                                    hn::LoadU(df, s.sum_any.data() + a));
+      const MF some = hn::Gt(total, zero);
+      const VF ao = hn::Sub(one, hn::Div(sum, hn::IfThenElse(some, total, one)));
+      const VF result = hn::IfThenElse(some, hn::Min(hn::Max(ao, zero), one), one);
+      StoreRowPart(df, result, count, out + x0);
+    });
+  }
+}
+
+// ---- The sweep: Algorithm 1 on Lanes lines of one direction at once ----
+
+using DI = hn::RebindToSigned<DF>;
+using VI = hn::Vec<DI>;
+using MI = hn::Mask<DI>;
+using lsao_simd::SweepInputs;
+using lsao_simd::SweepScratch;
+
+// The slice of a direction (lsao.cpp, make_slice): per direction D, E and Δo·D per pixel; per
+// lane (line) c_L and κ.
+struct SliceV {
+  VF dx, dy, ex, ey, along_fx, along_fy, cx, cy;
+  VF c_line, kappa;
+};
+
+// The receiver p of each lane: position, o_p·D and û.
+struct ReceiverV {
+  VF x, y, d, o_along, ua, uz;
+};
+
+// evaluate(): eq. 1's terms for occluder q seen from p.
+struct EvalV {
+  VF crit, sin_h, rho, rest;
+  MF zero;
+};
+
+HWY_INLINE EvalV Evaluate(DF df, const SliceV& s, const ReceiverV& p, VF qx, VF qy, VF qd,
+                          VF sin_t_hull, VF inv_r, LsaoFalloff falloff) {
+  const VF dx = hn::Sub(qx, p.x), dy = hn::Sub(qy, p.y), dd = hn::Sub(qd, p.d);
+  const VF ha = hn::Add(hn::Mul(qd, hn::Add(hn::Mul(dx, s.along_fx), hn::Mul(dy, s.along_fy))),
+                        hn::Mul(p.o_along, dd));
+  const VF hz = hn::Neg(hn::Mul(s.kappa, dd));
+  const VF len2 = hn::Add(hn::Mul(ha, ha), hn::Mul(hz, hz));
+  EvalV e;
+  e.zero = hn::Eq(len2, hn::Zero(df));
+  const VF one = hn::Set(df, 1.0f);
+  const VF safe = hn::IfThenElse(e.zero, one, len2);
+  e.sin_h = hn::IfThenZeroElse(
+      e.zero, hn::Div(hn::Add(hn::Mul(ha, p.ua), hn::Mul(hz, p.uz)), hn::Sqrt(safe)));
+  // lsao_falloff(d²/r): an overflowing q2 gives ρ = 0.
+  const VF q2 = hn::Mul(len2, inv_r);
+  const MF finite = hn::Lt(q2, hn::Set(df, std::numeric_limits<float>::infinity()));
+  VF rho, rest;
+  if (falloff == LsaoFalloff::Cutoff) {
+    const MF within = hn::Le(hn::Mul(q2, hn::Set(df, kLsaoFalloffOffset)), one);
+    rho = hn::IfThenElseZero(within, one);
+    rest = hn::IfThenZeroElse(within, one);
+  } else {
+    rho = hn::Div(one, hn::Add(one, q2));
+    rest = hn::Mul(q2, rho);
+    if (falloff == LsaoFalloff::Eq3) {
+      const VF c = hn::Set(df, kLsaoFalloffOffset), c1 = hn::Set(df, 1.0f + kLsaoFalloffOffset);
+      rho = hn::Max(hn::Zero(df), hn::Sub(hn::Mul(c1, rho), c));
+      rest = hn::Min(one, hn::Mul(c1, rest));
+    }
+  }
+  const MF weighed = hn::AndNot(e.zero, finite);
+  e.rho = hn::IfThenElseZero(weighed, rho);
+  e.rest = hn::IfThenElse(weighed, rest, one);
+  e.crit = hn::Mul(hn::Max(hn::Zero(df), hn::Sub(e.sin_h, sin_t_hull)), e.rho);
+  return e;
+}
+
+HWY_INLINE EvalV Select(MF m, const EvalV& a, const EvalV& b) {
+  return {hn::IfThenElse(m, a.crit, b.crit), hn::IfThenElse(m, a.sin_h, b.sin_h),
+          hn::IfThenElse(m, a.rho, b.rho), hn::IfThenElse(m, a.rest, b.rest),
+          hn::Or(hn::And(m, a.zero), hn::AndNot(m, b.zero))};
+}
+
+// Lines [l0, l1) of plan.lines[li] (at most Lanes of them): sampled once, swept in each
+// direction that uses them, their records written.
+void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch& sc) {
+  const DF df;
+  const DI di;
+  const int N = int(hn::Lanes(df));
+  const LsaoPlan& plan = *in.plan;
+  const LsaoSettings& set = *in.s;
+  const LsaoLines& lines = plan.lines[std::size_t(li)];
+  const int lanes = l1 - l0;
+  const std::size_t stride = std::size_t(plan.stride[std::size_t(li)]);
+  const LsaoSampling sampling = LsaoSampling(set.sampling);
+  const LsaoTangent strategy = LsaoTangent(set.tangent_strategy);
+  const LsaoFalloff falloff = LsaoFalloff(set.falloff);
+  sc.samples.resize(std::size_t(N));
+  int steps = 0;
+  for (int lane = 0; lane < lanes; ++lane) {
+    std::vector<LsaoSample>& samples = sc.samples[std::size_t(lane)];
+    lsao_line_samples(plan, in.depth, sampling, li, l0 + lane, samples);
+    const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
+    float* records = in.buffer + plan.depth_index(li, line.offset);
+    for (std::size_t i = 0; i < samples.size(); ++i) records[i * stride] = samples[i].depth;
+    steps = std::max(steps, int(samples.size()));
+  }
+  const std::size_t size = std::size_t(steps) * std::size_t(N);
+  for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.hx, &sc.hy, &sc.hd, &sc.value})
+    if (v->size() < size) v->resize(size);
+  const CameraIntrinsics& cam = plan.camera;
+  const float fixed = set.tangent_sin;
+  const VF inv_r = hn::Set(df, in.inv_r), fixed_v = hn::Set(df, fixed);
+  const VI lane_index = hn::Iota(di, 0), n_v = hn::Set(di, N);
+
+  for (int k : in.directions_of[std::size_t(li)]) {
+    const SweepDirection& dir = plan.directions[std::size_t(k)];
+    const bool reversed = plan.reversed[std::size_t(k)];
+    // make_slice, as lsao.cpp computes it.
+    const double ox = dir.step_x / cam.fx, oy = -dir.step_y / cam.fy;
+    const double len = std::hypot(ox, oy);
+    const float sdx = float(ox / len), sdy = float(oy / len), sex = -sdy, sey = sdx;
+    SliceV s;
+    s.dx = hn::Set(df, sdx), s.dy = hn::Set(df, sdy), s.ex = hn::Set(df, sex);
+    s.ey = hn::Set(df, sey);
+    s.along_fx = hn::Set(df, float(double(sdx) / cam.fx));
+    s.along_fy = hn::Set(df, float(-double(sdy) / cam.fy));
+    s.cx = hn::Set(df, cam.cx), s.cy = hn::Set(df, cam.cy);
+    HWY_ALIGN float c_line[hn::MaxLanes(df)], kappa[hn::MaxLanes(df)];
+    for (int lane = 0; lane < N; ++lane) {
+      const LsaoLine& line = lines.lines[std::size_t(l0 + std::min(lane, lanes - 1))];
+      const double c =
+          (line.origin_x - cam.cx) / cam.fx * sex - (line.origin_y - cam.cy) / cam.fy * sey;
+      c_line[lane] = float(c), kappa[lane] = float(std::sqrt(1.0 + c * c));
+    }
+    s.c_line = hn::Load(df, c_line), s.kappa = hn::Load(df, kappa);
+
+    // The samples in sweep order, transposed; past a line's end, background (NaN).
+    for (int lane = 0; lane < N; ++lane) {
+      const std::vector<LsaoSample>* samples =
+          lane < lanes ? &sc.samples[std::size_t(lane)] : nullptr;
+      const int n = samples ? int(samples->size()) : 0;
+      for (int step = 0; step < steps; ++step) {
+        const std::size_t t = std::size_t(step) * std::size_t(N) + std::size_t(lane);
+        if (step < n) {
+          const LsaoSample& q = (*samples)[std::size_t(reversed ? n - 1 - step : step)];
+          sc.x[t] = q.x, sc.y[t] = q.y, sc.d[t] = q.depth;
+        } else {
+          sc.x[t] = 0.5f, sc.y[t] = 0.5f, sc.d[t] = kNaN;
+        }
+      }
+    }
+
+    VI sp = hn::Zero(di);                                        // stack sizes
+    VF tx = hn::Zero(df), ty = hn::Zero(df), td = hn::Zero(df);  // stack tops
+    for (int step = 0; step < steps; ++step) {
+      const std::size_t t = std::size_t(step) * std::size_t(N);
+      ReceiverV p;
+      p.x = hn::LoadU(df, sc.x.data() + t), p.y = hn::LoadU(df, sc.y.data() + t);
+      p.d = hn::LoadU(df, sc.d.data() + t);
+      const MF geometry = hn::Eq(p.d, p.d);  // background: no receiver, never an occluder
+      const MI geometry_i = hn::RebindMask(di, geometry);
+      p.o_along =
+          hn::Add(hn::Mul(hn::Sub(p.x, s.cx), s.along_fx), hn::Mul(hn::Sub(p.y, s.cy), s.along_fy));
+      {
+        const VF ua = hn::Neg(p.o_along);
+        const VF norm = hn::Sqrt(hn::Add(hn::Mul(ua, ua), hn::Mul(s.kappa, s.kappa)));
+        p.ua = hn::Div(ua, norm), p.uz = hn::Div(s.kappa, norm);
+      }
+      VF sin_t_hull = fixed_v, sin_t_obscurance = fixed_v;
+      if (strategy != LsaoTangent::Fixed) {
+        // real_tangent_sin at the sample's texel.
+        const VI texel = hn::Add(hn::Mul(hn::ConvertTo(di, p.y), hn::Set(di, plan.width)),
+                                 hn::ConvertTo(di, p.x));
+        const VI at = hn::IfThenElseZero(geometry_i, hn::Mul(texel, hn::Set(di, 3)));
+        const VF n0 = hn::GatherIndex(df, in.normals, at);
+        const VF n1 = hn::GatherIndex(df, in.normals + 1, at);
+        const VF n2 = hn::GatherIndex(df, in.normals + 2, at);
+        const VF na = hn::Add(hn::Mul(n0, s.dx), hn::Mul(n1, s.dy));
+        const VF nz = hn::Div(
+            hn::Sub(n2, hn::Mul(s.c_line, hn::Add(hn::Mul(n0, s.ex), hn::Mul(n1, s.ey)))), s.kappa);
+        const VF ne = hn::Add(hn::Mul(hn::Neg(na), p.uz), hn::Mul(nz, p.ua));
+        const VF nu = hn::Max(hn::Zero(df), hn::Add(hn::Mul(na, p.ua), hn::Mul(nz, p.uz)));
+        const VF den = hn::Sqrt(hn::Add(hn::Mul(ne, ne), hn::Mul(nu, nu)));
+        const MF open = hn::Gt(den, hn::Zero(df));
+        sin_t_obscurance = hn::IfThenElse(
+            open, hn::Div(hn::Neg(ne), hn::IfThenElse(open, den, hn::Set(df, 1.0f))), fixed_v);
+        if (strategy == LsaoTangent::Real) sin_t_hull = sin_t_obscurance;
+      }
+      auto below_index = [&](VI level) {  // stack slot `level` of every lane
+        return hn::Add(hn::Mul(hn::Max(level, hn::Zero(di)), n_v), lane_index);
+      };
+      // A top at p's own position is no occluder: p replaces it.
+      EvalV top = Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff);
+      for (;;) {
+        const MI nonempty = hn::And(geometry_i, hn::Gt(sp, hn::Zero(di)));
+        const MI zero = hn::And(nonempty, hn::RebindMask(di, top.zero));
+        if (hn::AllFalse(di, zero)) break;
+        sp = hn::IfThenElse(zero, hn::Sub(sp, hn::Set(di, 1)), sp);
+        const VI at = below_index(hn::Sub(sp, hn::Set(di, 1)));
+        const MF z = hn::RebindMask(df, zero);
+        tx = hn::IfThenElse(z, hn::GatherIndex(df, sc.hx.data(), at), tx);
+        ty = hn::IfThenElse(z, hn::GatherIndex(df, sc.hy.data(), at), ty);
+        td = hn::IfThenElse(z, hn::GatherIndex(df, sc.hd.data(), at), td);
+        top = Select(z, Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff), top);
+      }
+      const MI has = hn::And(geometry_i, hn::Gt(sp, hn::Zero(di)));
+      // Algorithm 1, lines 12–18: pop while the top casts less than the point below it and
+      // lies below it.
+      for (;;) {
+        const MI two = hn::And(has, hn::Gt(sp, hn::Set(di, 1)));
+        if (hn::AllFalse(di, two)) break;
+        const VI at = below_index(hn::Sub(sp, hn::Set(di, 2)));
+        const VF bx = hn::GatherIndex(df, sc.hx.data(), at);
+        const VF by = hn::GatherIndex(df, sc.hy.data(), at);
+        const VF bd = hn::GatherIndex(df, sc.hd.data(), at);
+        const EvalV below = Evaluate(df, s, p, bx, by, bd, sin_t_hull, inv_r, falloff);
+        const MF pop = hn::And(hn::RebindMask(df, two), hn::And(hn::Lt(top.crit, below.crit),
+                                                                hn::Lt(top.sin_h, below.sin_h)));
+        if (hn::AllFalse(df, pop)) break;
+        sp = hn::IfThenElse(hn::RebindMask(di, pop), hn::Sub(sp, hn::Set(di, 1)), sp);
+        tx = hn::IfThenElse(pop, bx, tx), ty = hn::IfThenElse(pop, by, ty);
+        td = hn::IfThenElse(pop, bd, td);
+        top = Select(pop, below, top);
+      }
+      // hull_search: the next entries under the top, not popped.
+      for (int j = 0; j < set.hull_search; ++j) {
+        const VI level = hn::Sub(sp, hn::Set(di, 2 + j));
+        const MI in_stack = hn::And(has, hn::Gt(level, hn::Set(di, -1)));
+        if (hn::AllFalse(di, in_stack)) break;
+        const VI at = below_index(level);
+        const EvalV e = Evaluate(df, s, p, hn::GatherIndex(df, sc.hx.data(), at),
+                                 hn::GatherIndex(df, sc.hy.data(), at),
+                                 hn::GatherIndex(df, sc.hd.data(), at), sin_t_hull, inv_r, falloff);
+        top = Select(hn::And(hn::RebindMask(df, in_stack), hn::Gt(e.crit, top.crit)), e, top);
+      }
+      // Lines 20 and 28: ρ sin h + (1 − ρ) sin t where sin h > sin t, else sin t.
+      const MF occluded = hn::And(hn::RebindMask(df, has), hn::Gt(top.sin_h, sin_t_obscurance));
+      VF result = hn::IfThenElse(
+          occluded, hn::Add(hn::Mul(top.rho, top.sin_h), hn::Mul(top.rest, sin_t_obscurance)),
+          sin_t_obscurance);
+      result = hn::IfThenElse(geometry, result, hn::Set(df, kNaN));
+      hn::StoreU(result, df, sc.value.data() + t);
+      // Line 21: push p. Slots at and above a lane's stack size are dead, so a lane that does
+      // not push may write its slot.
+      const VI at = hn::Add(hn::Mul(sp, n_v), lane_index);
+      hn::ScatterIndex(p.x, df, sc.hx.data(), at);
+      hn::ScatterIndex(p.y, df, sc.hy.data(), at);
+      hn::ScatterIndex(p.d, df, sc.hd.data(), at);
+      sp = hn::IfThenElse(geometry_i, hn::Add(sp, hn::Set(di, 1)), sp);
+      tx = hn::IfThenElse(geometry, p.x, tx), ty = hn::IfThenElse(geometry, p.y, ty);
+      td = hn::IfThenElse(geometry, p.d, td);
+    }
+    // The values into the records, in line order.
+    for (int lane = 0; lane < lanes; ++lane) {
+      const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
+      float* values = in.buffer + plan.depth_index(li, line.offset) + plan.slot[std::size_t(k)];
+      const int n = int(sc.samples[std::size_t(lane)].size());
+      for (int step = 0; step < n; ++step) {
+        const int i = reversed ? n - 1 - step : step;
+        values[std::size_t(i) * stride] =
+            sc.value[std::size_t(step) * std::size_t(N) + std::size_t(lane)];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+// The exported entries (HWY_EXPORT needs namespace-scope functions).
+void LsaoGatherBand(const Inputs& in, int band, Scratch& s, float* out) {
+  GatherBand(in, band, s, out);
+}
+void LsaoSweepBatch(const SweepInputs& in, int li, int l0, int l1, SweepScratch& s) {
+  SweepBatchImpl(in, li, l0, l1, s);
+}
+int LsaoSweepLanes() { return int(hn::Lanes(DF())); }  // the vector length chosen at run time
+
+}  // namespace aolab::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace aolab {
+
+HWY_EXPORT(LsaoGatherBand);
+HWY_EXPORT(LsaoSweepBatch);
+HWY_EXPORT(LsaoSweepLanes);
+
+namespace {
+
+// The axes and their stencils: the texel offsets within the direction's gather radius (the
+// scalar code's spans), nearest first; equal distances in the order the scalar code offers
+// samples — lines in increasing order across the sweep, then samples along it — so the first
+// of equally near passing samples is the scalar code's pick.
+std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, double line_spacing, int& reach) {
+  std::vector<lsao_simd::Axis> axes(plan.lines.size());
+  reach = 0;
+  for (std::size_t li = 0; li < plan.lines.size(); ++li) {
+    lsao_simd::Axis& a = axes[li];
+    a.lines = int(li);
+    const SweepDirection& d = plan.directions[std::size_t(plan.lines[li].direction)];
+    const double radius = lsao_gather_radius(d, line_spacing), radius2 = radius * radius;
+    const int r = int(radius);
+    reach = std::max(reach, r);
+    for (int dy = -r; dy <= r; ++dy) {
+      int span = 0;
+      while (double((span + 1) * (span + 1) + dy * dy) <= radius2) ++span;
+      for (int dx = -span; dx <= span; ++dx) a.stencil.push_back({dx, dy});
+    }
+    // Line l's samples lie across at (phase + l·D_L) along (−u_y, u_x); along it, sample j at
+    // j·step: the offset's projections order them as the buffer does.
+    const double sx = d.step_x, sy = d.step_y;
+    std::stable_sort(a.stencil.begin(), a.stencil.end(),
+                     [&](const lsao_simd::Offset& p, const lsao_simd::Offset& q) {
+                       const int dp = p.dx * p.dx + p.dy * p.dy, dq = q.dx * q.dx + q.dy * q.dy;
+                       if (dp != dq) return dp < dq;
+                       const double ap = -p.dx * sy + p.dy * sx, aq = -q.dx * sy + q.dy * sx;
+                       if (ap != aq) return ap < aq;
+                       return p.dx * sx + p.dy * sy < q.dx * sx + q.dy * sy;
+                     });
+  }
+  for (int k = 0; k < int(plan.directions.size()); ++k) {
+    lsao_simd::Axis& a = axes[std::size_t(plan.lines_of[std::size_t(k)])];
+    a.k[a.k[0] < 0 ? 0 : 1] = k;
+  }
+  for (lsao_simd::Axis& a : axes) {
+    double w = 0.0;
+    for (int k : a.k)
+      if (k >= 0) w += plan.directions[std::size_t(k)].weight;
+    a.pair_weight = float(w);
+  }
+  return axes;
+}
+
+}  // namespace
+
+Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
+                       const RunOptions& options) {
+  const LsaoPlan& plan = sweep.plan;
+  // Interpolated samples sit between texels: no texel map. Uniform sets' lines are not lines
+  // of texel centres, so the order of their snapped samples across the lines is not the
+  // lines' order and the stencil cannot encode the tie rule: both run the scalar gather.
+  const bool aligned =
+      std::all_of(plan.directions.begin(), plan.directions.end(),
+                  [](const SweepDirection& d) { return d.lattice_x != 0 || d.lattice_y != 0; });
+  if (LsaoSampling(s.sampling) == LsaoSampling::Interpolate || !aligned)
+    return lsao_gather(g, s, sweep, options);
+  CHECK_EQ(plan.width, g.width());
+  CHECK_EQ(plan.height, g.height());
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  Image normals;
+  if (s.normal_aware_gather) normals = prepared_normals(g, threads);
+
+  lsao_simd::Inputs in;
+  in.plan = &plan;
+  in.sweep = &sweep;
+  in.axes = make_axes(plan, s.line_spacing, in.reach);
+  in.depth = depth.data();
+  in.normals = normals.data();
+  in.normal_aware = s.normal_aware_gather;
+  in.tolerance = s.gather_depth_tolerance;
+  in.width = w, in.height = h;
+  // Columns: reach on the left; on the right reach and a whole vector, so a row's last vector
+  // reads the map past its end (those lanes are dropped).
+  in.pad_left = in.reach;
+  in.map_stride = in.reach + w + in.reach + HWY_DYNAMIC_DISPATCH(LsaoSweepLanes)();
+  in.map_rows = lsao_simd::kBandRows + 2 * in.reach;
+
+  Image out(w, h, 1, 1.0f);
+  const int bands = (h + lsao_simd::kBandRows - 1) / lsao_simd::kBandRows;
+  if (options.progress) options.progress->total += bands;
+  parallel_for_rows(
+      bands, threads,
+      [&](int b0, int b1) {
+        lsao_simd::Scratch scratch(in);
+        for (int b = b0; b < b1; ++b)
+          HWY_DYNAMIC_DISPATCH(LsaoGatherBand)(in, b, scratch, out.data());
+      },
+      options.progress, 1);
+  return out;
+}
+
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
+  g.validate();
+  LsaoSweep sweep;
+  sweep.plan = lsao_plan(g, s);
+  const LsaoPlan& plan = sweep.plan;
+  const int threads = resolve_threads(options.threads);
+  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  Image normals;
+  if (LsaoTangent(s.tangent_strategy) != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
+  sweep.buffer.assign(plan.buffer_size, std::numeric_limits<float>::quiet_NaN());
+
+  lsao_simd::SweepInputs in;
+  in.plan = &plan;
+  in.s = &s;
+  in.depth = depth.data();
+  in.normals = normals.data();
+  const double radius = s.radius;
+  in.inv_r = float(1.0 / (double(kLsaoFalloffOffset) * radius * radius));
+  in.directions_of.resize(plan.lines.size());
+  for (int k = 0; k < int(plan.directions.size()); ++k)
+    in.directions_of[std::size_t(plan.lines_of[std::size_t(k)])].push_back(k);
+  in.buffer = sweep.buffer.data();
+
+  // Batches of Lanes consecutive lines of one set (their lengths differ little, so few lanes
+  // idle). A line's values depend on its own lane only: the same bits for any thread count.
+  const int lanes = HWY_DYNAMIC_DISPATCH(LsaoSweepLanes)();
+  struct Batch {
+    int li, l0, l1;
+  };
+  std::vector<Batch> batches;
+  for (int li = 0; li < int(plan.lines.size()); ++li) {
+    const auto& ls = plan.lines[std::size_t(li)].lines;
+    int l = 0;
+    while (l < int(ls.size())) {
+      if (ls[std::size_t(l)].count == 0) {
+        ++l;
+        continue;
+      }
+      int e = l;
+      while (e < int(ls.size()) && e - l < lanes && ls[std::size_t(e)].count > 0) ++e;
+      batches.push_back({li, l, e});
+      l = e;
+    }
+  }
+  if (options.progress) options.progress->total += std::int64_t(batches.size());
+  parallel_for_rows(
+      int(batches.size()), threads,
+      [&](int b0, int b1) {
+        lsao_simd::SweepScratch scratch;
+        for (int b = b0; b < b1; ++b) {
+          const Batch& batch = batches[std::size_t(b)];
+          HWY_DYNAMIC_DISPATCH(LsaoSweepBatch)(in, batch.li, batch.l0, batch.l1, scratch);
+        }
+      },
+      options.progress, 1);
+  return sweep;
+}
+
+}  // namespace aolab
+#endif  // HWY_ONCE
