@@ -69,7 +69,8 @@ void BM_LsaoGather(benchmark::State& state) {
   RunOptions opt;
   opt.threads = int(state.range(0));
   const bool simd = state.range(1) == 0;
-  const LsaoSweep sweep = lsao_sweep(g, settings(), opt);
+  const LsaoSweep sweep =
+      simd ? lsao_sweep_simd(g, settings(), opt) : lsao_sweep(g, settings(), opt);
   for (auto _ : state)
     benchmark::DoNotOptimize(simd ? lsao_gather_simd(g, settings(), sweep, opt)
                                   : lsao_gather(g, settings(), sweep, opt));

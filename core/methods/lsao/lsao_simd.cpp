@@ -51,10 +51,11 @@ struct Offset {
 
 // A pair of opposite directions sharing their samples, as the gather sees it.
 struct Axis {
-  int lines = 0;                // index into plan.lines
-  int k[2] = {-1, -1};          // its directions (k[1] = −1 if only one)
-  float pair_weight = 0;        // Σ w_k over them
-  std::vector<Offset> stencil;  // nearest first; equal distances in buffer order
+  int lines = 0;                           // index into plan.lines
+  int k[2] = {-1, -1};                     // its directions (k[1] = −1 if only one)
+  float pair_weight = 0;                   // Σ w_k over them
+  std::size_t first_run = 0, end_run = 0;  // its runs in sweep.texel_runs
+  std::vector<Offset> stencil;             // nearest first; equal distances in buffer order
 };
 
 // Rows per band: a band's maps (rows + 2·reach, padded width) and its four accumulators stay
@@ -102,6 +103,7 @@ struct SweepInputs {
   float inv_r;           // 1/r = 1/(C R²)
   std::vector<std::vector<int>> directions_of;  // per plan.lines entry: the directions using it
   float* buffer;                                // the sweep's records
+  bool texel_runs;  // also the records of the SIMD gather (LsaoTexelRun)
 };
 
 // Per worker: the samples of a batch's lines, transposed (step s of lane l at s·N + l), each
@@ -127,61 +129,27 @@ using lsao_simd::Scratch;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// floor for |x| < 2^62 (the scalar code's floor_ll).
-inline long long FloorLL(double x) {
-  const long long t = (long long)x;
-  return t - (double(t) > x ? 1 : 0);
-}
-
-// The samples of one axis whose texel lies in map rows [row_lo, row_hi) (image rows), written
-// into the maps at their texel: depth, and Σ w_k O_k of the axis's directions. Samples are
-// visited in buffer order and a texel keeps its first, as the scalar code's strict "nearer"
-// keeps the first of equally near samples.
+// The samples of one axis whose texel lies in image rows [row_lo, row_hi), written into the
+// maps at their texel: depth, and Σ w_k O_k of the axis's directions. The runs' records are
+// read in buffer order and a texel keeps its first, as the scalar code's strict "nearer" keeps
+// the first of equally near samples.
 void FillMaps(const Inputs& in, const Axis& axis, int row_lo, int row_hi, int map_row0,
               Scratch& s) {
-  const LsaoPlan& plan = *in.plan;
-  const LsaoLines& lines = plan.lines[std::size_t(axis.lines)];
-  const SweepDirection& d = plan.directions[std::size_t(lines.direction)];
-  const float* buffer = in.sweep->buffer.data();
-  const std::size_t stride = std::size_t(plan.stride[std::size_t(axis.lines)]);
-  const std::size_t base = plan.base[std::size_t(axis.lines)];
-  int slot[2] = {0, 0};
-  double weight[2] = {0.0, 0.0};
-  for (int n = 0; n < 2; ++n)
-    if (axis.k[n] >= 0) {
-      slot[n] = plan.slot[std::size_t(axis.k[n])];
-      weight[n] = plan.directions[std::size_t(axis.k[n])].weight;
-    }
-  // Empty texels: NaN depth (the pair value of an empty texel is never read).
-  std::fill(s.depth.begin(), s.depth.end(), kNaN);
-  const double lo = row_lo - 1.0, hi = row_hi + 1.0;  // line positions that can snap inside
-  for (const LsaoLine& line : lines.lines) {
-    if (line.count == 0) continue;
-    long long j_lo = line.first, j_hi = line.first + line.count - 1;
-    if (d.step_y == 0.0) {
-      if (!(line.origin_y >= lo && line.origin_y <= hi)) continue;
-    } else {
-      const double ja = (lo - line.origin_y) / d.step_y, jb = (hi - line.origin_y) / d.step_y;
-      j_lo = std::max(j_lo, -FloorLL(-std::min(ja, jb)));
-      j_hi = std::min(j_hi, FloorLL(std::max(ja, jb)));
-    }
-    for (long long j = j_lo; j <= j_hi; ++j) {
-      double sx, sy;
-      lsao_sample_position(line, d, int(j), sx, sy);
-      const long long ty = FloorLL(sy);
-      if (ty < row_lo || ty >= row_hi) continue;
-      const std::size_t i = line.offset + std::size_t(j - line.first);
-      const float* record = buffer + base + i * stride;
-      const float dq = record[0];
-      if (!(dq == dq)) continue;  // background sample: no value
-      const std::size_t m = std::size_t(ty - row_lo + map_row0) * std::size_t(in.map_stride) +
-                            std::size_t(in.pad_left + FloorLL(sx));
+  std::fill(s.depth.begin(), s.depth.end(), kNaN);  // empty texels (their pair is never read)
+  const std::vector<LsaoTexelRun>& runs = in.sweep->texel_runs;
+  const int b0 = row_lo / kLsaoRecordRows, b1 = (row_hi - 1) / kLsaoRecordRows;
+  const std::ptrdiff_t origin = std::ptrdiff_t(map_row0 - row_lo) * in.map_stride + in.pad_left;
+  for (std::size_t r = axis.first_run; r < axis.end_run; ++r) {
+    const LsaoTexelRun& run = runs[r];
+    const LsaoTexelRecord* record = run.records.data() + run.bucket_start[std::size_t(b0)];
+    const LsaoTexelRecord* end = run.records.data() + run.bucket_start[std::size_t(b1) + 1];
+    for (; record < end; ++record) {
+      if (record->y < row_lo || record->y >= row_hi) continue;
+      const std::size_t m =
+          std::size_t(origin + std::ptrdiff_t(record->y) * in.map_stride + record->x);
       if (s.depth[m] == s.depth[m]) continue;  // the texel keeps its first sample
-      s.depth[m] = dq;
-      double pair = 0.0;
-      for (int n = 0; n < 2; ++n)
-        if (axis.k[n] >= 0) pair += weight[n] * double(record[slot[n]]);
-      s.pair[m] = float(pair);
+      s.depth[m] = record->depth;
+      s.pair[m] = record->pair;
     }
   }
 }
@@ -365,7 +333,8 @@ HWY_INLINE EvalV Select(MF m, const EvalV& a, const EvalV& b) {
 
 // Lines [l0, l1) of plan.lines[li] (at most Lanes of them): sampled once, swept in each
 // direction that uses them, their records written.
-void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch& sc) {
+void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch& sc,
+                    LsaoTexelRun* run) {
   const DF df;
   const DI di;
   const int N = int(hn::Lanes(df));
@@ -545,6 +514,36 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       }
     }
   }
+  if (run) {
+    // The geometry samples by rows of texels for the gather; buckets filled in line order, so
+    // each keeps buffer order. Σ w_k O_k in direction order, in double, as the scalar gather.
+    const std::vector<int>& ks = in.directions_of[std::size_t(li)];
+    const int buckets = (plan.height + kLsaoRecordRows - 1) / kLsaoRecordRows;
+    run->lines_index = li;
+    run->bucket_start.assign(std::size_t(buckets) + 1, 0);
+    for (int lane = 0; lane < lanes; ++lane)
+      for (const LsaoSample& q : sc.samples[std::size_t(lane)])
+        if (q.depth == q.depth) ++run->bucket_start[std::size_t(int(q.y) / kLsaoRecordRows) + 1];
+    for (int b = 0; b < buckets; ++b)
+      run->bucket_start[std::size_t(b) + 1] += run->bucket_start[std::size_t(b)];
+    run->records.resize(run->bucket_start.back());
+    std::vector<std::uint32_t> cursor(run->bucket_start.begin(), run->bucket_start.end() - 1);
+    for (int lane = 0; lane < lanes; ++lane) {
+      const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
+      const float* records = in.buffer + plan.depth_index(li, line.offset);
+      const std::vector<LsaoSample>& samples = sc.samples[std::size_t(lane)];
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        const LsaoSample& q = samples[i];
+        if (!(q.depth == q.depth)) continue;
+        double pair = 0.0;
+        for (int k : ks)
+          pair += plan.directions[std::size_t(k)].weight *
+                  double(records[i * stride + std::size_t(plan.slot[std::size_t(k)])]);
+        run->records[cursor[std::size_t(int(q.y) / kLsaoRecordRows)]++] = {
+            std::int32_t(q.x), std::int32_t(q.y), q.depth, float(pair)};
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -553,8 +552,9 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
 void LsaoGatherBand(const Inputs& in, int band, Scratch& s, float* out) {
   GatherBand(in, band, s, out);
 }
-void LsaoSweepBatch(const SweepInputs& in, int li, int l0, int l1, SweepScratch& s) {
-  SweepBatchImpl(in, li, l0, l1, s);
+void LsaoSweepBatch(const SweepInputs& in, int li, int l0, int l1, SweepScratch& s,
+                    LsaoTexelRun* run) {
+  SweepBatchImpl(in, li, l0, l1, s, run);
 }
 int LsaoSweepLanes() { return int(hn::Lanes(DF())); }  // the vector length chosen at run time
 
@@ -570,11 +570,23 @@ HWY_EXPORT(LsaoSweepLanes);
 
 namespace {
 
+// Whether lsao_gather_simd's texel maps hold every sample at its own place: aligned sets (their
+// lines are lines of texel centres) with snapped samples. Otherwise (interpolated samples sit
+// between texels; a uniform set's snapped samples are not ordered across by their lines, so
+// the stencil's order is not the tie rule) the scalar gather runs.
+bool texel_maps_apply(const LsaoPlan& plan, const LsaoSettings& s) {
+  const bool aligned =
+      std::all_of(plan.directions.begin(), plan.directions.end(),
+                  [](const SweepDirection& d) { return d.lattice_x != 0 || d.lattice_y != 0; });
+  return aligned && LsaoSampling(s.sampling) == LsaoSampling::Snap;
+}
+
 // The axes and their stencils: the texel offsets within the direction's gather radius (the
 // scalar code's spans), nearest first; equal distances in the order the scalar code offers
 // samples — lines in increasing order across the sweep, then samples along it — so the first
 // of equally near passing samples is the scalar code's pick.
-std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, double line_spacing, int& reach) {
+std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, const std::vector<LsaoTexelRun>& runs,
+                                       double line_spacing, int& reach) {
   std::vector<lsao_simd::Axis> axes(plan.lines.size());
   reach = 0;
   for (std::size_t li = 0; li < plan.lines.size(); ++li) {
@@ -605,6 +617,11 @@ std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, double line_spacing
     lsao_simd::Axis& a = axes[std::size_t(plan.lines_of[std::size_t(k)])];
     a.k[a.k[0] < 0 ? 0 : 1] = k;
   }
+  for (std::size_t r = 0; r < runs.size(); ++r) {  // runs are in plan.lines order
+    lsao_simd::Axis& a = axes[std::size_t(runs[r].lines_index)];
+    if (a.end_run == 0) a.first_run = r;
+    a.end_run = r + 1;
+  }
   for (lsao_simd::Axis& a : axes) {
     double w = 0.0;
     for (int k : a.k)
@@ -619,13 +636,8 @@ std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, double line_spacing
 Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
                        const RunOptions& options) {
   const LsaoPlan& plan = sweep.plan;
-  // Interpolated samples sit between texels: no texel map. Uniform sets' lines are not lines
-  // of texel centres, so the order of their snapped samples across the lines is not the
-  // lines' order and the stencil cannot encode the tie rule: both run the scalar gather.
-  const bool aligned =
-      std::all_of(plan.directions.begin(), plan.directions.end(),
-                  [](const SweepDirection& d) { return d.lattice_x != 0 || d.lattice_y != 0; });
-  if (LsaoSampling(s.sampling) == LsaoSampling::Interpolate || !aligned)
+  // Without texel records (another setting, or a sweep from lsao_sweep) the scalar gather.
+  if (!texel_maps_apply(plan, s) || sweep.texel_runs.empty())
     return lsao_gather(g, s, sweep, options);
   CHECK_EQ(plan.width, g.width());
   CHECK_EQ(plan.height, g.height());
@@ -638,7 +650,7 @@ Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep&
   lsao_simd::Inputs in;
   in.plan = &plan;
   in.sweep = &sweep;
-  in.axes = make_axes(plan, s.line_spacing, in.reach);
+  in.axes = make_axes(plan, sweep.texel_runs, s.line_spacing, in.reach);
   in.depth = depth.data();
   in.normals = normals.data();
   in.normal_aware = s.normal_aware_gather;
@@ -686,6 +698,7 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
   for (int k = 0; k < int(plan.directions.size()); ++k)
     in.directions_of[std::size_t(plan.lines_of[std::size_t(k)])].push_back(k);
   in.buffer = sweep.buffer.data();
+  in.texel_runs = texel_maps_apply(plan, s);
 
   // Batches of Lanes consecutive lines of one set (their lengths differ little, so few lanes
   // idle). A line's values depend on its own lane only: the same bits for any thread count.
@@ -708,6 +721,7 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
       l = e;
     }
   }
+  if (in.texel_runs) sweep.texel_runs.resize(batches.size());
   if (options.progress) options.progress->total += std::int64_t(batches.size());
   parallel_for_rows(
       int(batches.size()), threads,
@@ -715,7 +729,9 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
         lsao_simd::SweepScratch scratch;
         for (int b = b0; b < b1; ++b) {
           const Batch& batch = batches[std::size_t(b)];
-          HWY_DYNAMIC_DISPATCH(LsaoSweepBatch)(in, batch.li, batch.l0, batch.l1, scratch);
+          HWY_DYNAMIC_DISPATCH(LsaoSweepBatch)
+          (in, batch.li, batch.l0, batch.l1, scratch,
+           in.texel_runs ? &sweep.texel_runs[std::size_t(b)] : nullptr);
         }
       },
       options.progress, 1);
