@@ -52,7 +52,7 @@ void BM_LsaoSweep(benchmark::State& state) {
   opt.threads = int(state.range(0));
   const bool simd = state.range(1) == 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(simd ? lsao_sweep_simd(g, settings(), opt)
+    benchmark::DoNotOptimize(simd ? lsao_sweep_simd(g, settings(), opt, false)
                                   : lsao_sweep(g, settings(), opt));
   state.counters["values"] = double(lsao_plan(g, settings()).value_count);
 }

@@ -328,7 +328,9 @@ Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
 /// The SIMD sweep (lsao_simd.cpp, Kernel::Simd): Algorithm 1 on a vector of parallel lines at
 /// once; lsao_sweep's buffer within the tolerance of tests/cpp/methods/lsao/lsao_simd_test.cpp
 /// (the same samples and depths; the values rounded differently).
-LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {});
+/// keep_buffer = false leaves `buffer` empty where lsao_gather_simd reads texel_runs instead.
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {},
+                          bool keep_buffer = true);
 
 /// The SIMD gather (lsao_simd.cpp, Kernel::Simd): lsao_gather's result within the tolerance
 /// of tests/cpp/methods/lsao/lsao_simd_test.cpp (it picks the same samples; the weighted sums

@@ -109,8 +109,9 @@ struct SweepInputs {
 // Per worker: the samples of a batch's lines, transposed (step s of lane l at s·N + l), each
 // lane's stack the same way, and the values before they go to the records.
 struct SweepScratch {
-  std::vector<std::vector<LsaoSample>> samples;  // per lane, line order
-  std::vector<float> x, y, d, hx, hy, hd, value;
+  std::vector<LsaoSample> samples;  // one line, line order (interpolated sampling)
+  std::vector<float> x, y, d, hx, hy, hd, value, value2;
+  std::vector<std::uint32_t> cursor;
 };
 
 }  // namespace aolab::lsao_simd
@@ -128,6 +129,12 @@ using lsao_simd::Inputs;
 using lsao_simd::Scratch;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// floor for |x| < 2^62 (the scalar code's floor_ll).
+inline long long FloorLL(double x) {
+  const long long t = (long long)x;
+  return t - (double(t) > x ? 1 : 0);
+}
 
 // The samples of one axis whose texel lies in image rows [row_lo, row_hi), written into the
 // maps at their texel: depth, and Σ w_k O_k of the axis's directions. The runs' records are
@@ -346,19 +353,54 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
   const LsaoSampling sampling = LsaoSampling(set.sampling);
   const LsaoTangent strategy = LsaoTangent(set.tangent_strategy);
   const LsaoFalloff falloff = LsaoFalloff(set.falloff);
-  sc.samples.resize(std::size_t(N));
+  // The samples of the lines, transposed (row r of lane l at r·N + l) and aligned at their
+  // ends: lane l's sample i is on row steps − n_l + i, the rows before it are background. The
+  // forward sweep walks the rows up, the opposite one down: both read the same rows.
   int steps = 0;
-  for (int lane = 0; lane < lanes; ++lane) {
-    std::vector<LsaoSample>& samples = sc.samples[std::size_t(lane)];
-    lsao_line_samples(plan, in.depth, sampling, li, l0 + lane, samples);
-    const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
-    float* records = in.buffer + plan.depth_index(li, line.offset);
-    for (std::size_t i = 0; i < samples.size(); ++i) records[i * stride] = samples[i].depth;
-    steps = std::max(steps, int(samples.size()));
-  }
+  for (int lane = 0; lane < lanes; ++lane)
+    steps = std::max(steps, lines.lines[std::size_t(l0 + lane)].count);
   const std::size_t size = std::size_t(steps) * std::size_t(N);
-  for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.hx, &sc.hy, &sc.hd, &sc.value})
+  for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.hx, &sc.hy, &sc.hd, &sc.value, &sc.value2})
     if (v->size() < size) v->resize(size);
+  auto row_of = [&](int lane, int i) {
+    return std::size_t(steps - lines.lines[std::size_t(l0 + lane)].count + i);
+  };
+  for (int lane = 0; lane < N; ++lane) {
+    const int n = lane < lanes ? lines.lines[std::size_t(l0 + lane)].count : 0;
+    for (int r = 0; r < steps - n; ++r) {
+      const std::size_t at = std::size_t(r) * std::size_t(N) + std::size_t(lane);
+      sc.x[at] = 0.5f, sc.y[at] = 0.5f, sc.d[at] = kNaN;
+    }
+    if (n == 0) continue;
+    const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
+    float* records = in.buffer ? in.buffer + plan.depth_index(li, line.offset) : nullptr;
+    float* x = sc.x.data() + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
+    float* y = sc.y.data() + (x - sc.x.data());
+    float* d = sc.d.data() + (x - sc.x.data());
+    if (sampling == LsaoSampling::Snap) {
+      // lsao_line_samples with snapping: the containing texel's centre and depth.
+      const SweepDirection& dir = plan.directions[std::size_t(lines.direction)];
+      for (int i = 0; i < n; ++i) {
+        double px, py;
+        lsao_sample_position(line, dir, line.first + i, px, py);
+        const long long tx = FloorLL(px), ty = FloorLL(py);
+        x[std::size_t(i) * std::size_t(N)] = float(tx) + 0.5f;
+        y[std::size_t(i) * std::size_t(N)] = float(ty) + 0.5f;
+        d[std::size_t(i) * std::size_t(N)] =
+            in.depth[std::size_t(ty) * std::size_t(plan.width) + std::size_t(tx)];
+      }
+    } else {
+      lsao_line_samples(plan, in.depth, sampling, li, l0 + lane, sc.samples);
+      for (int i = 0; i < n; ++i) {
+        const LsaoSample& q = sc.samples[std::size_t(i)];
+        x[std::size_t(i) * std::size_t(N)] = q.x, y[std::size_t(i) * std::size_t(N)] = q.y;
+        d[std::size_t(i) * std::size_t(N)] = q.depth;
+      }
+    }
+    if (records)
+      for (int i = 0; i < n; ++i)
+        records[std::size_t(i) * stride] = d[std::size_t(i) * std::size_t(N)];
+  }
   const CameraIntrinsics& cam = plan.camera;
   const float fixed = set.tangent_sin;
   const VF inv_r = hn::Set(df, in.inv_r), fixed_v = hn::Set(df, fixed);
@@ -386,26 +428,12 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
     }
     s.c_line = hn::Load(df, c_line), s.kappa = hn::Load(df, kappa);
 
-    // The samples in sweep order, transposed; past a line's end, background (NaN).
-    for (int lane = 0; lane < N; ++lane) {
-      const std::vector<LsaoSample>* samples =
-          lane < lanes ? &sc.samples[std::size_t(lane)] : nullptr;
-      const int n = samples ? int(samples->size()) : 0;
-      for (int step = 0; step < steps; ++step) {
-        const std::size_t t = std::size_t(step) * std::size_t(N) + std::size_t(lane);
-        if (step < n) {
-          const LsaoSample& q = (*samples)[std::size_t(reversed ? n - 1 - step : step)];
-          sc.x[t] = q.x, sc.y[t] = q.y, sc.d[t] = q.depth;
-        } else {
-          sc.x[t] = 0.5f, sc.y[t] = 0.5f, sc.d[t] = kNaN;
-        }
-      }
-    }
+    float* value = (k == in.directions_of[std::size_t(li)][0] ? sc.value : sc.value2).data();
 
     VI sp = hn::Zero(di);                                        // stack sizes
     VF tx = hn::Zero(df), ty = hn::Zero(df), td = hn::Zero(df);  // stack tops
     for (int step = 0; step < steps; ++step) {
-      const std::size_t t = std::size_t(step) * std::size_t(N);
+      const std::size_t t = std::size_t(reversed ? steps - 1 - step : step) * std::size_t(N);
       ReceiverV p;
       p.x = hn::LoadU(df, sc.x.data() + t), p.y = hn::LoadU(df, sc.y.data() + t);
       p.d = hn::LoadU(df, sc.d.data() + t);
@@ -491,7 +519,7 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
           occluded, hn::Add(hn::Mul(top.rho, top.sin_h), hn::Mul(top.rest, sin_t_obscurance)),
           sin_t_obscurance);
       result = hn::IfThenElse(geometry, result, hn::Set(df, kNaN));
-      hn::StoreU(result, df, sc.value.data() + t);
+      hn::StoreU(result, df, value + t);
       // Line 21: push p. Slots at and above a lane's stack size are dead, so a lane that does
       // not push may write its slot.
       const VI at = hn::Add(hn::Mul(sp, n_v), lane_index);
@@ -502,45 +530,55 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       tx = hn::IfThenElse(geometry, p.x, tx), ty = hn::IfThenElse(geometry, p.y, ty);
       td = hn::IfThenElse(geometry, p.d, td);
     }
+  }
+  const std::vector<int>& ks = in.directions_of[std::size_t(li)];
+  const float* values[2] = {sc.value.data(), sc.value2.data()};
+  if (in.buffer) {
     // The values into the records, in line order.
     for (int lane = 0; lane < lanes; ++lane) {
       const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
-      float* values = in.buffer + plan.depth_index(li, line.offset) + plan.slot[std::size_t(k)];
-      const int n = int(sc.samples[std::size_t(lane)].size());
-      for (int step = 0; step < n; ++step) {
-        const int i = reversed ? n - 1 - step : step;
-        values[std::size_t(i) * stride] =
-            sc.value[std::size_t(step) * std::size_t(N) + std::size_t(lane)];
+      float* records = in.buffer + plan.depth_index(li, line.offset);
+      for (std::size_t n = 0; n < ks.size(); ++n) {
+        float* out = records + plan.slot[std::size_t(ks[n])];
+        const float* v = values[n] + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
+        for (int i = 0; i < line.count; ++i)
+          out[std::size_t(i) * stride] = v[std::size_t(i) * std::size_t(N)];
       }
     }
   }
   if (run) {
     // The geometry samples by rows of texels for the gather; buckets filled in line order, so
     // each keeps buffer order. Σ w_k O_k in direction order, in double, as the scalar gather.
-    const std::vector<int>& ks = in.directions_of[std::size_t(li)];
     const int buckets = (plan.height + kLsaoRecordRows - 1) / kLsaoRecordRows;
+    double weight[2] = {0.0, 0.0};
+    for (std::size_t n = 0; n < ks.size(); ++n)
+      weight[n] = plan.directions[std::size_t(ks[n])].weight;
     run->lines_index = li;
     run->bucket_start.assign(std::size_t(buckets) + 1, 0);
-    for (int lane = 0; lane < lanes; ++lane)
-      for (const LsaoSample& q : sc.samples[std::size_t(lane)])
-        if (q.depth == q.depth) ++run->bucket_start[std::size_t(int(q.y) / kLsaoRecordRows) + 1];
+    for (int lane = 0; lane < lanes; ++lane) {
+      const int n = lines.lines[std::size_t(l0 + lane)].count;
+      for (int i = 0; i < n; ++i) {
+        const std::size_t at = row_of(lane, i) * std::size_t(N) + std::size_t(lane);
+        if (sc.d[at] == sc.d[at])
+          ++run->bucket_start[std::size_t(int(sc.y[at]) / kLsaoRecordRows) + 1];
+      }
+    }
     for (int b = 0; b < buckets; ++b)
       run->bucket_start[std::size_t(b) + 1] += run->bucket_start[std::size_t(b)];
     run->records.resize(run->bucket_start.back());
-    std::vector<std::uint32_t> cursor(run->bucket_start.begin(), run->bucket_start.end() - 1);
+    std::vector<std::uint32_t>& cursor = sc.cursor;
+    cursor.assign(run->bucket_start.begin(), run->bucket_start.end() - 1);
     for (int lane = 0; lane < lanes; ++lane) {
-      const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
-      const float* records = in.buffer + plan.depth_index(li, line.offset);
-      const std::vector<LsaoSample>& samples = sc.samples[std::size_t(lane)];
-      for (std::size_t i = 0; i < samples.size(); ++i) {
-        const LsaoSample& q = samples[i];
-        if (!(q.depth == q.depth)) continue;
+      const int n = lines.lines[std::size_t(l0 + lane)].count;
+      for (int i = 0; i < n; ++i) {
+        const std::size_t at = row_of(lane, i) * std::size_t(N) + std::size_t(lane);
+        const float depth = sc.d[at];
+        if (!(depth == depth)) continue;
         double pair = 0.0;
-        for (int k : ks)
-          pair += plan.directions[std::size_t(k)].weight *
-                  double(records[i * stride + std::size_t(plan.slot[std::size_t(k)])]);
-        run->records[cursor[std::size_t(int(q.y) / kLsaoRecordRows)]++] = {
-            std::int32_t(q.x), std::int32_t(q.y), q.depth, float(pair)};
+        for (std::size_t m = 0; m < ks.size(); ++m) pair += weight[m] * double(values[m][at]);
+        const int ty = int(sc.y[at]);
+        run->records[cursor[std::size_t(ty / kLsaoRecordRows)]++] = {std::int32_t(sc.x[at]), ty,
+                                                                     depth, float(pair)};
       }
     }
   }
@@ -676,7 +714,8 @@ Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep&
   return out;
 }
 
-LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options,
+                          bool keep_buffer) {
   g.validate();
   LsaoSweep sweep;
   sweep.plan = lsao_plan(g, s);
@@ -685,7 +724,6 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
   const std::vector<float> depth = depth_with_background_as_nan(g, threads);
   Image normals;
   if (LsaoTangent(s.tangent_strategy) != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
-  sweep.buffer.assign(plan.buffer_size, std::numeric_limits<float>::quiet_NaN());
 
   lsao_simd::SweepInputs in;
   in.plan = &plan;
@@ -697,8 +735,12 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
   in.directions_of.resize(plan.lines.size());
   for (int k = 0; k < int(plan.directions.size()); ++k)
     in.directions_of[std::size_t(plan.lines_of[std::size_t(k)])].push_back(k);
-  in.buffer = sweep.buffer.data();
   in.texel_runs = texel_maps_apply(plan, s);
+  // The gather reads the texel runs where they apply; the buffer is then only for callers that
+  // ask for it (the scalar gather, tests).
+  if (keep_buffer || !in.texel_runs)
+    sweep.buffer.assign(plan.buffer_size, std::numeric_limits<float>::quiet_NaN());
+  in.buffer = sweep.buffer.empty() ? nullptr : sweep.buffer.data();
 
   // Batches of Lanes consecutive lines of one set (their lengths differ little, so few lanes
   // idle). A line's values depend on its own lane only: the same bits for any thread count.
