@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -283,7 +284,8 @@ struct LsaoTexelRecord {
 /// gather reads the samples near a band of rows contiguously.
 struct LsaoTexelRun {
   int lines_index = 0;
-  std::vector<LsaoTexelRecord> records;
+  /// bucket_start.back() records (not value-initialised: each is written once by the sweep).
+  std::unique_ptr<LsaoTexelRecord[]> records;
   std::vector<std::uint32_t> bucket_start;  ///< per bucket of rows, and the end
 };
 constexpr int kLsaoRecordRows = 4;

@@ -106,11 +106,12 @@ struct SweepInputs {
   bool texel_runs;  // also the records of the SIMD gather (LsaoTexelRun)
 };
 
-// Per worker: the samples of a batch's lines, transposed (step s of lane l at s·N + l), each
-// lane's stack the same way, and the values before they go to the records.
+// Per worker: the samples of a batch's lines, transposed (row r of lane l at r·N + l), each
+// lane's stack links the same way, and the values before they go to the records.
 struct SweepScratch {
   std::vector<LsaoSample> samples;  // one line, line order (interpolated sampling)
-  std::vector<float> x, y, d, hx, hy, hd, value, value2;
+  std::vector<float> x, y, d, value, value2;
+  std::vector<std::int32_t> link;
   std::vector<std::uint32_t> cursor;
 };
 
@@ -148,8 +149,8 @@ void FillMaps(const Inputs& in, const Axis& axis, int row_lo, int row_hi, int ma
   const std::ptrdiff_t origin = std::ptrdiff_t(map_row0 - row_lo) * in.map_stride + in.pad_left;
   for (std::size_t r = axis.first_run; r < axis.end_run; ++r) {
     const LsaoTexelRun& run = runs[r];
-    const LsaoTexelRecord* record = run.records.data() + run.bucket_start[std::size_t(b0)];
-    const LsaoTexelRecord* end = run.records.data() + run.bucket_start[std::size_t(b1) + 1];
+    const LsaoTexelRecord* record = run.records.get() + run.bucket_start[std::size_t(b0)];
+    const LsaoTexelRecord* end = run.records.get() + run.bucket_start[std::size_t(b1) + 1];
     for (; record < end; ++record) {
       if (record->y < row_lo || record->y >= row_hi) continue;
       const std::size_t m =
@@ -360,8 +361,9 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
   for (int lane = 0; lane < lanes; ++lane)
     steps = std::max(steps, lines.lines[std::size_t(l0 + lane)].count);
   const std::size_t size = std::size_t(steps) * std::size_t(N);
-  for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.hx, &sc.hy, &sc.hd, &sc.value, &sc.value2})
+  for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.value, &sc.value2})
     if (v->size() < size) v->resize(size);
+  if (sc.link.size() < size) sc.link.resize(size);
   auto row_of = [&](int lane, int i) {
     return std::size_t(steps - lines.lines[std::size_t(l0 + lane)].count + i);
   };
@@ -430,8 +432,14 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
 
     float* value = (k == in.directions_of[std::size_t(li)][0] ? sc.value : sc.value2).data();
 
+    // The stack of each lane as a linked list through the rows: an entry is the sample of the
+    // row where it was pushed (its position is already in x, y, d), and link[row] names the
+    // row of the entry below it. A push is then a contiguous store of the links, not a
+    // scatter of positions; reaching an entry under the top takes one more gather.
+    std::int32_t* link = sc.link.data();
     VI sp = hn::Zero(di);                                        // stack sizes
-    VF tx = hn::Zero(df), ty = hn::Zero(df), td = hn::Zero(df);  // stack tops
+    VI top_row = hn::Zero(di);                                   // row of the top entry
+    VF tx = hn::Zero(df), ty = hn::Zero(df), td = hn::Zero(df);  // its position
     for (int step = 0; step < steps; ++step) {
       const std::size_t t = std::size_t(reversed ? steps - 1 - step : step) * std::size_t(N);
       ReceiverV p;
@@ -466,8 +474,9 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
             open, hn::Div(hn::Neg(ne), hn::IfThenElse(open, den, hn::Set(df, 1.0f))), fixed_v);
         if (strategy == LsaoTangent::Real) sin_t_hull = sin_t_obscurance;
       }
-      auto below_index = [&](VI level) {  // stack slot `level` of every lane
-        return hn::Add(hn::Mul(hn::Max(level, hn::Zero(di)), n_v), lane_index);
+      auto at_row = [&](VI row) { return hn::Add(hn::Mul(row, n_v), lane_index); };
+      auto link_below = [&](MI m, VI row) {  // the row under `row` where m, else 0
+        return hn::IfThenElseZero(m, hn::GatherIndex(di, link, at_row(hn::IfThenElseZero(m, row))));
       };
       // A top at p's own position is no occluder: p replaces it.
       EvalV top = Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff);
@@ -476,11 +485,12 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
         const MI zero = hn::And(nonempty, hn::RebindMask(di, top.zero));
         if (hn::AllFalse(di, zero)) break;
         sp = hn::IfThenElse(zero, hn::Sub(sp, hn::Set(di, 1)), sp);
-        const VI at = below_index(hn::Sub(sp, hn::Set(di, 1)));
+        top_row = hn::IfThenElse(zero, link_below(zero, top_row), top_row);
+        const VI at = at_row(top_row);
         const MF z = hn::RebindMask(df, zero);
-        tx = hn::IfThenElse(z, hn::GatherIndex(df, sc.hx.data(), at), tx);
-        ty = hn::IfThenElse(z, hn::GatherIndex(df, sc.hy.data(), at), ty);
-        td = hn::IfThenElse(z, hn::GatherIndex(df, sc.hd.data(), at), td);
+        tx = hn::IfThenElse(z, hn::GatherIndex(df, sc.x.data(), at), tx);
+        ty = hn::IfThenElse(z, hn::GatherIndex(df, sc.y.data(), at), ty);
+        td = hn::IfThenElse(z, hn::GatherIndex(df, sc.d.data(), at), td);
         top = Select(z, Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff), top);
       }
       const MI has = hn::And(geometry_i, hn::Gt(sp, hn::Zero(di)));
@@ -489,28 +499,32 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       for (;;) {
         const MI two = hn::And(has, hn::Gt(sp, hn::Set(di, 1)));
         if (hn::AllFalse(di, two)) break;
-        const VI at = below_index(hn::Sub(sp, hn::Set(di, 2)));
-        const VF bx = hn::GatherIndex(df, sc.hx.data(), at);
-        const VF by = hn::GatherIndex(df, sc.hy.data(), at);
-        const VF bd = hn::GatherIndex(df, sc.hd.data(), at);
+        const VI below_row = link_below(two, top_row);
+        const VI at = at_row(below_row);
+        const VF bx = hn::GatherIndex(df, sc.x.data(), at);
+        const VF by = hn::GatherIndex(df, sc.y.data(), at);
+        const VF bd = hn::GatherIndex(df, sc.d.data(), at);
         const EvalV below = Evaluate(df, s, p, bx, by, bd, sin_t_hull, inv_r, falloff);
         const MF pop = hn::And(hn::RebindMask(df, two), hn::And(hn::Lt(top.crit, below.crit),
                                                                 hn::Lt(top.sin_h, below.sin_h)));
         if (hn::AllFalse(df, pop)) break;
         sp = hn::IfThenElse(hn::RebindMask(di, pop), hn::Sub(sp, hn::Set(di, 1)), sp);
+        top_row = hn::IfThenElse(hn::RebindMask(di, pop), below_row, top_row);
         tx = hn::IfThenElse(pop, bx, tx), ty = hn::IfThenElse(pop, by, ty);
         td = hn::IfThenElse(pop, bd, td);
         top = Select(pop, below, top);
       }
       // hull_search: the next entries under the top, not popped.
+      VI row = top_row;
       for (int j = 0; j < set.hull_search; ++j) {
         const VI level = hn::Sub(sp, hn::Set(di, 2 + j));
         const MI in_stack = hn::And(has, hn::Gt(level, hn::Set(di, -1)));
         if (hn::AllFalse(di, in_stack)) break;
-        const VI at = below_index(level);
-        const EvalV e = Evaluate(df, s, p, hn::GatherIndex(df, sc.hx.data(), at),
-                                 hn::GatherIndex(df, sc.hy.data(), at),
-                                 hn::GatherIndex(df, sc.hd.data(), at), sin_t_hull, inv_r, falloff);
+        row = link_below(in_stack, row);
+        const VI at = at_row(row);
+        const EvalV e = Evaluate(df, s, p, hn::GatherIndex(df, sc.x.data(), at),
+                                 hn::GatherIndex(df, sc.y.data(), at),
+                                 hn::GatherIndex(df, sc.d.data(), at), sin_t_hull, inv_r, falloff);
         top = Select(hn::And(hn::RebindMask(df, in_stack), hn::Gt(e.crit, top.crit)), e, top);
       }
       // Lines 20 and 28: ρ sin h + (1 − ρ) sin t where sin h > sin t, else sin t.
@@ -522,11 +536,9 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       hn::StoreU(result, df, value + t);
       // Line 21: push p. Slots at and above a lane's stack size are dead, so a lane that does
       // not push may write its slot.
-      const VI at = hn::Add(hn::Mul(sp, n_v), lane_index);
-      hn::ScatterIndex(p.x, df, sc.hx.data(), at);
-      hn::ScatterIndex(p.y, df, sc.hy.data(), at);
-      hn::ScatterIndex(p.d, df, sc.hd.data(), at);
+      hn::StoreU(top_row, di, link + t);  // read only if this row's sample was pushed
       sp = hn::IfThenElse(geometry_i, hn::Add(sp, hn::Set(di, 1)), sp);
+      top_row = hn::IfThenElse(geometry_i, hn::Set(di, std::int32_t(t / std::size_t(N))), top_row);
       tx = hn::IfThenElse(geometry, p.x, tx), ty = hn::IfThenElse(geometry, p.y, ty);
       td = hn::IfThenElse(geometry, p.d, td);
     }
@@ -555,31 +567,56 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       weight[n] = plan.directions[std::size_t(ks[n])].weight;
     run->lines_index = li;
     run->bucket_start.assign(std::size_t(buckets) + 1, 0);
+    // A line's rows are monotonic: its samples come in stretches of one bucket, counted and
+    // placed with the bucket's counter in a register (a counter in memory, incremented per
+    // sample, made every sample wait for the previous one's store).
+    const bool two = ks.size() == 2;
     for (int lane = 0; lane < lanes; ++lane) {
       const int n = lines.lines[std::size_t(l0 + lane)].count;
+      const float* d = sc.d.data() + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
+      const float* y = sc.y.data() + (d - sc.d.data());
+      int bucket = -1;
+      std::uint32_t count = 0;
       for (int i = 0; i < n; ++i) {
-        const std::size_t at = row_of(lane, i) * std::size_t(N) + std::size_t(lane);
-        if (sc.d[at] == sc.d[at])
-          ++run->bucket_start[std::size_t(int(sc.y[at]) / kLsaoRecordRows) + 1];
+        const std::size_t at = std::size_t(i) * std::size_t(N);
+        if (!(d[at] == d[at])) continue;
+        const int b = int(y[at]) / kLsaoRecordRows;
+        if (b != bucket) {
+          if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
+          bucket = b, count = 0;
+        }
+        ++count;
       }
+      if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
     }
     for (int b = 0; b < buckets; ++b)
       run->bucket_start[std::size_t(b) + 1] += run->bucket_start[std::size_t(b)];
-    run->records.resize(run->bucket_start.back());
+    run->records.reset(new LsaoTexelRecord[run->bucket_start.back()]);
     std::vector<std::uint32_t>& cursor = sc.cursor;
     cursor.assign(run->bucket_start.begin(), run->bucket_start.end() - 1);
+    LsaoTexelRecord* records = run->records.get();
     for (int lane = 0; lane < lanes; ++lane) {
       const int n = lines.lines[std::size_t(l0 + lane)].count;
+      const std::size_t first = row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
+      const float *d = sc.d.data() + first, *x = sc.x.data() + first, *y = sc.y.data() + first;
+      const float *v0 = values[0] + first, *v1 = values[1] + first;
+      int bucket = -1;
+      std::uint32_t next = 0;
       for (int i = 0; i < n; ++i) {
-        const std::size_t at = row_of(lane, i) * std::size_t(N) + std::size_t(lane);
-        const float depth = sc.d[at];
+        const std::size_t at = std::size_t(i) * std::size_t(N);
+        const float depth = d[at];
         if (!(depth == depth)) continue;
-        double pair = 0.0;
-        for (std::size_t m = 0; m < ks.size(); ++m) pair += weight[m] * double(values[m][at]);
-        const int ty = int(sc.y[at]);
-        run->records[cursor[std::size_t(ty / kLsaoRecordRows)]++] = {std::int32_t(sc.x[at]), ty,
-                                                                     depth, float(pair)};
+        const int ty = int(y[at]);
+        const int b = ty / kLsaoRecordRows;
+        if (b != bucket) {
+          if (bucket >= 0) cursor[std::size_t(bucket)] = next;
+          bucket = b, next = cursor[std::size_t(b)];
+        }
+        double pair = weight[0] * double(v0[at]);
+        if (two) pair += weight[1] * double(v1[at]);
+        records[next++] = {std::int32_t(x[at]), ty, depth, float(pair)};
       }
+      if (bucket >= 0) cursor[std::size_t(bucket)] = next;
     }
   }
 }
