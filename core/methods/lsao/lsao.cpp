@@ -691,8 +691,7 @@ Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
 }
 
 Image lsao(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
-  if (options.kernel == Kernel::Simd)
-    return lsao_gather_simd(g, s, lsao_sweep_simd(g, s, options, false), options);
+  if (options.kernel == Kernel::Simd) return lsao_simd_kernel(g, s, options);
   const LsaoSweep sweep = lsao_sweep(g, s, options);
   return lsao_gather(g, s, sweep, options);
 }

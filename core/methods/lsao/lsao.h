@@ -327,6 +327,9 @@ inline double lsao_gather_radius(const SweepDirection& d, double line_spacing) {
 Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
                   const RunOptions& options = {});
 
+/// lsao() with Kernel::Simd: lsao_sweep_simd then lsao_gather_simd, the depth prepared once.
+Image lsao_simd_kernel(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {});
+
 /// The SIMD sweep (lsao_simd.cpp, Kernel::Simd): Algorithm 1 on a vector of parallel lines at
 /// once; lsao_sweep's buffer within the tolerance of tests/cpp/methods/lsao/lsao_simd_test.cpp
 /// (the same samples and depths; the values rounded differently).

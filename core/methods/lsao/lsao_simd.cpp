@@ -645,6 +645,13 @@ HWY_EXPORT(LsaoSweepLanes);
 
 namespace {
 
+// Work handed to a thread at a time. A task builds its scratch (the transposed samples and
+// links of a batch of lines, ~200 kB; a band's maps and sums) once: one batch or band per task
+// spent more time zeroing new scratch than sweeping. Enough tasks remain to balance the
+// threads (~50 sweep tasks and ~11 gather tasks at 1280×720).
+constexpr int kSweepBatchesPerTask = 16;
+constexpr int kGatherBandsPerTask = 4;
+
 // Whether lsao_gather_simd's texel maps hold every sample at its own place: aligned sets (their
 // lines are lines of texel centres) with snapped samples. Otherwise (interpolated samples sit
 // between texels; a uniform set's snapped samples are not ordered across by their lines, so
@@ -708,8 +715,10 @@ std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, const std::vector<L
 
 }  // namespace
 
-Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
-                       const RunOptions& options) {
+namespace {
+
+Image gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
+                  const RunOptions& options, const std::vector<float>* frame_depth) {
   const LsaoPlan& plan = sweep.plan;
   // Without texel records (another setting, or a sweep from lsao_sweep) the scalar gather.
   if (!texel_maps_apply(plan, s) || sweep.texel_runs.empty())
@@ -718,7 +727,8 @@ Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep&
   CHECK_EQ(plan.height, g.height());
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const std::vector<float> depth =
+      frame_depth ? std::vector<float>() : depth_with_background_as_nan(g, threads);
   Image normals;
   if (s.normal_aware_gather) normals = prepared_normals(g, threads);
 
@@ -726,7 +736,7 @@ Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep&
   in.plan = &plan;
   in.sweep = &sweep;
   in.axes = make_axes(plan, sweep.texel_runs, s.line_spacing, in.reach);
-  in.depth = depth.data();
+  in.depth = frame_depth ? frame_depth->data() : depth.data();
   in.normals = normals.data();
   in.normal_aware = s.normal_aware_gather;
   in.tolerance = s.gather_depth_tolerance;
@@ -747,25 +757,26 @@ Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep&
         for (int b = b0; b < b1; ++b)
           HWY_DYNAMIC_DISPATCH(LsaoGatherBand)(in, b, scratch, out.data());
       },
-      options.progress, 1);
+      options.progress, kGatherBandsPerTask);
   return out;
 }
 
-LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options,
-                          bool keep_buffer) {
+LsaoSweep sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options,
+                     bool keep_buffer, const std::vector<float>* frame_depth) {
   g.validate();
   LsaoSweep sweep;
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const std::vector<float> depth =
+      frame_depth ? std::vector<float>() : depth_with_background_as_nan(g, threads);
   Image normals;
   if (LsaoTangent(s.tangent_strategy) != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
 
   lsao_simd::SweepInputs in;
   in.plan = &plan;
   in.s = &s;
-  in.depth = depth.data();
+  in.depth = frame_depth ? frame_depth->data() : depth.data();
   in.normals = normals.data();
   const double radius = s.radius;
   in.inv_r = float(1.0 / (double(kLsaoFalloffOffset) * radius * radius));
@@ -813,8 +824,29 @@ LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOpti
            in.texel_runs ? &sweep.texel_runs[std::size_t(b)] : nullptr);
         }
       },
-      options.progress, 1);
+      options.progress, kSweepBatchesPerTask);
   return sweep;
+}
+
+}  // namespace
+
+Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
+                       const RunOptions& options) {
+  return gather_simd(g, s, sweep, options, nullptr);
+}
+
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options,
+                          bool keep_buffer) {
+  return sweep_simd(g, s, options, keep_buffer, nullptr);
+}
+
+Image lsao_simd_kernel(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
+  g.validate();
+  validate_lsao_settings(s);
+  // Both phases read the depth with background as NaN: made once.
+  const std::vector<float> depth =
+      depth_with_background_as_nan(g, resolve_threads(options.threads));
+  return gather_simd(g, s, sweep_simd(g, s, options, false, &depth), options, &depth);
 }
 
 }  // namespace aolab
