@@ -273,9 +273,11 @@ void lsao_line_samples(const LsaoPlan& plan, const float* depth, LsaoSampling sa
 /// K·W·H/(D_S·D_L) elements"), with each sample's depth beside the values of the (one or
 /// two) directions that visit it, so the gather reads one cache line per sample.
 /// A geometry sample as the SIMD gather reads it: its texel, depth and Σ w_k O_k over the
-/// directions sharing it (an opposite pair).
+/// directions sharing it (an opposite pair). 12 bytes: the sweep writes one per sample and
+/// the gather reads them back from memory, so their size is time (images up to 65535 pixels
+/// a side; larger ones run the scalar gather).
 struct LsaoTexelRecord {
-  std::int32_t x, y;
+  std::uint16_t x, y;
   float depth, pair;
 };
 

@@ -152,9 +152,9 @@ void FillMaps(const Inputs& in, const Axis& axis, int row_lo, int row_hi, int ma
     const LsaoTexelRecord* record = run.records.get() + run.bucket_start[std::size_t(b0)];
     const LsaoTexelRecord* end = run.records.get() + run.bucket_start[std::size_t(b1) + 1];
     for (; record < end; ++record) {
-      if (record->y < row_lo || record->y >= row_hi) continue;
-      const std::size_t m =
-          std::size_t(origin + std::ptrdiff_t(record->y) * in.map_stride + record->x);
+      const int y = record->y;
+      if (y < row_lo || y >= row_hi) continue;
+      const std::size_t m = std::size_t(origin + std::ptrdiff_t(y) * in.map_stride + record->x);
       if (s.depth[m] == s.depth[m]) continue;  // the texel keeps its first sample
       s.depth[m] = record->depth;
       s.pair[m] = record->pair;
@@ -614,7 +614,7 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
         }
         double pair = weight[0] * double(v0[at]);
         if (two) pair += weight[1] * double(v1[at]);
-        records[next++] = {std::int32_t(x[at]), ty, depth, float(pair)};
+        records[next++] = {std::uint16_t(x[at]), std::uint16_t(ty), depth, float(pair)};
       }
       if (bucket >= 0) cursor[std::size_t(bucket)] = next;
     }
@@ -660,7 +660,8 @@ bool texel_maps_apply(const LsaoPlan& plan, const LsaoSettings& s) {
   const bool aligned =
       std::all_of(plan.directions.begin(), plan.directions.end(),
                   [](const SweepDirection& d) { return d.lattice_x != 0 || d.lattice_y != 0; });
-  return aligned && LsaoSampling(s.sampling) == LsaoSampling::Snap;
+  return aligned && LsaoSampling(s.sampling) == LsaoSampling::Snap && plan.width <= 65535 &&
+         plan.height <= 65535;  // LsaoTexelRecord's coordinates
 }
 
 // The axes and their stencils: the texel offsets within the direction's gather radius (the
