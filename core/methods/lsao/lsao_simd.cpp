@@ -384,14 +384,32 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
     if (sampling == LsaoSampling::Snap) {
       // lsao_line_samples with snapping: the containing texel's centre and depth.
       const SweepDirection& dir = plan.directions[std::size_t(lines.direction)];
-      for (int i = 0; i < n; ++i) {
-        double px, py;
-        lsao_sample_position(line, dir, line.first + i, px, py);
-        const long long tx = FloorLL(px), ty = FloorLL(py);
-        x[std::size_t(i) * std::size_t(N)] = float(tx) + 0.5f;
-        y[std::size_t(i) * std::size_t(N)] = float(ty) + 0.5f;
-        d[std::size_t(i) * std::size_t(N)] =
-            in.depth[std::size_t(ty) * std::size_t(plan.width) + std::size_t(tx)];
+      // Lanes of doubles along the line: lsao_sample_position's operations (a multiply, then
+      // an add) and an exact floor, so the same texels; the depths gathered.
+      const hn::ScalableTag<double> dd;
+      const hn::Rebind<float, decltype(dd)> dh;
+      const hn::Rebind<std::int32_t, decltype(dd)> dih;
+      const int m = int(hn::Lanes(dd));
+      HWY_ALIGN float bx[hn::MaxLanes(dd)], by[hn::MaxLanes(dd)], bd[hn::MaxLanes(dd)];
+      const auto ox = hn::Set(dd, line.origin_x), oy = hn::Set(dd, line.origin_y);
+      const auto sx = hn::Set(dd, dir.step_x), sy = hn::Set(dd, dir.step_y);
+      const auto width = hn::Set(dd, double(plan.width));
+      const auto half = hn::Set(dh, 0.5f);
+      for (int i0 = 0; i0 < n; i0 += m) {
+        const int count = std::min(m, n - i0);
+        const auto j = hn::Iota(dd, double(line.first + i0));
+        const auto tx = hn::Floor(hn::Add(ox, hn::Mul(j, sx)));
+        const auto ty = hn::Floor(hn::Add(oy, hn::Mul(j, sy)));
+        const auto valid = hn::FirstN(dih, std::size_t(count));
+        const auto index =
+            hn::IfThenElseZero(valid, hn::DemoteTo(dih, hn::Add(hn::Mul(ty, width), tx)));
+        hn::Store(hn::Add(hn::DemoteTo(dh, tx), half), dh, bx);
+        hn::Store(hn::Add(hn::DemoteTo(dh, ty), half), dh, by);
+        hn::Store(hn::GatherIndex(dh, in.depth, index), dh, bd);
+        for (int k = 0; k < count; ++k) {
+          const std::size_t at = std::size_t(i0 + k) * std::size_t(N);
+          x[at] = bx[k], y[at] = by[k], d[at] = bd[k];
+        }
       }
     } else {
       lsao_line_samples(plan, in.depth, sampling, li, l0 + lane, sc.samples);
