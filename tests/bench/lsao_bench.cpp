@@ -6,7 +6,8 @@
 //  - BM_LsaoRadius/scale: R = 0.25 × 1, 2, 4, 8 on 2 threads. The sweep visits every
 //    sample once whatever R (§6: "the falloff radius has no impact on the performance"),
 //    so the times should stay flat; compare BM_HbaoRadiusDensity;
-//  - BM_LsaoSweep, BM_LsaoGather: the two phases apart, 2 threads (the paper's Table 2).
+//  - BM_LsaoSweep, BM_LsaoGather: the two phases apart (the paper's Table 2), args: threads,
+//    kernel (0 = Simd, 1 = Scalar).
 #include <benchmark/benchmark.h>
 
 #include "core/methods/lsao/lsao.h"
@@ -44,22 +45,42 @@ void BM_LsaoRadius(benchmark::State& state) {
 }
 BENCHMARK(BM_LsaoRadius)->Apply(bench::radius_scales);
 
+// Args: threads, kernel (0 = Simd, 1 = Scalar).
 void BM_LsaoSweep(benchmark::State& state) {
   const GBuffer g = gbuffer();
   RunOptions opt;
-  opt.threads = 2;
-  for (auto _ : state) benchmark::DoNotOptimize(lsao_sweep(g, settings(), opt));
+  opt.threads = int(state.range(0));
+  const bool simd = state.range(1) == 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(simd ? lsao_sweep_simd(g, settings(), opt, false)
+                                  : lsao_sweep(g, settings(), opt));
   state.counters["values"] = double(lsao_plan(g, settings()).value_count);
 }
-BENCHMARK(BM_LsaoSweep)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LsaoSweep)
+    ->Args({2, 1})
+    ->Args({1, 1})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_LsaoGather(benchmark::State& state) {
   const GBuffer g = gbuffer();
   RunOptions opt;
-  opt.threads = 2;
-  const LsaoSweep sweep = lsao_sweep(g, settings(), opt);
-  for (auto _ : state) benchmark::DoNotOptimize(lsao_gather(g, settings(), sweep, opt));
+  opt.threads = int(state.range(0));
+  const bool simd = state.range(1) == 0;
+  const LsaoSweep sweep =
+      simd ? lsao_sweep_simd(g, settings(), opt) : lsao_sweep(g, settings(), opt);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(simd ? lsao_gather_simd(g, settings(), sweep, opt)
+                                  : lsao_gather(g, settings(), sweep, opt));
 }
-BENCHMARK(BM_LsaoGather)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LsaoGather)
+    ->Args({2, 1})
+    ->Args({1, 1})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace

@@ -691,13 +691,16 @@ Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
 }
 
 Image lsao(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
+  if (options.kernel == Kernel::Simd) return lsao_simd_kernel(g, s, options);
   const LsaoSweep sweep = lsao_sweep(g, s, options);
   return lsao_gather(g, s, sweep, options);
 }
 
 Method lsao_method() {
-  return registered_method("lsao", "Line-sweep ambient obscurance",
-                           "Timonen 2013, Line-Sweep Ambient Obscuration", kLsaoFields, lsao);
+  Method m = registered_method("lsao", "Line-sweep ambient obscurance",
+                               "Timonen 2013, Line-Sweep Ambient Obscuration", kLsaoFields, lsao);
+  m.has_simd_kernel = true;
+  return m;
 }
 
 }  // namespace aolab

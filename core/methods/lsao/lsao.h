@@ -27,7 +27,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -270,11 +272,34 @@ void lsao_line_samples(const LsaoPlan& plan, const float* depth, LsaoSampling sa
 /// The intermediate buffer (§5.2, "an intermediate floating point buffer the size of
 /// K·W·H/(D_S·D_L) elements"), with each sample's depth beside the values of the (one or
 /// two) directions that visit it, so the gather reads one cache line per sample.
+/// A geometry sample as the SIMD gather reads it: its texel, depth and Σ w_k O_k over the
+/// directions sharing it (an opposite pair). 12 bytes: the sweep writes one per sample and
+/// the gather reads them back from memory, so their size is time (images up to 65535 pixels
+/// a side; larger ones run the scalar gather).
+struct LsaoTexelRecord {
+  std::uint16_t x, y;
+  float depth, pair;
+};
+
+/// The texel records of a run of consecutive lines of one plan.lines entry, grouped by rows
+/// of texels (kLsaoRecordRows rows a bucket; within a bucket in buffer order), so that the
+/// gather reads the samples near a band of rows contiguously.
+struct LsaoTexelRun {
+  int lines_index = 0;
+  /// bucket_start.back() records (not value-initialised: each is written once by the sweep).
+  std::unique_ptr<LsaoTexelRecord[]> records;
+  std::vector<std::uint32_t> bucket_start;  ///< per bucket of rows, and the end
+};
+constexpr int kLsaoRecordRows = 4;
+
 struct LsaoSweep {
   LsaoPlan plan;
   /// plan.buffer_size floats laid out as LsaoPlan describes: depths (NaN on background) and
   /// O_k (NaN on background samples).
   std::vector<float> buffer;
+  /// lsao_sweep_simd, aligned sets with sampling = snap only (where lsao_gather_simd uses
+  /// them): the geometry samples again, by rows (LsaoTexelRun); runs in buffer order.
+  std::vector<LsaoTexelRun> texel_runs;
 
   float value(int k, std::size_t i) const { return buffer[plan.value_index(k, i)]; }
   float depth(int li, std::size_t i) const { return buffer[plan.depth_index(li, i)]; }
@@ -303,5 +328,22 @@ inline double lsao_gather_radius(const SweepDirection& d, double line_spacing) {
 /// within the radius are taken without the tests; a pixel with none gets 1.
 Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
                   const RunOptions& options = {});
+
+/// lsao() with Kernel::Simd: lsao_sweep_simd then lsao_gather_simd, the depth prepared once.
+Image lsao_simd_kernel(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {});
+
+/// The SIMD sweep (lsao_simd.cpp, Kernel::Simd): Algorithm 1 on a vector of parallel lines at
+/// once; lsao_sweep's buffer within the tolerance of tests/cpp/methods/lsao/lsao_simd_test.cpp
+/// (the same samples and depths; the values rounded differently).
+/// keep_buffer = false leaves `buffer` empty where lsao_gather_simd reads texel_runs instead.
+LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {},
+                          bool keep_buffer = true);
+
+/// The SIMD gather (lsao_simd.cpp, Kernel::Simd): lsao_gather's result within the tolerance
+/// of tests/cpp/methods/lsao/lsao_simd_test.cpp (it picks the same samples; the weighted sums
+/// are rounded in float). It reads sweep.texel_runs, which lsao_sweep_simd makes for aligned
+/// sets with sampling = snap; otherwise it is lsao_gather.
+Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
+                       const RunOptions& options = {});
 
 }  // namespace aolab
