@@ -8,23 +8,17 @@
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
+#include "core/methods/chebyshev/chebyshev_internal.h"
 
 namespace aolab {
 
 namespace {
 
-// One window size: half-widths along x (the horizontal pass) and y (the vertical pass).
-struct Level {
-  int rh, rv;
-};
-
-// The frame as the two passes read it: depth with background as 0 and a 0/1 weight, so the
-// passes can sum without branches (a background pixel adds 0 to every sum and to the count).
-struct Frame {
-  int w, h;
-  std::vector<float> depth, weight;
-  std::vector<int> level;  // per pixel: index into the level list, −1 = no window
-};
+using chebyshev_detail::Frame;
+using chebyshev_detail::kFramePadding;
+using chebyshev_detail::Level;
+using chebyshev_detail::LevelRows;
+using chebyshev_detail::Plan;
 
 // Horizontal pass of one row for half-width r (§III: "two mutually perpendicular blur
 // filters"), for the columns [lo, hi]: for each column x, over the symmetric segment
@@ -141,7 +135,8 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
                  int threads, std::vector<int>& radius_of) {
   const int w = g.width(), h = g.height();
   const std::size_t pixels = std::size_t(w) * h;
-  Frame f{w, h, std::vector<float>(pixels), std::vector<float>(pixels), std::vector<int>(pixels)};
+  Frame f{w, h, std::vector<float>(pixels + kFramePadding),
+          std::vector<float>(pixels + kFramePadding), std::vector<int>(pixels + kFramePadding, -1)};
   radius_of.assign(pixels, 0);
   parallel_for_rows(h, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
@@ -187,15 +182,6 @@ std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r,
     f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
   return levels;
 }
-
-// The rows one level touches: the rows holding its receivers with their column span, and the
-// rows and columns the horizontal pass must cover (the union of the spans of the receiver
-// rows within their vertical half-width).
-struct LevelRows {
-  std::vector<int> receiver_rows, pass_rows;
-  std::vector<int> span_lo, span_hi;  // per row: the receivers' columns (lo > hi: none)
-  std::vector<int> need_lo, need_hi;  // per row: the columns the horizontal pass covers
-};
 
 std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels) {
   const int w = f.w, h = f.h;
@@ -330,27 +316,33 @@ float chebyshev_visibility(float gap, float variance, const ChebyshevSettings& s
   return float(std::clamp(1.0 - (1.0 - p) * fade, 0.0, 1.0));
 }
 
-Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
-  g.validate();
-  validate_settings(s, kChebyshevFields);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-  const std::size_t pixels = std::size_t(w) * h;
+namespace chebyshev_detail {
+
+Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
                           double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
-
   std::vector<int> radius_of;
-  Frame f = make_frame(g, s, shape, threads, radius_of);
-  if (s.shrink_at_background) shrink_at_background(f, shape, radius_of);
-  const std::vector<Level> levels =
-      assign_levels(f, shape, std::max(s.kernel_radius, s.max_kernel_radius), radius_of);
+  Plan plan;
+  plan.frame = make_frame(g, s, shape, threads, radius_of);
+  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, radius_of);
+  plan.levels =
+      assign_levels(plan.frame, shape, std::max(s.kernel_radius, s.max_kernel_radius), radius_of);
   radius_of = {};
-  const std::vector<LevelRows> rows = level_rows(f, levels);
-  std::int64_t total = 0;
-  for (const LevelRows& r : rows)
-    total += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
-  if (options.progress) options.progress->total += total;
+  plan.rows = level_rows(plan.frame, plan.levels);
+  for (const LevelRows& r : plan.rows)
+    plan.total_rows += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
+  return plan;
+}
 
+}  // namespace chebyshev_detail
+
+namespace {
+
+// The moments (3 channels) by the scalar passes, or the visibility (1 channel) from them.
+Image scalar_moments(const Plan& plan, int threads, Progress* progress) {
+  const Frame& f = plan.frame;
+  const int w = f.w, h = f.h;
+  const std::size_t pixels = std::size_t(w) * h;
   Image out(w, h, 3, 0.0f);
   // Pixels without a window (half-width 0): the window is the pixel itself.
   for (int y = 0; y < h; ++y)
@@ -358,25 +350,40 @@ Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunO
       if (f.weight[std::size_t(y) * w + x] != 0.0f && f.level[std::size_t(y) * w + x] < 0)
         out(x, y, 0) = 1.0f;
 
-  if (total == 0)  // no window anywhere: still one tick, and a chance to cancel
-    parallel_for_rows(
-        1, 1, [](int, int) {}, options.progress);
-
-  const std::size_t buffer = levels.empty() ? 0 : pixels;
+  const std::size_t buffer = plan.levels.empty() ? 0 : pixels;
   Buffers b{std::vector<float>(buffer), std::vector<float>(buffer), std::vector<float>(buffer),
             std::vector<float>(buffer)};
-  for (int l = 0; l < int(levels.size()); ++l) {
-    horizontal_pass(f, levels[l], rows[l], b, threads, options.progress);
-    vertical_pass(f, l, levels[l], rows[l], b, out, threads, options.progress);
+  for (int l = 0; l < int(plan.levels.size()); ++l) {
+    horizontal_pass(f, plan.levels[l], plan.rows[l], b, threads, progress);
+    vertical_pass(f, l, plan.levels[l], plan.rows[l], b, out, threads, progress);
   }
   return out;
 }
 
-Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
-  const Image moments = chebyshev_moments(g, s, options);
+// Validates, plans and runs the kernel `options` names: the moments if `want_moments`, else
+// the visibility.
+Image run(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options,
+          bool want_moments) {
+  g.validate();
+  validate_settings(s, kChebyshevFields);
   const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const Plan plan = chebyshev_detail::make_plan(g, s, threads);
+  if (options.progress) options.progress->total += plan.total_rows;
+  if (plan.total_rows == 0)  // no window anywhere: still one tick, and a chance to cancel
+    parallel_for_rows(
+        1, 1, [](int, int) {}, options.progress);
+
+  if (options.kernel == Kernel::Simd) {
+    Image out(w, h, want_moments ? 3 : 1, want_moments ? 0.0f : 1.0f);
+    chebyshev_simd(plan, s, threads, options.progress, want_moments ? &out : nullptr,
+                   want_moments ? nullptr : &out);
+    return out;
+  }
+  Image moments = scalar_moments(plan, threads, options.progress);
+  if (want_moments) return moments;
   Image out(w, h, 1, 1.0f);
-  parallel_for_rows(h, resolve_threads(options.threads), [&](int y0, int y1) {
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w; ++x)
         if (moments(x, y, 0) > 0.0f)
@@ -385,10 +392,22 @@ Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& 
   return out;
 }
 
+}  // namespace
+
+Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  return run(g, s, options, true);
+}
+
+Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  return run(g, s, options, false);
+}
+
 Method chebyshev_method() {
-  return registered_method("chebyshev", "Chebyshev ambient occlusion",
-                           "Chan, Im 2021, Chebyshev Ambient Occlusion", kChebyshevFields,
-                           chebyshev);
+  Method m =
+      registered_method("chebyshev", "Chebyshev ambient occlusion",
+                        "Chan, Im 2021, Chebyshev Ambient Occlusion", kChebyshevFields, chebyshev);
+  m.has_simd_kernel = true;
+  return m;
 }
 
 }  // namespace aolab

@@ -1,0 +1,296 @@
+// Chebyshev AO's SIMD kernel: the two passes of chebyshev.cpp (the oracle it is tested
+// against) on consecutive pixels of a row at once, compiled by Highway for every target and
+// dispatched at run time. Every setting is supported, and every lane performs exactly the
+// scalar pixel's operations in the same order, so the result has the same bits:
+// - horizontal pass (float): the taps −r … r of a column summed in order, as the scalar
+//   loop does ("taps outer, columns inner"), with the columns in the lanes; near the image
+//   border, where a column's segment is shorter than r, the taps beyond it are masked to
+//   zero (adding +0 to a sum that started at +0 changes no bit);
+// - vertical pass (double): each row's sums shifted onto the receiver's depth and summed over
+//   −ry … ry in order, the moments and eq. 3 with its bias and range check evaluated in
+//   double as chebyshev_visibility does, std::max/min/clamp written as the comparisons they
+//   are (x86's max returns its second operand for ±0, std::max its first);
+// - no fused multiply-add: GCC would contract Highway's Mul followed by Add into one (its
+//   default -ffp-contract=fast), which rounds once where the scalar code rounds twice; the
+//   pragma below turns that off for this file (the scalar build, without -march, has no FMA).
+// What it does differently: the nearest valid pixel of every column (the horizontal pass's
+// reference when a pixel is background) is found once per frame rather than once per level
+// and row; the vertical pass skips vectors that hold no receiver of the level; the visibility
+// is computed in the vertical pass instead of a third pass over the moments.
+#pragma GCC optimize("fp-contract=off")
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/methods/chebyshev/chebyshev_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
+#include "core/methods/chebyshev/chebyshev_internal.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace aolab::HWY_NAMESPACE {
+namespace {
+namespace hn = hwy::HWY_NAMESPACE;
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using DD = hn::ScalableTag<double>;
+using DFH = hn::Rebind<float, DD>;  // the floats of one double vector
+using DIH = hn::Rebind<std::int32_t, DD>;
+using VD = hn::Vec<DD>;
+
+// `count` floats of `row` from `x` on, as a vector, 0 outside [0, w): the taps of a border
+// vector that reach past the row's ends (those lanes are masked by the caller).
+HWY_INLINE VF LoadInRow(DF df, const float* HWY_RESTRICT row, int x, int w) {
+  const int n = int(hn::Lanes(df));
+  if (x >= 0 && x + n <= w) return hn::LoadU(df, row + x);
+  HWY_ALIGN float lanes[hn::MaxLanes(df)];
+  for (int i = 0; i < n; ++i) lanes[i] = x + i >= 0 && x + i < w ? row[x + i] : 0.0f;
+  return hn::Load(df, lanes);
+}
+
+// One tap of the horizontal pass for a vector of columns: the scalar loop body,
+//   n += w_i;  diff = w_i·(f_i − c);  s1 += diff;  s2 += diff·diff.
+HWY_INLINE void HorizontalTap(VF wi, VF fi, VF c, VF& sn, VF& s1, VF& s2) {
+  const VF diff = hn::Mul(wi, hn::Sub(fi, c));
+  sn = hn::Add(sn, wi);
+  s1 = hn::Add(s1, diff);
+  s2 = hn::Add(s2, hn::Mul(diff, diff));
+}
+
+}  // namespace
+
+// The horizontal pass of one row for half-width r over the columns [lo, hi] (and the rest of
+// their last vector that lies in the image): for column x, over [x − rx, x + rx] with
+// rx = min(r, x, w − 1 − x), the count, Σ(f − c) and Σ(f − c)² about the reference c = the
+// nearest valid pixel's depth if it lies in the segment, else 0 (horizontal_row in
+// chebyshev.cpp). `near_dist`, `near_depth`: the row's nearest valid pixel per column.
+void HorizontalSpan(const float* HWY_RESTRICT depth, const float* HWY_RESTRICT weight,
+                    const int* HWY_RESTRICT near_dist, const float* HWY_RESTRICT near_depth, int w,
+                    int r, int lo, int hi, float* HWY_RESTRICT hn_out, float* HWY_RESTRICT hs1,
+                    float* HWY_RESTRICT hs2, float* HWY_RESTRICT hc) {
+  const DF df;
+  const DI di;
+  const int n = int(hn::Lanes(df));
+  const VI vr = hn::Set(di, r), last = hn::Set(di, w - 1);
+  auto reference = [&](int x0, VI& rx) {
+    const VI x = hn::Iota(di, x0);
+    rx = hn::Min(vr, hn::Min(x, hn::Sub(last, x)));
+    const auto inside = hn::RebindMask(df, hn::Not(hn::Gt(hn::LoadU(di, near_dist + x0), rx)));
+    return hn::IfThenElseZero(inside, hn::LoadU(df, near_depth + x0));
+  };
+  auto store = [&](int x0, VF c, VF sn, VF s1, VF s2) {
+    const int count = std::min(n, w - x0);
+    StoreRowPart(df, sn, count, hn_out + x0);
+    StoreRowPart(df, s1, count, hs1 + x0);
+    StoreRowPart(df, s2, count, hs2 + x0);
+    StoreRowPart(df, c, count, hc + x0);
+  };
+  // Vectors whose every column has its full segment (rx = r): no masks; two at a time, so
+  // that the three dependent sums of one vector do not wait on each other's latency alone.
+  const int interior_end = w - r - n;  // last x0 whose vector is interior
+  int x0 = lo;
+  for (; x0 <= hi; x0 += n) {
+    if (x0 >= r && x0 + n <= interior_end && x0 + n <= hi) {
+      VI rx;
+      const VF ca = reference(x0, rx), cb = reference(x0 + n, rx);
+      VF na = hn::Zero(df), s1a = na, s2a = na, nb = na, s1b = na, s2b = na;
+      const float* d = depth + x0;
+      const float* m = weight + x0;
+      for (int i = -r; i <= r; ++i) {
+        HorizontalTap(hn::LoadU(df, m + i), hn::LoadU(df, d + i), ca, na, s1a, s2a);
+        HorizontalTap(hn::LoadU(df, m + i + n), hn::LoadU(df, d + i + n), cb, nb, s1b, s2b);
+      }
+      store(x0, ca, na, s1a, s2a);
+      store(x0 + n, cb, nb, s1b, s2b);
+      x0 += n;
+      continue;
+    }
+    VI rx;
+    const VF c = reference(x0, rx);
+    VF sn = hn::Zero(df), s1 = sn, s2 = sn;
+    if (x0 >= r && x0 <= interior_end) {
+      for (int i = -r; i <= r; ++i)
+        HorizontalTap(hn::LoadU(df, weight + x0 + i), hn::LoadU(df, depth + x0 + i), c, sn, s1, s2);
+    } else {
+      // A border vector: lane x takes only the taps |i| ≤ rx(x) (none for x ≥ w).
+      for (int i = -r; i <= r; ++i) {
+        const auto take = hn::RebindMask(df, hn::Not(hn::Gt(hn::Set(di, i < 0 ? -i : i), rx)));
+        if (hn::AllFalse(df, take)) continue;
+        const VF wi = hn::IfThenElseZero(take, LoadInRow(df, weight, x0 + i, w));
+        HorizontalTap(wi, LoadInRow(df, depth, x0 + i, w), c, sn, s1, s2);
+      }
+    }
+    store(x0, c, sn, s1, s2);
+  }
+}
+
+// The vertical pass of receiver row y for the receivers of level `l` in the columns [xa, xb)
+// (vertical_row in chebyshev.cpp): each row's sums (half-width rh, rows y − ry … y + ry with
+// ry = min(rv, y, h − 1 − y)) shifted onto the receiver's depth d with δ = c − d,
+//   Σ(f − d) = s1 + n·δ,  Σ(f − d)² = s2 + δ·(2·s1 + n·δ),
+// summed in double; then m1, m2, λ = −m1 and σ² = max(0, m2 − m1²), rounded to float. Writes
+// n, λ, σ² to `moments` (3 channels per pixel) if it is not null, else the visibility
+// (chebyshev_visibility) to `ao`; only at the level's receivers.
+void VerticalSpan(const float* HWY_RESTRICT depth, const int* HWY_RESTRICT level,
+                  const float* HWY_RESTRICT bn, const float* HWY_RESTRICT b1,
+                  const float* HWY_RESTRICT b2, const float* HWY_RESTRICT bc, int w, int h, int l,
+                  int rv, int y, int xa, int xb, const ChebyshevSettings& s, double eps,
+                  float* HWY_RESTRICT moments, float* HWY_RESTRICT ao) {
+  const DD dd;
+  const DFH dfh;
+  const DIH dih;
+  const int n = int(hn::Lanes(dd));
+  const int ry = std::min({rv, y, h - 1 - y});
+  const std::size_t row = std::size_t(y) * w;
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), two = hn::Set(dd, 2.0);
+  for (int x0 = xa; x0 < xb; x0 += n) {
+    const int count = std::min(n, xb - x0);
+    const auto receiver =
+        hn::And(hn::Eq(hn::LoadU(dih, level + row + x0), hn::Set(dih, l)), hn::FirstN(dih, count));
+    if (hn::AllFalse(dih, receiver)) continue;
+    const VD d = hn::PromoteTo(dd, hn::LoadU(dfh, depth + row + x0));
+    VD sn = zero, s1 = zero, s2 = zero;
+    for (int j = -ry; j <= ry; ++j) {
+      const std::size_t o = std::size_t(y + j) * w + x0;
+      const VD nj = hn::PromoteTo(dd, hn::LoadU(dfh, bn + o));
+      const VD a = hn::PromoteTo(dd, hn::LoadU(dfh, b1 + o));
+      const VD delta = hn::Sub(hn::PromoteTo(dd, hn::LoadU(dfh, bc + o)), d);
+      const VD n_delta = hn::Mul(nj, delta);
+      sn = hn::Add(sn, nj);
+      s1 = hn::Add(s1, hn::Add(a, n_delta));
+      s2 = hn::Add(s2, hn::Add(hn::PromoteTo(dd, hn::LoadU(dfh, b2 + o)),
+                               hn::Mul(delta, hn::Add(hn::Mul(two, a), n_delta))));
+    }
+    const VD m1 = hn::Div(s1, sn), m2 = hn::Div(s2, sn);
+    const VD spread = hn::Sub(m2, hn::Mul(m1, m1));
+    // std::max(0.0, spread): 0 unless 0 < spread.
+    const auto gap = hn::DemoteTo(dfh, hn::Neg(m1));
+    const auto variance = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Gt(spread, zero), spread));
+    if (moments) {
+      HWY_ALIGN float count_lanes[hn::MaxLanes(dd)], gap_lanes[hn::MaxLanes(dd)],
+          var_lanes[hn::MaxLanes(dd)];
+      HWY_ALIGN std::int32_t take[hn::MaxLanes(dd)];
+      hn::Store(hn::DemoteTo(dfh, sn), dfh, count_lanes);
+      hn::Store(gap, dfh, gap_lanes);
+      hn::Store(variance, dfh, var_lanes);
+      hn::Store(hn::VecFromMask(dih, receiver), dih, take);
+      for (int i = 0; i < count; ++i) {
+        if (!take[i]) continue;
+        float* p = moments + (row + std::size_t(x0 + i)) * 3;
+        p[0] = count_lanes[i], p[1] = gap_lanes[i], p[2] = var_lanes[i];
+      }
+      continue;
+    }
+    // chebyshev_visibility(gap, variance, s), lane by lane the same operations.
+    const VD var0 = hn::PromoteTo(dd, variance);
+    const VD var = hn::IfThenElseZero(hn::Gt(var0, zero), var0);  // std::max(0.0, variance)
+    VD lambda = hn::PromoteTo(dd, gap);
+    const VD tolerance = hn::Mul(hn::Set(dd, kChebyshevMeanTolerance),
+                                 hn::Sqrt(hn::Add(var, hn::Mul(lambda, lambda))));
+    lambda = hn::IfThenZeroElse(hn::Le(hn::Abs(lambda), tolerance), lambda);
+    const VD g =
+        s.ignore_unoccluded ? hn::IfThenZeroElse(hn::Lt(lambda, zero), lambda) : hn::Abs(lambda);
+    const auto occluded = hn::Gt(g, zero);
+    const VD biased = hn::Add(var, hn::Set(dd, eps));
+    const VD p = hn::Div(biased, hn::Add(biased, hn::Mul(g, g)));
+    VD a;
+    if (!s.range_check) {
+      a = p;
+    } else {
+      const VD ratio = hn::Div(hn::Set(dd, double(s.radius)), g);
+      const VD t = hn::IfThenElse(hn::Lt(ratio, one), ratio, one);  // std::min(1.0, ratio)
+      const VD fade = hn::Mul(hn::Mul(t, t), hn::Sub(hn::Set(dd, 3.0), hn::Mul(two, t)));
+      a = hn::Sub(one, hn::Mul(hn::Sub(one, p), fade));
+    }
+    // std::clamp(a, 0.0, 1.0)
+    a = hn::IfThenElse(hn::Lt(a, zero), zero, hn::IfThenElse(hn::Lt(one, a), one, a));
+    a = hn::IfThenElse(occluded, a, one);
+    hn::BlendedStore(hn::DemoteTo(dfh, a), hn::RebindMask(dfh, receiver), dfh, ao + row + x0);
+  }
+}
+
+}  // namespace aolab::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace aolab {
+
+HWY_EXPORT(HorizontalSpan);
+HWY_EXPORT(VerticalSpan);
+
+void chebyshev_simd(const chebyshev_detail::Plan& plan, const ChebyshevSettings& s, int threads,
+                    Progress* progress, Image* moments, Image* ao) {
+  using chebyshev_detail::kFramePadding;
+  const chebyshev_detail::Frame& f = plan.frame;
+  const int w = f.w, h = f.h;
+  const std::size_t pixels = std::size_t(w) * h;
+  if (moments) {
+    // Pixels without a window (half-width 0): the window is the pixel itself.
+    for (std::size_t i = 0; i < pixels; ++i)
+      if (f.weight[i] != 0.0f && f.level[i] < 0) moments->data()[i * 3] = 1.0f;
+  }
+  if (plan.levels.empty()) return;
+
+  // Per row, the nearest valid pixel of every column (left on ties) and its distance (w if
+  // the row has none): the horizontal pass's reference wherever it lies in the segment.
+  std::vector<int> near_dist(pixels + kFramePadding, w);
+  std::vector<float> near_depth(pixels + kFramePadding, 0.0f);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    std::vector<int> left(w), right(w);
+    for (int y = y0; y < y1; ++y) {
+      const std::size_t o = std::size_t(y) * w;
+      const float* m = f.weight.data() + o;
+      for (int x = 0, last = -1; x < w; ++x) left[x] = last = m[x] != 0.0f ? x : last;
+      for (int x = w - 1, last = -1; x >= 0; --x) right[x] = last = m[x] != 0.0f ? x : last;
+      for (int x = 0; x < w; ++x) {
+        const int dl = left[x] >= 0 ? x - left[x] : w, dr = right[x] >= 0 ? right[x] - x : w;
+        near_dist[o + x] = std::min(dl, dr);
+        if (std::min(dl, dr) < w) near_depth[o + x] = f.depth[o + (dl <= dr ? left[x] : right[x])];
+      }
+    }
+  });
+
+  std::vector<float> bn(pixels + kFramePadding), b1(pixels + kFramePadding),
+      b2(pixels + kFramePadding), bc(pixels + kFramePadding);
+  const double radius = s.radius;
+  const double eps = double(s.variance_bias) * radius * radius;  // ε = b·R² (§III-A)
+  for (int l = 0; l < int(plan.levels.size()); ++l) {
+    const chebyshev_detail::Level lv = plan.levels[l];
+    const chebyshev_detail::LevelRows& rows = plan.rows[l];
+    parallel_for_rows(
+        int(rows.pass_rows.size()), threads,
+        [&](int i0, int i1) {
+          for (int i = i0; i < i1; ++i) {
+            const int y = rows.pass_rows[i];
+            const std::size_t o = std::size_t(y) * w;
+            HWY_DYNAMIC_DISPATCH(HorizontalSpan)
+            (f.depth.data() + o, f.weight.data() + o, near_dist.data() + o, near_depth.data() + o,
+             w, lv.rh, rows.need_lo[y], rows.need_hi[y], bn.data() + o, b1.data() + o,
+             b2.data() + o, bc.data() + o);
+          }
+        },
+        progress);
+    parallel_for_rows(
+        int(rows.receiver_rows.size()), threads,
+        [&](int i0, int i1) {
+          for (int i = i0; i < i1; ++i) {
+            const int y = rows.receiver_rows[i];
+            HWY_DYNAMIC_DISPATCH(VerticalSpan)
+            (f.depth.data(), f.level.data(), bn.data(), b1.data(), b2.data(), bc.data(), w, h, l,
+             lv.rv, y, rows.span_lo[y], rows.span_hi[y] + 1, s, eps,
+             moments ? moments->data() : nullptr, ao ? ao->data() : nullptr);
+          }
+        },
+        progress);
+  }
+}
+
+}  // namespace aolab
+#endif  // HWY_ONCE
