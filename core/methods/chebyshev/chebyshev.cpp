@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
@@ -156,59 +157,86 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
 }
 
 // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
-// exactly 1 up to its silhouette).
-void shrink_at_background(const Frame& f, const WindowShape& shape, std::vector<int>& radius_of) {
+// exactly 1 up to its silhouette). A frame without background has nothing to shrink.
+void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, int threads,
+                          std::vector<int>& radius_of) {
+  const std::size_t pixels = radius_of.size();
+  if (std::find(f.weight.begin(), f.weight.begin() + std::ptrdiff_t(pixels), 0.0f) ==
+      f.weight.begin() + std::ptrdiff_t(pixels))
+    return;
   const std::vector<int> dist = background_distance(f);
-  for (std::size_t i = 0; i < radius_of.size(); ++i) {
-    int r = radius_of[i];
-    while (r > 0 && std::max(r, shape.vertical(r)) >= dist[i])
-      r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
-    radius_of[i] = r;
-  }
+  std::vector<int> vertical(std::size_t(max_r) + 1);
+  for (int r = 0; r <= max_r; ++r) vertical[r] = shape.vertical(r);
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i) {
+      int r = radius_of[i];
+      while (r > 0 && std::max(r, vertical[r]) >= dist[i])
+        r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
+      radius_of[i] = r;
+    }
+  });
 }
 
 // The distinct half-widths (levels) in increasing order; sets every pixel's level index.
-std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r,
+std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, int threads,
                                  const std::vector<int>& radius_of) {
   std::vector<int> index_of(std::size_t(max_r) + 1, -1);
-  for (int r : radius_of) index_of[r] = 0;
+  std::mutex merge;
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    std::vector<char> used(std::size_t(max_r) + 1, 0);
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
+      used[radius_of[i]] = 1;
+    const std::lock_guard<std::mutex> lock(merge);
+    for (int r = 0; r <= max_r; ++r)
+      if (used[r]) index_of[r] = 0;
+  });
   std::vector<Level> levels;
   for (int r = 1; r <= max_r; ++r) {
     if (index_of[r] < 0) continue;
     index_of[r] = int(levels.size());
     levels.push_back({r, shape.vertical(r)});
   }
-  for (std::size_t i = 0; i < radius_of.size(); ++i)
-    f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
+      f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+  });
   return levels;
 }
 
-std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels) {
+// The rows and columns of every level's passes; rows in parallel, then levels in parallel.
+std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels, int threads) {
   const int w = f.w, h = f.h;
   std::vector<LevelRows> rows(levels.size());
   for (LevelRows& r : rows) r.span_lo.assign(h, w), r.span_hi.assign(h, -1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int l = f.level[std::size_t(y) * w + x];
-      if (l < 0) continue;
-      rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
-      rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
-    }
-  for (std::size_t l = 0; l < levels.size(); ++l) {
-    LevelRows& r = rows[l];
-    r.need_lo.assign(h, w), r.need_hi.assign(h, -1);
-    for (int y = 0; y < h; ++y) {
-      if (r.span_hi[y] < 0) continue;
-      r.receiver_rows.push_back(y);
-      const int ry = std::min({levels[l].rv, y, h - 1 - y});
-      for (int j = y - ry; j <= y + ry; ++j) {
-        r.need_lo[j] = std::min(r.need_lo[j], r.span_lo[y]);
-        r.need_hi[j] = std::max(r.need_hi[j], r.span_hi[y]);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int l = f.level[std::size_t(y) * w + x];
+        if (l < 0) continue;
+        rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
+        rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
       }
-    }
-    for (int y = 0; y < h; ++y)
-      if (r.need_hi[y] >= 0) r.pass_rows.push_back(y);
-  }
+  });
+  parallel_for_rows(
+      int(levels.size()), threads,
+      [&](int l0, int l1) {
+        for (int l = l0; l < l1; ++l) {
+          LevelRows& r = rows[l];
+          r.need_lo.assign(h, w), r.need_hi.assign(h, -1);
+          for (int y = 0; y < h; ++y) {
+            if (r.span_hi[y] < 0) continue;
+            r.receiver_rows.push_back(y);
+            const int ry = std::min({levels[l].rv, y, h - 1 - y});
+            for (int j = y - ry; j <= y + ry; ++j) {
+              r.need_lo[j] = std::min(r.need_lo[j], r.span_lo[y]);
+              r.need_hi[j] = std::max(r.need_hi[j], r.span_hi[y]);
+            }
+          }
+          for (int y = 0; y < h; ++y)
+            if (r.need_hi[y] >= 0) r.pass_rows.push_back(y);
+        }
+      },
+      nullptr, 1);
   return rows;
 }
 
@@ -324,11 +352,11 @@ Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   std::vector<int> radius_of;
   Plan plan;
   plan.frame = make_frame(g, s, shape, threads, radius_of);
-  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, radius_of);
-  plan.levels =
-      assign_levels(plan.frame, shape, std::max(s.kernel_radius, s.max_kernel_radius), radius_of);
+  const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);
+  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, max_r, threads, radius_of);
+  plan.levels = assign_levels(plan.frame, shape, max_r, threads, radius_of);
   radius_of = {};
-  plan.rows = level_rows(plan.frame, plan.levels);
+  plan.rows = level_rows(plan.frame, plan.levels, threads);
   for (const LevelRows& r : plan.rows)
     plan.total_rows += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
   return plan;
