@@ -16,6 +16,7 @@ namespace aolab {
 namespace {
 
 using chebyshev_detail::Frame;
+using chebyshev_detail::FrameVector;
 using chebyshev_detail::kFramePadding;
 using chebyshev_detail::Level;
 using chebyshev_detail::LevelRows;
@@ -133,12 +134,14 @@ struct WindowShape {
 // The frame, and the window half-width of every pixel: R·fx/d (k ∝ 1/d, §III) quantised, or
 // the fixed one; 0 for background.
 Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape& shape,
-                 int threads, std::vector<int>& radius_of) {
+                 int threads, FrameVector<int>& radius_of) {
   const int w = g.width(), h = g.height();
   const std::size_t pixels = std::size_t(w) * h;
-  Frame f{w, h, std::vector<float>(pixels + kFramePadding),
-          std::vector<float>(pixels + kFramePadding), std::vector<int>(pixels + kFramePadding, -1)};
-  radius_of.assign(pixels, 0);
+  Frame f{w, h, FrameVector<float>(pixels + kFramePadding),
+          FrameVector<float>(pixels + kFramePadding), FrameVector<int>(pixels + kFramePadding)};
+  radius_of.resize(pixels);
+  for (std::size_t i = pixels; i < pixels + kFramePadding; ++i)
+    f.depth[i] = f.weight[i] = 0.0f, f.level[i] = -1;
   parallel_for_rows(h, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w; ++x) {
@@ -146,11 +149,11 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
         const bool valid = g.valid(x, y);
         f.depth[i] = valid ? g.depth(x, y) : 0.0f;
         f.weight[i] = valid ? 1.0f : 0.0f;
-        if (!valid) continue;
-        radius_of[i] = shape.adaptive ? chebyshev_quantised_radius(
-                                            double(s.radius) * g.camera.fx / g.depth(x, y),
-                                            s.max_kernel_radius)
-                                      : s.kernel_radius;
+        radius_of[i] = !valid           ? 0
+                       : shape.adaptive ? chebyshev_quantised_radius(
+                                              double(s.radius) * g.camera.fx / g.depth(x, y),
+                                              s.max_kernel_radius)
+                                        : s.kernel_radius;
       }
   });
   return f;
@@ -159,7 +162,7 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
 // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
 // exactly 1 up to its silhouette). A frame without background has nothing to shrink.
 void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, int threads,
-                          std::vector<int>& radius_of) {
+                          FrameVector<int>& radius_of) {
   const std::size_t pixels = radius_of.size();
   if (std::find(f.weight.begin(), f.weight.begin() + std::ptrdiff_t(pixels), 0.0f) ==
       f.weight.begin() + std::ptrdiff_t(pixels))
@@ -179,7 +182,7 @@ void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, i
 
 // The distinct half-widths (levels) in increasing order; sets every pixel's level index.
 std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, int threads,
-                                 const std::vector<int>& radius_of) {
+                                 const FrameVector<int>& radius_of) {
   std::vector<int> index_of(std::size_t(max_r) + 1, -1);
   std::mutex merge;
   parallel_for_rows(f.h, threads, [&](int y0, int y1) {
@@ -349,7 +352,7 @@ namespace chebyshev_detail {
 Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
                           double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
-  std::vector<int> radius_of;
+  FrameVector<int> radius_of;
   Plan plan;
   plan.frame = make_frame(g, s, shape, threads, radius_of);
   const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -12,6 +15,32 @@
 #include "core/methods/chebyshev/chebyshev.h"
 
 namespace aolab::chebyshev_detail {
+
+/// std::allocator that leaves elements default-initialised (no zero fill): a frame's arrays
+/// are written once, row by row in parallel, so that their pages are first touched (and
+/// faulted in) by the threads that write them rather than by one serial fill.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// A vector whose resize leaves new elements uninitialised.
+template <class T>
+using FrameVector = std::vector<T, DefaultInitAllocator<T>>;
 
 /// One window size: half-widths along x (the horizontal pass) and y (the vertical pass).
 struct Level {
@@ -24,8 +53,8 @@ struct Level {
 /// SIMD kernel's last vector of a row may read past the image without leaving the array.
 struct Frame {
   int w, h;
-  std::vector<float> depth, weight;
-  std::vector<int> level;  // per pixel: index into the level list, −1 = no window
+  FrameVector<float> depth, weight;
+  FrameVector<int> level;  // per pixel: index into the level list, −1 = no window
 };
 
 /// Elements past the last pixel in every Frame vector: at least the widest vector of any

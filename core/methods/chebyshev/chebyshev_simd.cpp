@@ -303,6 +303,8 @@ HWY_EXPORT(VerticalSpan);
 // The vertical pass's tiles: 16 receiver rows × 128 columns read (16 + 2·rv) rows of 128
 // columns × 32 bytes, 330 KB at rv = 32: within a core's L2 (512 KB to 1 MB on current x86),
 // where whole rows (2.6 MB at 1280 columns) are not.
+// A level with few receiver rows gets shorter bands, so that every thread has several (the
+// threads meet at the end of each level's pass).
 constexpr int kVerticalBandRows = 16;
 constexpr int kVerticalTileColumns = 128;
 // Elements past a span that a vector may read: two vectors of the widest target.
@@ -393,7 +395,7 @@ void chebyshev_simd(const chebyshev_detail::Plan& plan, const ChebyshevSettings&
             }
           }
         },
-        progress, kVerticalBandRows);
+        progress, std::clamp(int(rows.receiver_rows.size()) / (4 * threads), 1, kVerticalBandRows));
   }
 }
 
