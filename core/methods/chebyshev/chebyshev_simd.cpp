@@ -58,10 +58,14 @@ HWY_INLINE VF LoadInRow(DF df, const float* HWY_RESTRICT row, int x, int w) {
 
 // One tap of the horizontal pass for a vector of columns: the scalar loop body,
 //   n += w_i;  diff = w_i·(f_i − c);  s1 += diff;  s2 += diff·diff.
+// The first two sums as w_i·1 + n and diff·1 + s1: a fused multiply-add of an exact product
+// rounds as the addition does (the same bits), and it runs on the multiply ports, so that the
+// four additions per tap do not all queue on the two adder ports.
 HWY_INLINE void HorizontalTap(VF wi, VF fi, VF c, VF& sn, VF& s1, VF& s2) {
+  const VF one = hn::Set(DF(), 1.0f);
   const VF diff = hn::Mul(wi, hn::Sub(fi, c));
-  sn = hn::Add(sn, wi);
-  s1 = hn::Add(s1, diff);
+  sn = hn::MulAdd(wi, one, sn);
+  s1 = hn::MulAdd(diff, one, s1);
   s2 = hn::Add(s2, hn::Mul(diff, diff));
 }
 
