@@ -86,33 +86,60 @@ const std::vector<int>& level_table() {
 }
 
 // Chessboard distance of every pixel to the nearest background pixel (background: 0; none:
-// a large value), by the two-pass 3×3 chamfer, which is exact for this metric. The window of
-// half-width r around a pixel holds no background iff r < distance.
-std::vector<int> background_distance(const Frame& f) {
+// a large value), exact, in two separable passes that run in parallel: per column the
+// distance v to the nearest background pixel of the column, then per row
+// D(x) = min over x' of max(|x − x'|, v(x')), the lower envelope of those functions by the
+// linear-time algorithm of Meijster, Roerdink and Hesselink, "A General Algorithm for
+// Computing Distance Transforms in Linear Time" (2000), §4 with its L∞ f and Sep. The window
+// of half-width r around a pixel holds no background iff r < distance.
+FrameVector<int> background_distance(const Frame& f, int threads) {
   const int w = f.w, h = f.h, far = 1 << 30;
-  std::vector<int> dist(std::size_t(w) * h);
-  for (std::size_t i = 0; i < dist.size(); ++i) dist[i] = f.weight[i] != 0.0f ? far : 0;
-  auto at = [&](int x, int y) { return dist[std::size_t(y) * w + x]; };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      int v = at(x, y);
-      if (x > 0) v = std::min(v, at(x - 1, y) + 1);
-      if (y > 0) {
-        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-          v = std::min(v, at(i, y - 1) + 1);
+  FrameVector<int> dist(std::size_t(w) * h);
+  // Columns, in blocks of 64 so that a row's part of a block is one contiguous run.
+  constexpr int kBlock = 64;
+  parallel_for_rows(
+      (w + kBlock - 1) / kBlock, threads,
+      [&](int b0, int b1) {
+        const int xa = b0 * kBlock, xb = std::min(w, b1 * kBlock);
+        for (int y = 0; y < h; ++y)
+          for (int x = xa; x < xb; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            dist[i] = f.weight[i] == 0.0f ? 0 : y > 0 ? std::min(far, dist[i - w] + 1) : far;
+          }
+        for (int y = h - 2; y >= 0; --y)
+          for (int x = xa; x < xb; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            dist[i] = std::min(dist[i], dist[i + w] + 1);
+          }
+      },
+      nullptr, 1);
+  // Rows: the lower envelope of f_i(x) = max(|x − i|, v(i)) over the columns i.
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    std::vector<int> v(w), s(w), t(w);
+    auto fn = [&](int x, int i) { return std::max(std::abs(x - i), v[i]); };
+    auto sep = [&](int i, int u) {  // the first x at which f_u is below f_i (i < u)
+      return v[i] <= v[u] ? std::max(i + v[u], (i + u) / 2) : std::min(u - v[i], (i + u) / 2);
+    };
+    for (int y = y0; y < y1; ++y) {
+      int* row = dist.data() + std::size_t(y) * w;
+      std::copy(row, row + w, v.begin());
+      int q = 0;
+      s[0] = t[0] = 0;
+      for (int u = 1; u < w; ++u) {
+        while (q >= 0 && fn(t[q], s[q]) > fn(t[q], u)) --q;
+        if (q < 0) {
+          q = 0, s[0] = u;
+        } else {
+          const int start = 1 + sep(s[q], u);
+          if (start < w) ++q, s[q] = u, t[q] = start;
+        }
       }
-      dist[std::size_t(y) * w + x] = v;
-    }
-  for (int y = h - 1; y >= 0; --y)
-    for (int x = w - 1; x >= 0; --x) {
-      int v = at(x, y);
-      if (x < w - 1) v = std::min(v, at(x + 1, y) + 1);
-      if (y < h - 1) {
-        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-          v = std::min(v, at(i, y + 1) + 1);
+      for (int u = w - 1; u >= 0; --u) {
+        row[u] = fn(u, s[q]);
+        if (u == t[q]) --q;
       }
-      dist[std::size_t(y) * w + x] = v;
     }
+  });
   return dist;
 }
 
@@ -167,7 +194,7 @@ void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, i
   if (std::find(f.weight.begin(), f.weight.begin() + std::ptrdiff_t(pixels), 0.0f) ==
       f.weight.begin() + std::ptrdiff_t(pixels))
     return;
-  const std::vector<int> dist = background_distance(f);
+  const FrameVector<int> dist = background_distance(f, threads);
   std::vector<int> vertical(std::size_t(max_r) + 1);
   for (int r = 0; r <= max_r; ++r) vertical[r] = shape.vertical(r);
   parallel_for_rows(f.h, threads, [&](int y0, int y1) {
