@@ -4,7 +4,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <new>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 #include <mutex>
 
 #include "core/base/check.h"
@@ -375,6 +380,29 @@ float chebyshev_visibility(float gap, float variance, const ChebyshevSettings& s
 }
 
 namespace chebyshev_detail {
+
+// Arrays this large go to 2 MiB-aligned memory advised for huge pages.
+constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
+
+void* allocate_frame_bytes(std::size_t bytes) {
+#ifdef __linux__
+  if (bytes >= kHugePageBytes) {
+    const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+    void* p = std::aligned_alloc(kHugePageBytes, rounded);
+    if (!p) throw std::bad_alloc();
+    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KiB pages
+    return p;
+  }
+#endif
+  return ::operator new(bytes);
+}
+
+void free_frame_bytes(void* p, std::size_t bytes) noexcept {
+#ifdef __linux__
+  if (bytes >= kHugePageBytes) return std::free(p);
+#endif
+  ::operator delete(p);
+}
 
 Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),

@@ -343,8 +343,7 @@ void chebyshev_simd(const chebyshev_detail::Plan& plan, const ChebyshevSettings&
   std::size_t slots = 0;
   for (const auto& r : plan.rows) slots = std::max(slots, r.pass_rows.size());
   const std::size_t buffer = slots * w + 2 * kSpanPadding;
-  const std::unique_ptr<double[]> bn(new double[buffer]), b1(new double[buffer]),
-      b2(new double[buffer]), bc(new double[buffer]);
+  chebyshev_detail::FrameVector<double> bn(buffer), b1(buffer), b2(buffer), bc(buffer);
   std::vector<int> slot(h, 0);
   const double radius = s.radius;
   const double eps = double(s.variance_bias) * radius * radius;  // ε = b·R² (§III-A)
@@ -376,8 +375,8 @@ void chebyshev_simd(const chebyshev_detail::Plan& plan, const ChebyshevSettings&
             }
             HWY_DYNAMIC_DISPATCH(HorizontalSpan)
             (d, f.weight.data() + o, has_background[y] ? near_dist.data() : nullptr,
-             near_depth.data(), w, lv.rh, rows.need_lo[y], rows.need_hi[y], bn.get() + ob,
-             b1.get() + ob, b2.get() + ob, bc.get() + ob);
+             near_depth.data(), w, lv.rh, rows.need_lo[y], rows.need_hi[y], bn.data() + ob,
+             b1.data() + ob, b2.data() + ob, bc.data() + ob);
           }
         },
         progress);
@@ -393,8 +392,8 @@ void chebyshev_simd(const chebyshev_detail::Plan& plan, const ChebyshevSettings&
               const int xa = std::max(x0, rows.span_lo[y]), xb = std::min(x1, rows.span_hi[y] + 1);
               if (xa >= xb) continue;
               HWY_DYNAMIC_DISPATCH(VerticalSpan)
-              (f.depth.data(), f.level.data(), bn.get(), b1.get(), b2.get(), bc.get(), slot.data(),
-               w, h, l, lv.rv, y, xa, xb, s, eps, moments ? moments->data() : nullptr,
+              (f.depth.data(), f.level.data(), bn.data(), b1.data(), b2.data(), bc.data(),
+               slot.data(), w, h, l, lv.rv, y, xa, xb, s, eps, moments ? moments->data() : nullptr,
                ao ? ao->data() : nullptr);
             }
           }
