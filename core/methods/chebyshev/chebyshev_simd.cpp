@@ -58,14 +58,13 @@ HWY_INLINE VF LoadInRow(DF df, const float* HWY_RESTRICT row, int x, int w) {
 
 // One tap of the horizontal pass for a vector of columns: the scalar loop body,
 //   n += w_i;  diff = w_i·(f_i − c);  s1 += diff;  s2 += diff·diff.
-// The first two sums as w_i·1 + n and diff·1 + s1: a fused multiply-add of an exact product
-// rounds as the addition does (the same bits), and it runs on the multiply ports, so that the
-// four additions per tap do not all queue on the two adder ports.
+// s1 as diff·1 + s1: a fused multiply-add of an exact product rounds as the addition does
+// (the same bits), and it runs on the multiply ports, so that the two adder ports and the two
+// multiply ports of a core (as on AMD Zen 4) each get three of the tap's six operations.
 HWY_INLINE void HorizontalTap(VF wi, VF fi, VF c, VF& sn, VF& s1, VF& s2) {
-  const VF one = hn::Set(DF(), 1.0f);
   const VF diff = hn::Mul(wi, hn::Sub(fi, c));
-  sn = hn::MulAdd(wi, one, sn);
-  s1 = hn::MulAdd(diff, one, s1);
+  sn = hn::Add(sn, wi);
+  s1 = hn::MulAdd(diff, hn::Set(DF(), 1.0f), s1);
   s2 = hn::Add(s2, hn::Mul(diff, diff));
 }
 
@@ -170,10 +169,10 @@ HWY_INLINE void VerticalTap(DD dd, const double* HWY_RESTRICT bn, const double* 
   const VD delta = hn::Sub(hn::LoadU(dd, bc + o), d);
   const VD n_delta = hn::Mul(nj, delta);
   // x·1 + y and 2·a + y round exactly as x + y and (2·a) + y (the products are exact, and a
-  // fused multiply-add rounds once): the same bits as the scalar code's additions, but on
-  // the multiply-add ports, so that the additions do not all queue on the adder ports (the
-  // pass is bound by them).
-  sn = hn::MulAdd(nj, one, sn);
+  // fused multiply-add rounds once): the same bits as the scalar code's additions, with the
+  // tap's nine operations split 4 : 5 between the adder and the multiply ports (all nine
+  // on the adders, the pass was bound by them).
+  sn = hn::Add(sn, nj);
   s1 = hn::MulAdd(hn::Add(a, n_delta), one, s1);
   s2 = hn::MulAdd(
       hn::Add(hn::LoadU(dd, b2 + o), hn::Mul(delta, hn::MulAdd(hn::Set(dd, 2.0), a, n_delta))), one,
