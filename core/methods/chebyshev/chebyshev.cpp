@@ -163,15 +163,15 @@ struct WindowShape {
   }
 };
 
-// The frame, and the window half-width of every pixel: R·fx/d (k ∝ 1/d, §III) quantised, or
-// the fixed one; 0 for background.
+// The frame, with the window half-width of every pixel in `level` (until assign_levels
+// replaces it by the level's index): R·fx/d (k ∝ 1/d, §III) quantised, or the fixed one; 0 for
+// background.
 Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape& shape,
-                 int threads, FrameVector<int>& radius_of) {
+                 int threads) {
   const int w = g.width(), h = g.height();
   const std::size_t pixels = std::size_t(w) * h;
   Frame f{w, h, FrameVector<float>(pixels + kFramePadding),
           FrameVector<float>(pixels + kFramePadding), FrameVector<int>(pixels + kFramePadding)};
-  radius_of.resize(pixels);
   for (std::size_t i = pixels; i < pixels + kFramePadding; ++i)
     f.depth[i] = f.weight[i] = 0.0f, f.level[i] = -1;
   parallel_for_rows(h, threads, [&](int y0, int y1) {
@@ -181,11 +181,11 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
         const bool valid = g.valid(x, y);
         f.depth[i] = valid ? g.depth(x, y) : 0.0f;
         f.weight[i] = valid ? 1.0f : 0.0f;
-        radius_of[i] = !valid           ? 0
-                       : shape.adaptive ? chebyshev_quantised_radius(
-                                              double(s.radius) * g.camera.fx / g.depth(x, y),
-                                              s.max_kernel_radius)
-                                        : s.kernel_radius;
+        f.level[i] = !valid ? 0
+                     : shape.adaptive
+                         ? chebyshev_quantised_radius(
+                               double(s.radius) * g.camera.fx / g.depth(x, y), s.max_kernel_radius)
+                         : s.kernel_radius;
       }
   });
   return f;
@@ -193,9 +193,8 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
 
 // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
 // exactly 1 up to its silhouette). A frame without background has nothing to shrink.
-void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, int threads,
-                          FrameVector<int>& radius_of) {
-  const std::size_t pixels = radius_of.size();
+void shrink_at_background(Frame& f, const WindowShape& shape, int max_r, int threads) {
+  const std::size_t pixels = std::size_t(f.w) * f.h;
   if (std::find(f.weight.begin(), f.weight.begin() + std::ptrdiff_t(pixels), 0.0f) ==
       f.weight.begin() + std::ptrdiff_t(pixels))
     return;
@@ -204,23 +203,23 @@ void shrink_at_background(const Frame& f, const WindowShape& shape, int max_r, i
   for (int r = 0; r <= max_r; ++r) vertical[r] = shape.vertical(r);
   parallel_for_rows(f.h, threads, [&](int y0, int y1) {
     for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i) {
-      int r = radius_of[i];
+      int r = f.level[i];
       while (r > 0 && std::max(r, vertical[r]) >= dist[i])
         r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
-      radius_of[i] = r;
+      f.level[i] = r;
     }
   });
 }
 
-// The distinct half-widths (levels) in increasing order; sets every pixel's level index.
-std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, int threads,
-                                 const FrameVector<int>& radius_of) {
+// The distinct half-widths (levels) in increasing order; replaces every pixel's half-width
+// by its level's index (−1: none).
+std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, int threads) {
   std::vector<int> index_of(std::size_t(max_r) + 1, -1);
   std::mutex merge;
   parallel_for_rows(f.h, threads, [&](int y0, int y1) {
     std::vector<char> used(std::size_t(max_r) + 1, 0);
     for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
-      used[radius_of[i]] = 1;
+      used[f.level[i]] = 1;
     const std::lock_guard<std::mutex> lock(merge);
     for (int r = 0; r <= max_r; ++r)
       if (used[r]) index_of[r] = 0;
@@ -233,7 +232,7 @@ std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, 
   }
   parallel_for_rows(f.h, threads, [&](int y0, int y1) {
     for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
-      f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+      f.level[i] = f.level[i] > 0 ? index_of[f.level[i]] : -1;
   });
   return levels;
 }
@@ -407,13 +406,11 @@ void free_frame_bytes(void* p, std::size_t bytes) noexcept {
 Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
                           double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
-  FrameVector<int> radius_of;
   Plan plan;
-  plan.frame = make_frame(g, s, shape, threads, radius_of);
+  plan.frame = make_frame(g, s, shape, threads);
   const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);
-  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, max_r, threads, radius_of);
-  plan.levels = assign_levels(plan.frame, shape, max_r, threads, radius_of);
-  radius_of = {};
+  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, max_r, threads);
+  plan.levels = assign_levels(plan.frame, shape, max_r, threads);
   plan.rows = level_rows(plan.frame, plan.levels, threads);
   for (const LevelRows& r : plan.rows)
     plan.total_rows += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
