@@ -309,12 +309,13 @@ namespace aolab {
 HWY_EXPORT(HorizontalSpan);
 HWY_EXPORT(VerticalSpan);
 
-// The vertical pass's tiles: 16 receiver rows × 128 columns read (16 + 2·rv) rows of 128
-// columns × 32 bytes, 330 KB at rv = 32: within a core's L2 (512 KB to 1 MB on current x86),
-// where whole rows (2.6 MB at 1280 columns) are not.
-// A level with few receiver rows gets shorter bands, so that every thread has several (the
-// threads meet at the end of each level's pass).
-constexpr int kVerticalBandRows = 16;
+// The vertical pass's tiles: up to 4 receiver rows × 128 columns, which read (4 + 2·rv) rows
+// of 128 columns × 32 bytes, 280 KB at rv = 32: within a core's L2 (512 KB to 1 MB on
+// current x86), where whole rows (2.6 MB at 1280 columns) are not. Bands of 4 rows (fewer for
+// a level with few receiver rows, so that every thread has several): a band of 16 rows takes
+// ~0.25 ms, long enough to leave one thread idle at the end of each of the frame's ~20
+// vertical passes.
+constexpr int kVerticalBandRows = 4;
 constexpr int kVerticalTileColumns = 128;
 // The horizontal pass's bands (parallel_for_rows's default).
 constexpr int kHorizontalBandRows = 4;
