@@ -4,27 +4,28 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <new>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+#include <mutex>
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
+#include "core/methods/chebyshev/chebyshev_internal.h"
 
 namespace aolab {
 
 namespace {
 
-// One window size: half-widths along x (the horizontal pass) and y (the vertical pass).
-struct Level {
-  int rh, rv;
-};
-
-// The frame as the two passes read it: depth with background as 0 and a 0/1 weight, so the
-// passes can sum without branches (a background pixel adds 0 to every sum and to the count).
-struct Frame {
-  int w, h;
-  std::vector<float> depth, weight;
-  std::vector<int> level;  // per pixel: index into the level list, −1 = no window
-};
+using chebyshev_detail::Frame;
+using chebyshev_detail::FrameVector;
+using chebyshev_detail::kFramePadding;
+using chebyshev_detail::Level;
+using chebyshev_detail::LevelRows;
+using chebyshev_detail::Plan;
 
 // Horizontal pass of one row for half-width r (§III: "two mutually perpendicular blur
 // filters"), for the columns [lo, hi]: for each column x, over the symmetric segment
@@ -90,33 +91,60 @@ const std::vector<int>& level_table() {
 }
 
 // Chessboard distance of every pixel to the nearest background pixel (background: 0; none:
-// a large value), by the two-pass 3×3 chamfer, which is exact for this metric. The window of
-// half-width r around a pixel holds no background iff r < distance.
-std::vector<int> background_distance(const Frame& f) {
+// a large value), exact, in two separable passes that run in parallel: per column the
+// distance v to the nearest background pixel of the column, then per row
+// D(x) = min over x' of max(|x − x'|, v(x')), the lower envelope of those functions by the
+// linear-time algorithm of Meijster, Roerdink and Hesselink, "A General Algorithm for
+// Computing Distance Transforms in Linear Time" (2000), §4 with its L∞ f and Sep. The window
+// of half-width r around a pixel holds no background iff r < distance.
+FrameVector<int> background_distance(const Frame& f, int threads) {
   const int w = f.w, h = f.h, far = 1 << 30;
-  std::vector<int> dist(std::size_t(w) * h);
-  for (std::size_t i = 0; i < dist.size(); ++i) dist[i] = f.weight[i] != 0.0f ? far : 0;
-  auto at = [&](int x, int y) { return dist[std::size_t(y) * w + x]; };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      int v = at(x, y);
-      if (x > 0) v = std::min(v, at(x - 1, y) + 1);
-      if (y > 0) {
-        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-          v = std::min(v, at(i, y - 1) + 1);
+  FrameVector<int> dist(std::size_t(w) * h);
+  // Columns, in blocks of 64 so that a row's part of a block is one contiguous run.
+  constexpr int kBlock = 64;
+  parallel_for_rows(
+      (w + kBlock - 1) / kBlock, threads,
+      [&](int b0, int b1) {
+        const int xa = b0 * kBlock, xb = std::min(w, b1 * kBlock);
+        for (int y = 0; y < h; ++y)
+          for (int x = xa; x < xb; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            dist[i] = f.weight[i] == 0.0f ? 0 : y > 0 ? std::min(far, dist[i - w] + 1) : far;
+          }
+        for (int y = h - 2; y >= 0; --y)
+          for (int x = xa; x < xb; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            dist[i] = std::min(dist[i], dist[i + w] + 1);
+          }
+      },
+      nullptr, 1);
+  // Rows: the lower envelope of f_i(x) = max(|x − i|, v(i)) over the columns i.
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    std::vector<int> v(w), s(w), t(w);
+    auto fn = [&](int x, int i) { return std::max(std::abs(x - i), v[i]); };
+    auto sep = [&](int i, int u) {  // the first x at which f_u is below f_i (i < u)
+      return v[i] <= v[u] ? std::max(i + v[u], (i + u) / 2) : std::min(u - v[i], (i + u) / 2);
+    };
+    for (int y = y0; y < y1; ++y) {
+      int* row = dist.data() + std::size_t(y) * w;
+      std::copy(row, row + w, v.begin());
+      int q = 0;
+      s[0] = t[0] = 0;
+      for (int u = 1; u < w; ++u) {
+        while (q >= 0 && fn(t[q], s[q]) > fn(t[q], u)) --q;
+        if (q < 0) {
+          q = 0, s[0] = u;
+        } else {
+          const int start = 1 + sep(s[q], u);
+          if (start < w) ++q, s[q] = u, t[q] = start;
+        }
       }
-      dist[std::size_t(y) * w + x] = v;
-    }
-  for (int y = h - 1; y >= 0; --y)
-    for (int x = w - 1; x >= 0; --x) {
-      int v = at(x, y);
-      if (x < w - 1) v = std::min(v, at(x + 1, y) + 1);
-      if (y < h - 1) {
-        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-          v = std::min(v, at(i, y + 1) + 1);
+      for (int u = w - 1; u >= 0; --u) {
+        row[u] = fn(u, s[q]);
+        if (u == t[q]) --q;
       }
-      dist[std::size_t(y) * w + x] = v;
     }
+  });
   return dist;
 }
 
@@ -135,14 +163,17 @@ struct WindowShape {
   }
 };
 
-// The frame, and the window half-width of every pixel: R·fx/d (k ∝ 1/d, §III) quantised, or
-// the fixed one; 0 for background.
+// The frame, with the window half-width of every pixel in `level` (until assign_levels
+// replaces it by the level's index): R·fx/d (k ∝ 1/d, §III) quantised, or the fixed one; 0 for
+// background.
 Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape& shape,
-                 int threads, std::vector<int>& radius_of) {
+                 int threads) {
   const int w = g.width(), h = g.height();
   const std::size_t pixels = std::size_t(w) * h;
-  Frame f{w, h, std::vector<float>(pixels), std::vector<float>(pixels), std::vector<int>(pixels)};
-  radius_of.assign(pixels, 0);
+  Frame f{w, h, FrameVector<float>(pixels + kFramePadding),
+          FrameVector<float>(pixels + kFramePadding), FrameVector<int>(pixels + kFramePadding)};
+  for (std::size_t i = pixels; i < pixels + kFramePadding; ++i)
+    f.depth[i] = f.weight[i] = 0.0f, f.level[i] = -1;
   parallel_for_rows(h, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w; ++x) {
@@ -150,79 +181,96 @@ Frame make_frame(const GBuffer& g, const ChebyshevSettings& s, const WindowShape
         const bool valid = g.valid(x, y);
         f.depth[i] = valid ? g.depth(x, y) : 0.0f;
         f.weight[i] = valid ? 1.0f : 0.0f;
-        if (!valid) continue;
-        radius_of[i] = shape.adaptive ? chebyshev_quantised_radius(
-                                            double(s.radius) * g.camera.fx / g.depth(x, y),
-                                            s.max_kernel_radius)
-                                      : s.kernel_radius;
+        f.level[i] = !valid ? 0
+                     : shape.adaptive
+                         ? chebyshev_quantised_radius(
+                               double(s.radius) * g.camera.fx / g.depth(x, y), s.max_kernel_radius)
+                         : s.kernel_radius;
       }
   });
   return f;
 }
 
 // Windows shrink to a level that holds no background pixel (symmetric, so a plane stays
-// exactly 1 up to its silhouette).
-void shrink_at_background(const Frame& f, const WindowShape& shape, std::vector<int>& radius_of) {
-  const std::vector<int> dist = background_distance(f);
-  for (std::size_t i = 0; i < radius_of.size(); ++i) {
-    int r = radius_of[i];
-    while (r > 0 && std::max(r, shape.vertical(r)) >= dist[i])
-      r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
-    radius_of[i] = r;
-  }
+// exactly 1 up to its silhouette). A frame without background has nothing to shrink.
+void shrink_at_background(Frame& f, const WindowShape& shape, int max_r, int threads) {
+  const std::size_t pixels = std::size_t(f.w) * f.h;
+  if (std::find(f.weight.begin(), f.weight.begin() + std::ptrdiff_t(pixels), 0.0f) ==
+      f.weight.begin() + std::ptrdiff_t(pixels))
+    return;
+  const FrameVector<int> dist = background_distance(f, threads);
+  std::vector<int> vertical(std::size_t(max_r) + 1);
+  for (int r = 0; r <= max_r; ++r) vertical[r] = shape.vertical(r);
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i) {
+      int r = f.level[i];
+      while (r > 0 && std::max(r, vertical[r]) >= dist[i])
+        r = chebyshev_level_below(std::min(r - 1, dist[i] - 1));
+      f.level[i] = r;
+    }
+  });
 }
 
-// The distinct half-widths (levels) in increasing order; sets every pixel's level index.
-std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r,
-                                 const std::vector<int>& radius_of) {
+// The distinct half-widths (levels) in increasing order; replaces every pixel's half-width
+// by its level's index (−1: none).
+std::vector<Level> assign_levels(Frame& f, const WindowShape& shape, int max_r, int threads) {
   std::vector<int> index_of(std::size_t(max_r) + 1, -1);
-  for (int r : radius_of) index_of[r] = 0;
+  std::mutex merge;
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    std::vector<char> used(std::size_t(max_r) + 1, 0);
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
+      used[f.level[i]] = 1;
+    const std::lock_guard<std::mutex> lock(merge);
+    for (int r = 0; r <= max_r; ++r)
+      if (used[r]) index_of[r] = 0;
+  });
   std::vector<Level> levels;
   for (int r = 1; r <= max_r; ++r) {
     if (index_of[r] < 0) continue;
     index_of[r] = int(levels.size());
     levels.push_back({r, shape.vertical(r)});
   }
-  for (std::size_t i = 0; i < radius_of.size(); ++i)
-    f.level[i] = radius_of[i] > 0 ? index_of[radius_of[i]] : -1;
+  parallel_for_rows(f.h, threads, [&](int y0, int y1) {
+    for (std::size_t i = std::size_t(y0) * f.w; i < std::size_t(y1) * f.w; ++i)
+      f.level[i] = f.level[i] > 0 ? index_of[f.level[i]] : -1;
+  });
   return levels;
 }
 
-// The rows one level touches: the rows holding its receivers with their column span, and the
-// rows and columns the horizontal pass must cover (the union of the spans of the receiver
-// rows within their vertical half-width).
-struct LevelRows {
-  std::vector<int> receiver_rows, pass_rows;
-  std::vector<int> span_lo, span_hi;  // per row: the receivers' columns (lo > hi: none)
-  std::vector<int> need_lo, need_hi;  // per row: the columns the horizontal pass covers
-};
-
-std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels) {
+// The rows and columns of every level's passes; rows in parallel, then levels in parallel.
+std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& levels, int threads) {
   const int w = f.w, h = f.h;
   std::vector<LevelRows> rows(levels.size());
   for (LevelRows& r : rows) r.span_lo.assign(h, w), r.span_hi.assign(h, -1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int l = f.level[std::size_t(y) * w + x];
-      if (l < 0) continue;
-      rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
-      rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
-    }
-  for (std::size_t l = 0; l < levels.size(); ++l) {
-    LevelRows& r = rows[l];
-    r.need_lo.assign(h, w), r.need_hi.assign(h, -1);
-    for (int y = 0; y < h; ++y) {
-      if (r.span_hi[y] < 0) continue;
-      r.receiver_rows.push_back(y);
-      const int ry = std::min({levels[l].rv, y, h - 1 - y});
-      for (int j = y - ry; j <= y + ry; ++j) {
-        r.need_lo[j] = std::min(r.need_lo[j], r.span_lo[y]);
-        r.need_hi[j] = std::max(r.need_hi[j], r.span_hi[y]);
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int l = f.level[std::size_t(y) * w + x];
+        if (l < 0) continue;
+        rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
+        rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
       }
-    }
-    for (int y = 0; y < h; ++y)
-      if (r.need_hi[y] >= 0) r.pass_rows.push_back(y);
-  }
+  });
+  parallel_for_rows(
+      int(levels.size()), threads,
+      [&](int l0, int l1) {
+        for (int l = l0; l < l1; ++l) {
+          LevelRows& r = rows[l];
+          r.need_lo.assign(h, w), r.need_hi.assign(h, -1);
+          for (int y = 0; y < h; ++y) {
+            if (r.span_hi[y] < 0) continue;
+            r.receiver_rows.push_back(y);
+            const int ry = std::min({levels[l].rv, y, h - 1 - y});
+            for (int j = y - ry; j <= y + ry; ++j) {
+              r.need_lo[j] = std::min(r.need_lo[j], r.span_lo[y]);
+              r.need_hi[j] = std::max(r.need_hi[j], r.span_hi[y]);
+            }
+          }
+          for (int y = 0; y < h; ++y)
+            if (r.need_hi[y] >= 0) r.pass_rows.push_back(y);
+        }
+      },
+      nullptr, 1);
   return rows;
 }
 
@@ -330,27 +378,54 @@ float chebyshev_visibility(float gap, float variance, const ChebyshevSettings& s
   return float(std::clamp(1.0 - (1.0 - p) * fade, 0.0, 1.0));
 }
 
-Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
-  g.validate();
-  validate_settings(s, kChebyshevFields);
-  const int w = g.width(), h = g.height();
-  const int threads = resolve_threads(options.threads);
-  const std::size_t pixels = std::size_t(w) * h;
+namespace chebyshev_detail {
+
+// Arrays this large go to 2 MiB-aligned memory advised for huge pages.
+constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
+
+void* allocate_frame_bytes(std::size_t bytes) {
+#ifdef __linux__
+  if (bytes >= kHugePageBytes) {
+    const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+    void* p = std::aligned_alloc(kHugePageBytes, rounded);
+    if (!p) throw std::bad_alloc();
+    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KiB pages
+    return p;
+  }
+#endif
+  return ::operator new(bytes);
+}
+
+void free_frame_bytes(void* p, std::size_t bytes) noexcept {
+#ifdef __linux__
+  if (bytes >= kHugePageBytes) return std::free(p);
+#endif
+  ::operator delete(p);
+}
+
+Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
                           double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
+  Plan plan;
+  plan.frame = make_frame(g, s, shape, threads);
+  const int max_r = std::max(s.kernel_radius, s.max_kernel_radius);
+  if (s.shrink_at_background) shrink_at_background(plan.frame, shape, max_r, threads);
+  plan.levels = assign_levels(plan.frame, shape, max_r, threads);
+  plan.rows = level_rows(plan.frame, plan.levels, threads);
+  for (const LevelRows& r : plan.rows)
+    plan.total_rows += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
+  return plan;
+}
 
-  std::vector<int> radius_of;
-  Frame f = make_frame(g, s, shape, threads, radius_of);
-  if (s.shrink_at_background) shrink_at_background(f, shape, radius_of);
-  const std::vector<Level> levels =
-      assign_levels(f, shape, std::max(s.kernel_radius, s.max_kernel_radius), radius_of);
-  radius_of = {};
-  const std::vector<LevelRows> rows = level_rows(f, levels);
-  std::int64_t total = 0;
-  for (const LevelRows& r : rows)
-    total += std::int64_t(r.pass_rows.size() + r.receiver_rows.size());
-  if (options.progress) options.progress->total += total;
+}  // namespace chebyshev_detail
 
+namespace {
+
+// The moments (3 channels) by the scalar passes, or the visibility (1 channel) from them.
+Image scalar_moments(const Plan& plan, int threads, Progress* progress) {
+  const Frame& f = plan.frame;
+  const int w = f.w, h = f.h;
+  const std::size_t pixels = std::size_t(w) * h;
   Image out(w, h, 3, 0.0f);
   // Pixels without a window (half-width 0): the window is the pixel itself.
   for (int y = 0; y < h; ++y)
@@ -358,25 +433,40 @@ Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunO
       if (f.weight[std::size_t(y) * w + x] != 0.0f && f.level[std::size_t(y) * w + x] < 0)
         out(x, y, 0) = 1.0f;
 
-  if (total == 0)  // no window anywhere: still one tick, and a chance to cancel
-    parallel_for_rows(
-        1, 1, [](int, int) {}, options.progress);
-
-  const std::size_t buffer = levels.empty() ? 0 : pixels;
+  const std::size_t buffer = plan.levels.empty() ? 0 : pixels;
   Buffers b{std::vector<float>(buffer), std::vector<float>(buffer), std::vector<float>(buffer),
             std::vector<float>(buffer)};
-  for (int l = 0; l < int(levels.size()); ++l) {
-    horizontal_pass(f, levels[l], rows[l], b, threads, options.progress);
-    vertical_pass(f, l, levels[l], rows[l], b, out, threads, options.progress);
+  for (int l = 0; l < int(plan.levels.size()); ++l) {
+    horizontal_pass(f, plan.levels[l], plan.rows[l], b, threads, progress);
+    vertical_pass(f, l, plan.levels[l], plan.rows[l], b, out, threads, progress);
   }
   return out;
 }
 
-Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
-  const Image moments = chebyshev_moments(g, s, options);
+// Validates, plans and runs the kernel `options` names: the moments if `want_moments`, else
+// the visibility.
+Image run(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options,
+          bool want_moments) {
+  g.validate();
+  validate_settings(s, kChebyshevFields);
   const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const Plan plan = chebyshev_detail::make_plan(g, s, threads);
+  if (options.progress) options.progress->total += plan.total_rows;
+  if (plan.total_rows == 0)  // no window anywhere: still one tick, and a chance to cancel
+    parallel_for_rows(
+        1, 1, [](int, int) {}, options.progress);
+
+  if (options.kernel == Kernel::Simd) {
+    Image out(w, h, want_moments ? 3 : 1, want_moments ? 0.0f : 1.0f);
+    chebyshev_simd(plan, s, threads, options.progress, want_moments ? &out : nullptr,
+                   want_moments ? nullptr : &out);
+    return out;
+  }
+  Image moments = scalar_moments(plan, threads, options.progress);
+  if (want_moments) return moments;
   Image out(w, h, 1, 1.0f);
-  parallel_for_rows(h, resolve_threads(options.threads), [&](int y0, int y1) {
+  parallel_for_rows(h, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w; ++x)
         if (moments(x, y, 0) > 0.0f)
@@ -385,10 +475,22 @@ Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& 
   return out;
 }
 
+}  // namespace
+
+Image chebyshev_moments(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  return run(g, s, options, true);
+}
+
+Image chebyshev(const GBuffer& g, const ChebyshevSettings& s, const RunOptions& options) {
+  return run(g, s, options, false);
+}
+
 Method chebyshev_method() {
-  return registered_method("chebyshev", "Chebyshev ambient occlusion",
-                           "Chan, Im 2021, Chebyshev Ambient Occlusion", kChebyshevFields,
-                           chebyshev);
+  Method m =
+      registered_method("chebyshev", "Chebyshev ambient occlusion",
+                        "Chan, Im 2021, Chebyshev Ambient Occlusion", kChebyshevFields, chebyshev);
+  m.has_simd_kernel = true;
+  return m;
 }
 
 }  // namespace aolab
