@@ -2,8 +2,10 @@
 # The benchmarks (not part of the tests; docs/benchmarks.md).
 #   scripts/bench.sh            every method's scalar code against its SIMD kernel at the medium
 #                               preset, in one run: scalar ms, SIMD ms on 1 and 2 threads,
-#                               speed-up, samples per second (aolab bench-table; options such
-#                               as --scaling or --preset low follow it)
+#                               speed-up, samples per second, the shared blur apart (aolab
+#                               bench-table; its options follow: --scaling for 3840x2160 and
+#                               peak memory, --radii for R x 2, 4, 8, --profile DIR for perf,
+#                               --preset low, --size 640x360, METHOD... for some methods)
 #   scripts/bench.sh --google [ARGS]
 #                               the Google Benchmark programs: 5 repetitions, medians and
 #                               spread; ARGS go to Google Benchmark, e.g.

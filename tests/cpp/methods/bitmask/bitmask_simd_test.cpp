@@ -116,7 +116,8 @@ TEST(BitmaskSimd, OpenPlaneIsExactlyOne) {
   const SceneFixture f("plane", 203, 117);
   for (const auto& [name, s] : variants(1.0f)) {
     if (s.normalization != int(BitmaskNormalization::Unoccluded)) continue;
-    for (float v : run(f.g, s, Kernel::Simd).pixels()) ASSERT_EQ(v, 1.0f) << name;
+    const Image ao = run(f.g, s, Kernel::Simd);  // named: a temporary's pixels would dangle
+    for (float v : ao.pixels()) ASSERT_EQ(v, 1.0f) << name;
   }
 }
 

@@ -87,7 +87,8 @@ TEST(GtaoSimd, OpenPlaneIsExactlyOne) {
   const SceneFixture f("plane", 203, 117);
   for (const auto& [name, s] : variants(1.0f)) {
     if (s.normalization != int(GtaoNormalization::Unoccluded)) continue;
-    for (float v : run(f.g, s, Kernel::Simd).pixels()) ASSERT_EQ(v, 1.0f) << name;
+    const Image ao = run(f.g, s, Kernel::Simd);  // named: a temporary's pixels would dangle
+    for (float v : ao.pixels()) ASSERT_EQ(v, 1.0f) << name;
   }
 }
 
