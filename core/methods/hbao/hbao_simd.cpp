@@ -219,60 +219,139 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   m.best_r = hn::IfThenElse(update, r, m.best_r);
 }
 
-// march_direction on every lane: eq. 3's term of direction (c, sn).
-HWY_INLINE VF MarchDirection(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
-                             const RowConstants& k, MF geometry, VF jitter, VF c, VF sn) {
-  const DI di;
-  const VF zero = hn::Zero(df);
+// What the march of one direction shares: its azimuth, step and (per_sample_tangent off) t(θ).
+struct Direction {
+  VF c, sn, step_x, step_y, sin_t_dir;
+};
+
+HWY_INLINE Direction MakeDirection(DF df, const HbaoSettings& s, const Receiver& p,
+                                   const RowConstants& k, VF c, VF sn) {
+  Direction d;
+  d.c = c, d.sn = sn;
   // hbao_step: the projected radius split into N_s steps.
   const VF scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
-  const VF step_x = hn::Mul(hn::Mul(c, k.fx), scale);
-  const VF step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), scale));
-  const VF sin_t_dir =
-      s.per_sample_tangent ? zero : DirectionTangentSin(df, p, k, step_x, step_y, c, sn);
-  March m{zero, zero, zero};
-  MF alive = geometry;
+  d.step_x = hn::Mul(hn::Mul(c, k.fx), scale);
+  d.step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), scale));
+  d.sin_t_dir = s.per_sample_tangent ? hn::Zero(df)
+                                     : DirectionTangentSin(df, p, k, d.step_x, d.step_y, c, sn);
+  return d;
+}
+
+// The step-vectors that one pass gathers before it tests any: enough gathers in flight to
+// overlap their latency, few enough that the buffers (16 KiB at 16 lanes) stay in L1.
+constexpr int kBufferSteps = 32;
+
+// The texels and gathered depths of steps [i0, i0 + n) of direction d into the buffers at
+// `at` step-vectors; `alive` (the lanes still in the image) is updated. Returns the steps
+// marched: fewer than n when every lane has left the image.
+struct StepBuffers {
+  std::int32_t* sx;
+  std::int32_t* sy;
+  float* ds;
+  float* live;
+};
+HWY_INLINE int GatherSteps(DF df, const HbaoFrame& f, const Receiver& p, const RowConstants& k,
+                           const Direction& d, VF jitter, int i0, int n, MF& alive,
+                           const StepBuffers& b, int at) {
+  const DI di;
+  const VF zero = hn::Zero(df);
   const VI row = hn::Set(di, k.y);
-  // The march in chunks: first every sample's texel and gathered depth (independent of each
-  // other, so the gathers' memory latency overlaps), then the samples' tests, whose
-  // data-dependent branches would otherwise stall each gather behind a mispredicted one.
-  constexpr int kChunk = 16;
   const std::size_t lanes = hn::Lanes(df);
-  HWY_ALIGN std::int32_t chunk_sx[kChunk * hn::MaxLanes(di)];
-  HWY_ALIGN std::int32_t chunk_sy[kChunk * hn::MaxLanes(di)];
-  HWY_ALIGN float chunk_ds[kChunk * hn::MaxLanes(df)];
-  HWY_ALIGN float chunk_live[kChunk * hn::MaxLanes(df)];
-  for (int i0 = 1; i0 <= s.steps; i0 += kChunk) {
-    const int n = std::min(kChunk, s.steps - i0 + 1);
-    int marched = 0;
-    for (int j = 0; j < n; ++j) {
-      const VF t = hn::Sub(hn::Set(df, float(i0 + j)), jitter);
-      const VF sx_f = hn::MulAdd(t, step_x, p.px), sy_f = hn::MulAdd(t, step_y, p.py);
-      // Leaving the image is final for a lane (the scalar break); NaN fails too.
-      alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
-                                     hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
-      if (hn::AllFalse(df, alive)) break;
-      const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
-      const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
-      const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
-      const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
-      hn::Store(sx, di, chunk_sx + j * lanes);
-      hn::Store(sy, di, chunk_sy + j * lanes);
-      hn::Store(hn::GatherIndex(df, f.depth, index), df, chunk_ds + j * lanes);
-      hn::Store(hn::VecFromMask(df, hn::AndNot(self, alive)), df, chunk_live + j * lanes);
-      marched = j + 1;
-    }
-    for (int j = 0; j < marched; ++j) {
-      const MF live = hn::MaskFromVec(hn::Load(df, chunk_live + j * lanes));
-      SampleStep(df, s, p, k, sin_t_dir, c, sn, live, hn::Load(di, chunk_sx + j * lanes),
-                 hn::Load(di, chunk_sy + j * lanes), hn::Load(df, chunk_ds + j * lanes), m);
-    }
-    if (marched < n) break;
+  for (int j = 0; j < n; ++j) {
+    const VF t = hn::Sub(hn::Set(df, float(i0 + j)), jitter);
+    const VF sx_f = hn::MulAdd(t, d.step_x, p.px), sy_f = hn::MulAdd(t, d.step_y, p.py);
+    // Leaving the image is final for a lane (the scalar break); NaN fails too.
+    alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
+                                   hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
+    if (hn::AllFalse(df, alive)) return j;
+    const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
+    const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
+    const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
+    const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
+    const std::size_t o = (at + j) * lanes;
+    hn::Store(sx, di, b.sx + o);
+    hn::Store(sy, di, b.sy + o);
+    hn::Store(hn::GatherIndex(df, f.depth, index), df, b.ds + o);
+    hn::Store(hn::VecFromMask(df, hn::AndNot(self, alive)), df, b.live + o);
   }
+  return n;
+}
+
+// The tests of `count` buffered steps, from step-vector `at` on, into direction d's march m.
+HWY_INLINE void TestSteps(DF df, const HbaoSettings& s, const Receiver& p, const RowConstants& k,
+                          const Direction& d, const StepBuffers& b, int at, int count, March& m) {
+  const DI di;
+  const std::size_t lanes = hn::Lanes(df);
+  for (int j = at; j < at + count; ++j) {
+    const MF live = hn::MaskFromVec(hn::Load(df, b.live + j * lanes));
+    SampleStep(df, s, p, k, d.sin_t_dir, d.c, d.sn, live, hn::Load(di, b.sx + j * lanes),
+               hn::Load(di, b.sy + j * lanes), hn::Load(df, b.ds + j * lanes), m);
+  }
+}
+
+// eq. 3's term of a direction from its finished march.
+HWY_INLINE VF DirectionTerm(DF df, const HbaoSettings& s, const RowConstants& k, const March& m) {
   if (s.attenuation == int(HbaoAttenuation::None)) return m.best_gain;
   if (s.incremental_attenuation) return m.rises;
   return hn::Mul(m.best_gain,
-                 hn::Max(zero, hn::NegMulAdd(m.best_r, k.inv_radius, hn::Set(df, 1.0f))));
+                 hn::Max(hn::Zero(df), hn::NegMulAdd(m.best_r, k.inv_radius, hn::Set(df, 1.0f))));
+}
+
+// march_direction on every lane for every direction, summed in the scalar code's order
+// (hbao_pixel). The march runs in passes: first every buffered sample's texel and gathered
+// depth (independent of each other, so the gathers' memory latency overlaps), then the
+// samples' tests, whose data-dependent branches would otherwise stall each gather behind a
+// mispredicted one. When N_s ≤ kBufferSteps / 2 one pass holds several directions' steps
+// (4 at N_s = 8), so that enough gathers are in flight; a longer march is cut into chunks.
+HWY_INLINE VF MarchDirections(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
+                              const RowConstants& k, MF geometry, VF jitter, VF cp, VF sp,
+                              const float* base_cos, const float* base_sin) {
+  const DI di;
+  HWY_ALIGN std::int32_t buf_sx[kBufferSteps * hn::MaxLanes(di)];
+  HWY_ALIGN std::int32_t buf_sy[kBufferSteps * hn::MaxLanes(di)];
+  HWY_ALIGN float buf_ds[kBufferSteps * hn::MaxLanes(df)];
+  HWY_ALIGN float buf_live[kBufferSteps * hn::MaxLanes(df)];
+  const StepBuffers b{buf_sx, buf_sy, buf_ds, buf_live};
+  // HbaoDirections::rotated.
+  const auto direction = [&](int dir) {
+    const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
+    return MakeDirection(df, s, p, k, hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp)),
+                         hn::MulAdd(bs, cp, hn::Mul(bc, sp)));
+  };
+  VF occlusion = hn::Zero(df);
+  constexpr int kMaxGroup = 8;
+  const int group = std::clamp(kBufferSteps / s.steps, 1, kMaxGroup);
+  if (group == 1) {
+    for (int dir = 0; dir < s.directions; ++dir) {
+      const Direction d = direction(dir);
+      March m{hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+      MF alive = geometry;
+      for (int i0 = 1; i0 <= s.steps; i0 += kBufferSteps) {
+        const int n = std::min(kBufferSteps, s.steps - i0 + 1);
+        const int marched = GatherSteps(df, f, p, k, d, jitter, i0, n, alive, b, 0);
+        TestSteps(df, s, p, k, d, b, 0, marched, m);
+        if (marched < n) break;
+      }
+      occlusion = hn::Add(occlusion, DirectionTerm(df, s, k, m));
+    }
+    return occlusion;
+  }
+  Direction dirs[kMaxGroup];
+  int marched[kMaxGroup];
+  for (int dir0 = 0; dir0 < s.directions; dir0 += group) {
+    const int count = std::min(group, s.directions - dir0);
+    for (int g = 0; g < count; ++g) {
+      dirs[g] = direction(dir0 + g);
+      MF alive = geometry;
+      marched[g] = GatherSteps(df, f, p, k, dirs[g], jitter, 1, s.steps, alive, b, g * s.steps);
+    }
+    for (int g = 0; g < count; ++g) {
+      March m{hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+      TestSteps(df, s, p, k, dirs[g], b, g * s.steps, marched[g], m);
+      occlusion = hn::Add(occlusion, DirectionTerm(df, s, k, m));
+    }
+  }
+  return occlusion;
 }
 
 }  // namespace
@@ -327,14 +406,8 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
       const VF rotation = s.random_rotation ? PixelRandom(df, seed, x0, y, 0) : hn::Zero(df);
       const VF jitter = s.jitter ? PixelRandom(df, seed, x0, y, 1) : hn::Zero(df);
       const VF phi = hn::Mul(rotation, hn::Set(df, spacing));
-      const VF cp = hn::Cos(df, phi), sp = hn::Sin(df, phi);
-      VF occlusion = hn::Zero(df);
-      for (int dir = 0; dir < s.directions; ++dir) {
-        const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
-        const VF c = hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp));
-        const VF sn = hn::MulAdd(bs, cp, hn::Mul(bc, sp));
-        occlusion = hn::Add(occlusion, MarchDirection(df, f, s, p, k, geometry, jitter, c, sn));
-      }
+      const VF occlusion = MarchDirections(df, f, s, p, k, geometry, jitter, hn::Cos(df, phi),
+                                           hn::Sin(df, phi), base_cos, base_sin);
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
       result =
