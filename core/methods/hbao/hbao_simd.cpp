@@ -131,6 +131,23 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   const VF zero = hn::Zero(df);
   const VF qx = hn::ConvertTo(df, hn::Sub(sx, p.x));
   const VF qy = hn::ConvertTo(df, hn::Sub(sy, hn::Set(di, k.y)));
+  // With per-sample tangents the prefilter comes first: on an open surface it drops every
+  // lane, and D and |D| need not be built.
+  VF n_rs = zero;
+  if (s.per_sample_tangent) {
+    n_rs = hn::MulAdd(p.ax, qx, hn::NegMulAdd(p.ay, qy, p.n_r0));
+    // The test without its division: where the ray meets the plane in front of the camera
+    // (n·rs < 0 and n·r0 < 0, d > 0), tau − ds > tol needs tau > ds·(1 + 16·2^-24), since
+    // tol ≥ 2^-24·ds·(8 + 4·(1 + 1)) (each g ≥ 1), and for n·rs < 0 that is
+    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps (the products'
+    // rounding takes the rest): a lane it drops fails the exact test below anyway, and on an
+    // open surface, where tau and ds agree to a few ulps, it drops every lane.
+    const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
+    const VF margin = hn::Set(df, 1.0f + 12.0f * kUnitRoundoff);
+    live =
+        hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.d_n_r0, hn::Mul(hn::Mul(ds, n_rs), margin))));
+    if (hn::AllFalse(df, live)) return;
+  }
   // D = S − P without cancellation (elevation_sin_on_ray).
   const VF dd = hn::Sub(ds, p.d);
   const VF dx = hn::Mul(hn::MulAdd(qx, ds, hn::Mul(p.ox, dd)), k.inv_fx);
@@ -143,18 +160,6 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   MF counts;
   VF gain, r;
   if (s.per_sample_tangent) {
-    const VF n_rs = hn::MulAdd(p.ax, qx, hn::NegMulAdd(p.ay, qy, p.n_r0));
-    // The test without its division: where the ray meets the plane in front of the camera
-    // (n·rs < 0 and n·r0 < 0, d > 0), tau − ds > tol needs tau > ds·(1 + 16·2^-24), since
-    // tol ≥ 2^-24·ds·(8 + 4·(1 + 1)) (each g ≥ 1), and for n·rs < 0 that is
-    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps (the products'
-    // rounding takes the rest): a lane it drops fails the exact test below anyway, and on an
-    // open surface, where tau and ds agree to a few ulps, it drops every lane.
-    const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
-    const VF margin = hn::Set(df, 1.0f + 12.0f * kUnitRoundoff);
-    const MF maybe =
-        hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.d_n_r0, hn::Mul(hn::Mul(ds, n_rs), margin))));
-    if (hn::AllFalse(df, maybe)) return;
     // per_sample_candidate, exactly.
     const VF tau = hn::Div(p.d_n_r0, n_rs);
     const VF rsx = hn::Mul(hn::Add(p.ox, qx), k.inv_fx);
@@ -172,7 +177,7 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
                            hn::Set(df, kHbaoDepthUlps)));
     const VF gap =
         hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
-    counts = hn::And(hn::AndNot(rejected, maybe), hn::Gt(gap, tol));
+    counts = hn::And(hn::AndNot(rejected, live), hn::Gt(gap, tol));
     if (hn::AllFalse(df, counts)) return;
     const VF sin_t =
         hn::IfThenElse(hits, ElevationSinOnRay(df, p, k, qx, qy, hn::IfThenElse(hits, tau, p.d)),
