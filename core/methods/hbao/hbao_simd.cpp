@@ -60,7 +60,16 @@ struct Receiver {
 struct RowConstants {
   VF inv_fx, inv_fy, fx, fy, width, height, radius, radius2, inv_radius;
   int y, w;
+  bool small;  // width and height < 2^23: TexelOf may be used
 };
+
+// int(v) for 0 ≤ v < 2^23: v + 2^23 holds trunc(v) in its low mantissa bits. Three
+// operations where ConvertTo, which also handles out-of-range values, takes five.
+HWY_INLINE VI TexelOf(DF df, VF v) {
+  const DI di;
+  const VF two23 = hn::Set(df, 8388608.0f);
+  return hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(v), two23)), hn::BitCast(di, two23));
+}
 
 // 1/sqrt(v) to about 1 ulp less than float's 24 bits: the ~12-bit hardware estimate and one
 // Newton step, 5 cheap operations instead of a square root and a division (each several times
@@ -273,8 +282,10 @@ HWY_INLINE int GatherSteps(DF df, const HbaoFrame& f, const Receiver& p, const R
     alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
                                    hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
     if (hn::AllFalse(df, alive)) return j;
-    const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
-    const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
+    // Snap to the texel (the same integers either way).
+    const VF sx_in = hn::IfThenElseZero(alive, sx_f), sy_in = hn::IfThenElseZero(alive, sy_f);
+    const VI sx = k.small ? TexelOf(df, sx_in) : hn::ConvertTo(di, sx_in);
+    const VI sy = k.small ? TexelOf(df, sy_in) : hn::ConvertTo(di, sy_in);
     const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
     const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
     const std::size_t o = (at + j) * lanes;
@@ -380,6 +391,7 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
   k.radius = hn::Set(df, s.radius), k.radius2 = hn::Set(df, s.radius * s.radius);
   k.inv_radius = hn::Set(df, 1.0f / s.radius);
   k.y = y, k.w = w;
+  k.small = w < (1 << 23) && f.height < (1 << 23);
   const float* depth_row = f.depth + std::size_t(y) * w;
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
   const float py = float(y) + 0.5f;
