@@ -53,7 +53,9 @@ struct Receiver {
   // n_r0 + ax·qx − ay·qy with ax = nx/fx, ay = ny/fy, two operations per sample instead of
   // rebuilding rs (it differs from the scalar dot product by rounding only).
   VF ax, ay;
-  VF d_n_r0;  // d · (n·r0), the prefilter's left side
+  VF d_n_r0;      // d · (n·r0)
+  VF prefilter;   // d · (n·r0) / (1 + 12·2^-24), the prefilter's left side
+  VF step_scale;  // hbao_step's R / (d·N_s)
 };
 
 // What every step of a row shares.
@@ -148,13 +150,12 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
     // The test without its division: where the ray meets the plane in front of the camera
     // (n·rs < 0 and n·r0 < 0, d > 0), tau − ds > tol needs tau > ds·(1 + 16·2^-24), since
     // tol ≥ 2^-24·ds·(8 + 4·(1 + 1)) (each g ≥ 1), and for n·rs < 0 that is
-    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps (the products'
-    // rounding takes the rest): a lane it drops fails the exact test below anyway, and on an
-    // open surface, where tau and ds agree to a few ulps, it drops every lane.
+    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps, divided into
+    // d·(n·r0) once per pixel (that division's and the product's rounding take the rest): a
+    // lane it drops fails the exact test below anyway, and on an open surface, where tau and
+    // ds agree to a few ulps, it drops every lane.
     const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
-    const VF margin = hn::Set(df, 1.0f + 12.0f * kUnitRoundoff);
-    live =
-        hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.d_n_r0, hn::Mul(hn::Mul(ds, n_rs), margin))));
+    live = hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.prefilter, hn::Mul(ds, n_rs))));
     if (hn::AllFalse(df, live)) return;
   }
   // D = S − P without cancellation (elevation_sin_on_ray).
@@ -247,9 +248,8 @@ HWY_INLINE Direction MakeDirection(DF df, const HbaoSettings& s, const Receiver&
   Direction d;
   d.c = c, d.sn = sn;
   // hbao_step: the projected radius split into N_s steps.
-  const VF scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
-  d.step_x = hn::Mul(hn::Mul(c, k.fx), scale);
-  d.step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), scale));
+  d.step_x = hn::Mul(hn::Mul(c, k.fx), p.step_scale);
+  d.step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), p.step_scale));
   d.sin_t_dir = s.per_sample_tangent ? hn::Zero(df)
                                      : DirectionTangentSin(df, p, k, d.step_x, d.step_y, c, sn);
   return d;
@@ -420,6 +420,8 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
     p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
     p.ax = hn::Mul(p.nx, k.inv_fx), p.ay = hn::Mul(p.ny, k.inv_fy);
     p.d_n_r0 = hn::Mul(p.d, p.n_r0);
+    p.prefilter = hn::Div(p.d_n_r0, hn::Set(df, 1.0f + 12.0f * kUnitRoundoff));
+    p.step_scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
     p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
                         hn::Abs(p.n_r0));
 
