@@ -5,13 +5,15 @@
 // differ only by float rounding (FMA, Highway's sin/cos for the rotation).
 //
 // What it does differently (docs/methods/hbao.md, "SIMD kernel"):
-// - the depth of a sample is a gather, made for up to 16 steps of a direction before any of
-//   them is tested, so that the gathers' latencies overlap; a lane whose march left the image
-//   stops, as the scalar loop's break does, and the direction ends when every lane has;
+// - the depth of a sample is a gather, made for 32 step-vectors (4 directions at N_s = 8)
+//   before any of them is tested, so that the gathers' latencies overlap; a lane whose march
+//   left the image stops, as the scalar loop's break does, and the direction ends when every
+//   lane has;
 // - the per-sample tangent test first runs a division-free form of its sign test
 //   ("is the sample nearer than the tangent plane on its ray, by more than the least
-//   tolerance?"), and the exact test with its rounding tolerance, the square roots and
-//   divisions runs only when a lane passes it — on open surfaces no lane does;
+//   tolerance?"), before even D = S − P is built, and the radius test and the exact test
+//   with its rounding tolerance, the square roots and divisions run only when a lane passes
+//   it — on open surfaces no lane does; n·rs, affine in the texel offset, is two FMAs;
 // - 1/sqrt by the hardware estimate and a Newton step where the scalar code divides by a
 //   square root.
 #undef HWY_TARGET_INCLUDE
