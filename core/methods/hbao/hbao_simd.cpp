@@ -5,13 +5,15 @@
 // differ only by float rounding (FMA, Highway's sin/cos for the rotation).
 //
 // What it does differently (docs/methods/hbao.md, "SIMD kernel"):
-// - the depth of a sample is a gather, made for up to 16 steps of a direction before any of
-//   them is tested, so that the gathers' latencies overlap; a lane whose march left the image
-//   stops, as the scalar loop's break does, and the direction ends when every lane has;
+// - the depth of a sample is a gather, made for 32 step-vectors (4 directions at N_s = 8)
+//   before any of them is tested, so that the gathers' latencies overlap; a lane whose march
+//   left the image stops, as the scalar loop's break does, and the direction ends when every
+//   lane has;
 // - the per-sample tangent test first runs a division-free form of its sign test
 //   ("is the sample nearer than the tangent plane on its ray, by more than the least
-//   tolerance?"), and the exact test with its rounding tolerance, the square roots and
-//   divisions runs only when a lane passes it — on open surfaces no lane does;
+//   tolerance?"), before even D = S − P is built, and the radius test and the exact test
+//   with its rounding tolerance, the square roots and divisions run only when a lane passes
+//   it — on open surfaces no lane does; n·rs, affine in the texel offset, is two FMAs;
 // - 1/sqrt by the hardware estimate and a Newton step where the scalar code divides by a
 //   square root.
 #undef HWY_TARGET_INCLUDE
@@ -49,13 +51,29 @@ struct Receiver {
   VI x;        // P's column
   VF n_r0;     // n · (P's view ray at depth 1)
   VF grazing;  // |r0| / |n·r0|
+  // n · rs of the view ray rs through P's pixel centre + (qx, qy) is affine in (qx, qy):
+  // n_r0 + ax·qx − ay·qy with ax = nx/fx, ay = ny/fy, two operations per sample instead of
+  // rebuilding rs (it differs from the scalar dot product by rounding only).
+  VF ax, ay;
+  VF d_n_r0;      // d · (n·r0)
+  VF prefilter;   // d · (n·r0) / (1 + 12·2^-24), the prefilter's left side
+  VF step_scale;  // hbao_step's R / (d·N_s)
 };
 
 // What every step of a row shares.
 struct RowConstants {
   VF inv_fx, inv_fy, fx, fy, width, height, radius, radius2, inv_radius;
   int y, w;
+  bool small;  // width and height < 2^23: TexelOf may be used
 };
+
+// int(v) for 0 ≤ v < 2^23: v + 2^23 holds trunc(v) in its low mantissa bits. Three
+// operations where ConvertTo, which also handles out-of-range values, takes five.
+HWY_INLINE VI TexelOf(DF df, VF v) {
+  const DI di;
+  const VF two23 = hn::Set(df, 8388608.0f);
+  return hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(v), two23)), hn::BitCast(di, two23));
+}
 
 // 1/sqrt(v) to about 1 ulp less than float's 24 bits: the ~12-bit hardware estimate and one
 // Newton step, 5 cheap operations instead of a square root and a division (each several times
@@ -126,6 +144,22 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   const VF zero = hn::Zero(df);
   const VF qx = hn::ConvertTo(df, hn::Sub(sx, p.x));
   const VF qy = hn::ConvertTo(df, hn::Sub(sy, hn::Set(di, k.y)));
+  // With per-sample tangents the prefilter comes first: on an open surface it drops every
+  // lane, and D and |D| need not be built.
+  VF n_rs = zero;
+  if (s.per_sample_tangent) {
+    n_rs = hn::MulAdd(p.ax, qx, hn::NegMulAdd(p.ay, qy, p.n_r0));
+    // The test without its division: where the ray meets the plane in front of the camera
+    // (n·rs < 0 and n·r0 < 0, d > 0), tau − ds > tol needs tau > ds·(1 + 16·2^-24), since
+    // tol ≥ 2^-24·ds·(8 + 4·(1 + 1)) (each g ≥ 1), and for n·rs < 0 that is
+    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps, divided into
+    // d·(n·r0) once per pixel (that division's and the product's rounding take the rest): a
+    // lane it drops fails the exact test below anyway, and on an open surface, where tau and
+    // ds agree to a few ulps, it drops every lane.
+    const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
+    live = hn::And(live, hn::Or(hn::Not(meets), hn::Lt(p.prefilter, hn::Mul(ds, n_rs))));
+    if (hn::AllFalse(df, live)) return;
+  }
   // D = S − P without cancellation (elevation_sin_on_ray).
   const VF dd = hn::Sub(ds, p.d);
   const VF dx = hn::Mul(hn::MulAdd(qx, ds, hn::Mul(p.ox, dd)), k.inv_fx);
@@ -138,23 +172,10 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   MF counts;
   VF gain, r;
   if (s.per_sample_tangent) {
+    // per_sample_candidate, exactly.
+    const VF tau = hn::Div(p.d_n_r0, n_rs);
     const VF rsx = hn::Mul(hn::Add(p.ox, qx), k.inv_fx);
     const VF rsy = hn::Neg(hn::Mul(hn::Add(p.oy, qy), k.inv_fy));
-    const VF n_rs = hn::Sub(hn::MulAdd(p.nx, rsx, hn::Mul(p.ny, rsy)), p.nz);
-    // The test without its division: where the ray meets the plane in front of the camera
-    // (n·rs < 0 and n·r0 < 0, d > 0), tau − ds > tol needs tau > ds·(1 + 16·2^-24), since
-    // tol ≥ 2^-24·ds·(8 + 4·(1 + 1)) (each g ≥ 1), and for n·rs < 0 that is
-    // d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24). A prefilter with 12 of the 16 ulps (the products'
-    // rounding takes the rest): a lane it drops fails the exact test below anyway, and on an
-    // open surface, where tau and ds agree to a few ulps, it drops every lane.
-    const MF meets = hn::And(hn::Lt(n_rs, zero), hn::Lt(p.n_r0, zero));
-    const VF margin = hn::Set(df, 1.0f + 12.0f * kUnitRoundoff);
-    const MF maybe = hn::And(
-        live,
-        hn::Or(hn::Not(meets), hn::Lt(hn::Mul(p.d, p.n_r0), hn::Mul(hn::Mul(ds, n_rs), margin))));
-    if (hn::AllFalse(df, maybe)) return;
-    // per_sample_candidate, exactly.
-    const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_rs);
     const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
     const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
     // |rs| ≥ 1; g only scales the tolerance, so the hardware reciprocal estimate will do.
@@ -168,7 +189,7 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
                            hn::Set(df, kHbaoDepthUlps)));
     const VF gap =
         hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
-    counts = hn::And(hn::AndNot(rejected, maybe), hn::Gt(gap, tol));
+    counts = hn::And(hn::AndNot(rejected, live), hn::Gt(gap, tol));
     if (hn::AllFalse(df, counts)) return;
     const VF sin_t =
         hn::IfThenElse(hits, ElevationSinOnRay(df, p, k, qx, qy, hn::IfThenElse(hits, tau, p.d)),
@@ -219,60 +240,140 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   m.best_r = hn::IfThenElse(update, r, m.best_r);
 }
 
-// march_direction on every lane: eq. 3's term of direction (c, sn).
-HWY_INLINE VF MarchDirection(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
-                             const RowConstants& k, MF geometry, VF jitter, VF c, VF sn) {
+// What the march of one direction shares: its azimuth, step and (per_sample_tangent off) t(θ).
+struct Direction {
+  VF c, sn, step_x, step_y, sin_t_dir;
+};
+
+HWY_INLINE Direction MakeDirection(DF df, const HbaoSettings& s, const Receiver& p,
+                                   const RowConstants& k, VF c, VF sn) {
+  Direction d;
+  d.c = c, d.sn = sn;
+  // hbao_step: the projected radius split into N_s steps.
+  d.step_x = hn::Mul(hn::Mul(c, k.fx), p.step_scale);
+  d.step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), p.step_scale));
+  d.sin_t_dir = s.per_sample_tangent ? hn::Zero(df)
+                                     : DirectionTangentSin(df, p, k, d.step_x, d.step_y, c, sn);
+  return d;
+}
+
+// The step-vectors that one pass gathers before it tests any: enough gathers in flight to
+// overlap their latency, few enough that the buffers (16 KiB at 16 lanes) stay in L1.
+constexpr int kBufferSteps = 32;
+
+// The texels and gathered depths of steps [i0, i0 + n) of direction d into the buffers at
+// `at` step-vectors; `alive` (the lanes still in the image) is updated. Returns the steps
+// marched: fewer than n when every lane has left the image.
+struct StepBuffers {
+  std::int32_t* sx;
+  std::int32_t* sy;
+  float* ds;
+  float* live;
+};
+HWY_INLINE int GatherSteps(DF df, const HbaoFrame& f, const Receiver& p, const RowConstants& k,
+                           const Direction& d, VF jitter, int i0, int n, MF& alive,
+                           const StepBuffers& b, int at) {
   const DI di;
   const VF zero = hn::Zero(df);
-  // hbao_step: the projected radius split into N_s steps.
-  const VF scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
-  const VF step_x = hn::Mul(hn::Mul(c, k.fx), scale);
-  const VF step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), scale));
-  const VF sin_t_dir =
-      s.per_sample_tangent ? zero : DirectionTangentSin(df, p, k, step_x, step_y, c, sn);
-  March m{zero, zero, zero};
-  MF alive = geometry;
   const VI row = hn::Set(di, k.y);
-  // The march in chunks: first every sample's texel and gathered depth (independent of each
-  // other, so the gathers' memory latency overlaps), then the samples' tests, whose
-  // data-dependent branches would otherwise stall each gather behind a mispredicted one.
-  constexpr int kChunk = 16;
   const std::size_t lanes = hn::Lanes(df);
-  HWY_ALIGN std::int32_t chunk_sx[kChunk * hn::MaxLanes(di)];
-  HWY_ALIGN std::int32_t chunk_sy[kChunk * hn::MaxLanes(di)];
-  HWY_ALIGN float chunk_ds[kChunk * hn::MaxLanes(df)];
-  HWY_ALIGN float chunk_live[kChunk * hn::MaxLanes(df)];
-  for (int i0 = 1; i0 <= s.steps; i0 += kChunk) {
-    const int n = std::min(kChunk, s.steps - i0 + 1);
-    int marched = 0;
-    for (int j = 0; j < n; ++j) {
-      const VF t = hn::Sub(hn::Set(df, float(i0 + j)), jitter);
-      const VF sx_f = hn::MulAdd(t, step_x, p.px), sy_f = hn::MulAdd(t, step_y, p.py);
-      // Leaving the image is final for a lane (the scalar break); NaN fails too.
-      alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
-                                     hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
-      if (hn::AllFalse(df, alive)) break;
-      const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
-      const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
-      const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
-      const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
-      hn::Store(sx, di, chunk_sx + j * lanes);
-      hn::Store(sy, di, chunk_sy + j * lanes);
-      hn::Store(hn::GatherIndex(df, f.depth, index), df, chunk_ds + j * lanes);
-      hn::Store(hn::VecFromMask(df, hn::AndNot(self, alive)), df, chunk_live + j * lanes);
-      marched = j + 1;
-    }
-    for (int j = 0; j < marched; ++j) {
-      const MF live = hn::MaskFromVec(hn::Load(df, chunk_live + j * lanes));
-      SampleStep(df, s, p, k, sin_t_dir, c, sn, live, hn::Load(di, chunk_sx + j * lanes),
-                 hn::Load(di, chunk_sy + j * lanes), hn::Load(df, chunk_ds + j * lanes), m);
-    }
-    if (marched < n) break;
+  for (int j = 0; j < n; ++j) {
+    const VF t = hn::Sub(hn::Set(df, float(i0 + j)), jitter);
+    const VF sx_f = hn::MulAdd(t, d.step_x, p.px), sy_f = hn::MulAdd(t, d.step_y, p.py);
+    // Leaving the image is final for a lane (the scalar break); NaN fails too.
+    alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
+                                   hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
+    if (hn::AllFalse(df, alive)) return j;
+    // Snap to the texel (the same integers either way).
+    const VF sx_in = hn::IfThenElseZero(alive, sx_f), sy_in = hn::IfThenElseZero(alive, sy_f);
+    const VI sx = k.small ? TexelOf(df, sx_in) : hn::ConvertTo(di, sx_in);
+    const VI sy = k.small ? TexelOf(df, sy_in) : hn::ConvertTo(di, sy_in);
+    const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
+    const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
+    const std::size_t o = (at + j) * lanes;
+    hn::Store(sx, di, b.sx + o);
+    hn::Store(sy, di, b.sy + o);
+    hn::Store(hn::GatherIndex(df, f.depth, index), df, b.ds + o);
+    hn::Store(hn::VecFromMask(df, hn::AndNot(self, alive)), df, b.live + o);
   }
+  return n;
+}
+
+// The tests of `count` buffered steps, from step-vector `at` on, into direction d's march m.
+HWY_INLINE void TestSteps(DF df, const HbaoSettings& s, const Receiver& p, const RowConstants& k,
+                          const Direction& d, const StepBuffers& b, int at, int count, March& m) {
+  const DI di;
+  const std::size_t lanes = hn::Lanes(df);
+  for (int j = at; j < at + count; ++j) {
+    const MF live = hn::MaskFromVec(hn::Load(df, b.live + j * lanes));
+    SampleStep(df, s, p, k, d.sin_t_dir, d.c, d.sn, live, hn::Load(di, b.sx + j * lanes),
+               hn::Load(di, b.sy + j * lanes), hn::Load(df, b.ds + j * lanes), m);
+  }
+}
+
+// eq. 3's term of a direction from its finished march.
+HWY_INLINE VF DirectionTerm(DF df, const HbaoSettings& s, const RowConstants& k, const March& m) {
   if (s.attenuation == int(HbaoAttenuation::None)) return m.best_gain;
   if (s.incremental_attenuation) return m.rises;
   return hn::Mul(m.best_gain,
-                 hn::Max(zero, hn::NegMulAdd(m.best_r, k.inv_radius, hn::Set(df, 1.0f))));
+                 hn::Max(hn::Zero(df), hn::NegMulAdd(m.best_r, k.inv_radius, hn::Set(df, 1.0f))));
+}
+
+// march_direction on every lane for every direction, summed in the scalar code's order
+// (hbao_pixel). The march runs in passes: first every buffered sample's texel and gathered
+// depth (independent of each other, so the gathers' memory latency overlaps), then the
+// samples' tests, whose data-dependent branches would otherwise stall each gather behind a
+// mispredicted one. When N_s ≤ kBufferSteps / 2 one pass holds several directions' steps
+// (4 at N_s = 8), so that enough gathers are in flight; a longer march is cut into chunks.
+HWY_INLINE VF MarchDirections(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
+                              const RowConstants& k, MF geometry, VF jitter, VF cp, VF sp,
+                              const float* base_cos, const float* base_sin) {
+  const DI di;
+  HWY_ALIGN std::int32_t buf_sx[kBufferSteps * hn::MaxLanes(di)];
+  HWY_ALIGN std::int32_t buf_sy[kBufferSteps * hn::MaxLanes(di)];
+  HWY_ALIGN float buf_ds[kBufferSteps * hn::MaxLanes(df)];
+  HWY_ALIGN float buf_live[kBufferSteps * hn::MaxLanes(df)];
+  const StepBuffers b{buf_sx, buf_sy, buf_ds, buf_live};
+  // HbaoDirections::rotated.
+  const auto direction = [&](int dir) {
+    const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
+    return MakeDirection(df, s, p, k, hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp)),
+                         hn::MulAdd(bs, cp, hn::Mul(bc, sp)));
+  };
+  VF occlusion = hn::Zero(df);
+  constexpr int kMaxGroup = 8;
+  const int group = std::clamp(kBufferSteps / s.steps, 1, kMaxGroup);
+  if (group == 1) {
+    for (int dir = 0; dir < s.directions; ++dir) {
+      const Direction d = direction(dir);
+      March m{hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+      MF alive = geometry;
+      for (int i0 = 1; i0 <= s.steps; i0 += kBufferSteps) {
+        const int n = std::min(kBufferSteps, s.steps - i0 + 1);
+        const int marched = GatherSteps(df, f, p, k, d, jitter, i0, n, alive, b, 0);
+        TestSteps(df, s, p, k, d, b, 0, marched, m);
+        if (marched < n) break;
+      }
+      occlusion = hn::Add(occlusion, DirectionTerm(df, s, k, m));
+    }
+    return occlusion;
+  }
+  Direction dirs[kMaxGroup];
+  int marched[kMaxGroup];
+  for (int dir0 = 0; dir0 < s.directions; dir0 += group) {
+    const int count = std::min(group, s.directions - dir0);
+    for (int g = 0; g < count; ++g) {
+      dirs[g] = direction(dir0 + g);
+      MF alive = geometry;
+      marched[g] = GatherSteps(df, f, p, k, dirs[g], jitter, 1, s.steps, alive, b, g * s.steps);
+    }
+    for (int g = 0; g < count; ++g) {
+      March m{hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+      TestSteps(df, s, p, k, dirs[g], b, g * s.steps, marched[g], m);
+      occlusion = hn::Add(occlusion, DirectionTerm(df, s, k, m));
+    }
+  }
+  return occlusion;
 }
 
 }  // namespace
@@ -292,6 +393,7 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
   k.radius = hn::Set(df, s.radius), k.radius2 = hn::Set(df, s.radius * s.radius);
   k.inv_radius = hn::Set(df, 1.0f / s.radius);
   k.y = y, k.w = w;
+  k.small = w < (1 << 23) && f.height < (1 << 23);
   const float* depth_row = f.depth + std::size_t(y) * w;
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
   const float py = float(y) + 0.5f;
@@ -318,6 +420,10 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
     // hbao_receiver.
     const VF r0x = hn::Mul(p.ox, k.inv_fx), r0y = hn::Neg(hn::Mul(p.oy, k.inv_fy));
     p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
+    p.ax = hn::Mul(p.nx, k.inv_fx), p.ay = hn::Mul(p.ny, k.inv_fy);
+    p.d_n_r0 = hn::Mul(p.d, p.n_r0);
+    p.prefilter = hn::Div(p.d_n_r0, hn::Set(df, 1.0f + 12.0f * kUnitRoundoff));
+    p.step_scale = hn::Div(k.radius, hn::Mul(p.d, hn::Set(df, float(s.steps))));
     p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
                         hn::Abs(p.n_r0));
 
@@ -327,14 +433,8 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
       const VF rotation = s.random_rotation ? PixelRandom(df, seed, x0, y, 0) : hn::Zero(df);
       const VF jitter = s.jitter ? PixelRandom(df, seed, x0, y, 1) : hn::Zero(df);
       const VF phi = hn::Mul(rotation, hn::Set(df, spacing));
-      const VF cp = hn::Cos(df, phi), sp = hn::Sin(df, phi);
-      VF occlusion = hn::Zero(df);
-      for (int dir = 0; dir < s.directions; ++dir) {
-        const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
-        const VF c = hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp));
-        const VF sn = hn::MulAdd(bs, cp, hn::Mul(bc, sp));
-        occlusion = hn::Add(occlusion, MarchDirection(df, f, s, p, k, geometry, jitter, c, sn));
-      }
+      const VF occlusion = MarchDirections(df, f, s, p, k, geometry, jitter, hn::Cos(df, phi),
+                                           hn::Sin(df, phi), base_cos, base_sin);
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
       result =

@@ -24,7 +24,7 @@ using testing::SceneFixture;
 // multiply and an add, takes 1/sqrt from the hardware estimate and a Newton step, and
 // rotates the directions with Highway's sin/cos (a few ulps from the C library's). Almost
 // every pixel then agrees to a few ulps (measured on every scene and setting below: mean
-// ≤ 4e-6, 99.9th percentile ≤ 2.5e-5). On a few pixels in 10^5 such an ulp moves a sample
+// ≤ 4e-6, 99.9th percentile ≤ 3e-5). On a few pixels in 10^5 such an ulp moves a sample
 // across a texel edge where it snaps, or a horizon across the 1e-5 tie, which changes that
 // direction's term: by at most its whole share of A, 2/N_d (sin h − sin t ≤ 2; measured
 // worst 0.09 at N_d = 8, per-direction tangent on `ceiling`).
