@@ -382,16 +382,38 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   const bool float_index =
       std::size_t(base.stride) * std::size_t(base.height + 2) < (std::size_t(1) << 23);
 
+  // The row's blue-noise rotations, pyramid_hbao_directions' values (the texture's value plus
+  // the global rotation, modulo 1), twice over: the rotations of the pixels x0 … x0 + Lanes − 1
+  // are then Lanes consecutive values from ((x0 + shift_x) mod 32) (one load, where a lane-by-
+  // lane loop stored into an array that a vector load then read, a stalled store forwarding).
+  constexpr int kNoiseSize = kBlueNoiseSize;
+  HWY_ALIGN float noise_row[2 * kNoiseSize + hn::MaxLanes(df)];
+  for (int i = 0; i < 2 * kNoiseSize + lanes; ++i) {
+    float rotation = 0.0f;
+    if (s.rotation) {
+      rotation = blue_noise_value(ranks, i % kNoiseSize, y + shift_y) + global;
+      if (rotation >= 1.0f) rotation -= 1.0f;
+    }
+    noise_row[i] = rotation;
+  }
+
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Receiver p;
-    HWY_ALIGN float lane[4][hn::MaxLanes(df)];
-    for (int i = 0; i < lanes; ++i) {
-      const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
-      lane[0][i] = depth_row[at];
-      for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
+    if (count == lanes) {
+      // Whole vectors straight from the rows (the normals de-interleaved).
+      p.d = hn::LoadU(df, depth_row + x0);
+      hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
+    } else {
+      // The row's tail: the lanes past it repeat its last pixel.
+      HWY_ALIGN float lane[4][hn::MaxLanes(df)];
+      for (int i = 0; i < lanes; ++i) {
+        const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
+        lane[0][i] = depth_row[at];
+        for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
+      }
+      p.d = hn::Load(df, lane[0]);
+      p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
     }
-    p.d = hn::Load(df, lane[0]);
-    p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
     // Background is NaN; the tail's lanes (repeating the row's last pixel) are not marched.
     const MF geometry =
         hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
@@ -414,16 +436,7 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
       const auto pixel_hash = PixelHash(df, seed, x0, y);
 
       // pyramid_hbao_directions: the blue-noise rotation of each lane, as the scalar code.
-      HWY_ALIGN float rotation_lanes[hn::MaxLanes(df)];
-      for (int i = 0; i < lanes; ++i) {
-        float rotation = 0.0f;
-        if (s.rotation) {
-          rotation = blue_noise_value(ranks, x0 + i + shift_x, y + shift_y) + global;
-          if (rotation >= 1.0f) rotation -= 1.0f;
-        }
-        rotation_lanes[i] = rotation;
-      }
-      const VF rotation = hn::Load(df, rotation_lanes);
+      const VF rotation = hn::LoadU(df, noise_row + (x0 + shift_x) % kNoiseSize);
       VF occlusion = hn::Zero(df);
       for (int dir = 0; dir < s.directions; ++dir) {
         const VF place = s.random_directions ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir))
