@@ -308,11 +308,11 @@ HWY_INLINE bool MarchLevel(DF df, const Level& level, int l, int samples, VF m, 
   return true;
 }
 
-// march_direction on every lane: eq. 8's term max_i W(r_i)·sin α_i of the direction
-// (c, sn) with start multiplier m.
-template <bool kFloatIndex>
-HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s, const Receiver& p,
-                             const RowConstants& k, MF geometry, VF c, VF sn, VF m) {
+// march_direction's set-up on every lane: the direction (c, sn) as an image direction and the
+// t past which its march ends.
+HWY_INLINE March StartDirection(DF df, const Frame& f, const PyramidHbaoSettings& s,
+                                const Receiver& p, const RowConstants& k, MF geometry, VF c,
+                                VF sn) {
   const VF zero = hn::Zero(df);
   const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
   // The azimuth as an image direction (rows go down) and the projected radius along it.
@@ -341,6 +341,14 @@ HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s
                          hn::Set(df, -1.0f));
   a.end = hn::IfThenElse(hn::IsNaN(reach), hn::Set(df, -1.0f), a.end);
   a.t = zero, a.best = zero;
+  return a;
+}
+
+// march_direction's reads on every lane, from StartDirection's a with start multiplier m:
+// eq. 8's term max_i W(r_i)·sin α_i of the direction.
+template <bool kFloatIndex>
+HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s, const Receiver& p,
+                             const RowConstants& k, VF m, March a) {
   if (f.level_count > 0 && MarchLevel<true, kFloatIndex>(df, f.levels[0], 0, s.samples, m, p, k, a))
     for (int l = 1; l < f.level_count; ++l)
       if (!MarchLevel<false, kFloatIndex>(df, f.levels[l], l, s.samples, m, p, k, a)) break;
@@ -382,16 +390,38 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
   const bool float_index =
       std::size_t(base.stride) * std::size_t(base.height + 2) < (std::size_t(1) << 23);
 
+  // The row's blue-noise rotations, pyramid_hbao_directions' values (the texture's value plus
+  // the global rotation, modulo 1), twice over: the rotations of the pixels x0 … x0 + Lanes − 1
+  // are then Lanes consecutive values from ((x0 + shift_x) mod 32) (one load, where a lane-by-
+  // lane loop stored into an array that a vector load then read, a stalled store forwarding).
+  constexpr int kNoiseSize = kBlueNoiseSize;
+  HWY_ALIGN float noise_row[2 * kNoiseSize + hn::MaxLanes(df)];
+  for (int i = 0; i < 2 * kNoiseSize + lanes; ++i) {
+    float rotation = 0.0f;
+    if (s.rotation) {
+      rotation = blue_noise_value(ranks, i % kNoiseSize, y + shift_y) + global;
+      if (rotation >= 1.0f) rotation -= 1.0f;
+    }
+    noise_row[i] = rotation;
+  }
+
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Receiver p;
-    HWY_ALIGN float lane[4][hn::MaxLanes(df)];
-    for (int i = 0; i < lanes; ++i) {
-      const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
-      lane[0][i] = depth_row[at];
-      for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
+    if (count == lanes) {
+      // Whole vectors straight from the rows (the normals de-interleaved).
+      p.d = hn::LoadU(df, depth_row + x0);
+      hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
+    } else {
+      // The row's tail: the lanes past it repeat its last pixel.
+      HWY_ALIGN float lane[4][hn::MaxLanes(df)];
+      for (int i = 0; i < lanes; ++i) {
+        const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
+        lane[0][i] = depth_row[at];
+        for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
+      }
+      p.d = hn::Load(df, lane[0]);
+      p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
     }
-    p.d = hn::Load(df, lane[0]);
-    p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
     // Background is NaN; the tail's lanes (repeating the row's last pixel) are not marched.
     const MF geometry =
         hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
@@ -414,33 +444,40 @@ void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_
       const auto pixel_hash = PixelHash(df, seed, x0, y);
 
       // pyramid_hbao_directions: the blue-noise rotation of each lane, as the scalar code.
-      HWY_ALIGN float rotation_lanes[hn::MaxLanes(df)];
-      for (int i = 0; i < lanes; ++i) {
-        float rotation = 0.0f;
-        if (s.rotation) {
-          rotation = blue_noise_value(ranks, x0 + i + shift_x, y + shift_y) + global;
-          if (rotation >= 1.0f) rotation -= 1.0f;
-        }
-        rotation_lanes[i] = rotation;
-      }
-      const VF rotation = hn::Load(df, rotation_lanes);
+      const VF rotation = hn::LoadU(df, noise_row + (x0 + shift_x) % kNoiseSize);
       VF occlusion = hn::Zero(df);
-      for (int dir = 0; dir < s.directions; ++dir) {
-        const VF place = s.random_directions ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir))
-                                             : hn::Zero(df);
-        const VF theta = hn::Mul(hn::Set(df, sector),
-                                 hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
-        const VF m =
-            s.random_start
-                ? hn::Add(hn::Set(df, kPyramidHbaoStartMin),
-                          hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
-                                  PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
-                : hn::Set(df, 1.0f);
-        VF c, sn;
-        SinCos(df, theta, sn, c);
-        occlusion = hn::Add(
-            occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, geometry, c, sn, m)
-                                   : MarchDirection<false>(df, f, s, p, k, geometry, c, sn, m));
+      // The set-up of kBatch directions first, then their marches: the set-ups are
+      // independent chains of latency (hash, sine and cosine, square root, divisions) that
+      // overlap one another, where set up one by one each would wait behind the previous
+      // march's last read and delay its own first one.
+      constexpr int kBatch = 8;
+      March start[kBatch];
+      VF start_m[kBatch];
+      for (int d0 = 0; d0 < s.directions; d0 += kBatch) {
+        const int batch = std::min(kBatch, s.directions - d0);
+        for (int j = 0; j < batch; ++j) {
+          const int dir = d0 + j;
+          const VF place = s.random_directions
+                               ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir))
+                               : hn::Zero(df);
+          const VF theta = hn::Mul(hn::Set(df, sector),
+                                   hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
+          const VF m =
+              s.random_start
+                  ? hn::Add(hn::Set(df, kPyramidHbaoStartMin),
+                            hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
+                                    PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
+                  : hn::Set(df, 1.0f);
+          VF c, sn;
+          SinCos(df, theta, sn, c);
+          start[j] = StartDirection(df, f, s, p, k, geometry, c, sn);
+          start_m[j] = m;
+        }
+        // The terms summed in the order of the directions, as before.
+        for (int j = 0; j < batch; ++j)
+          occlusion = hn::Add(
+              occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, start_m[j], start[j])
+                                     : MarchDirection<false>(df, f, s, p, k, start_m[j], start[j]));
       }
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
