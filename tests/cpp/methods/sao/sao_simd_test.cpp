@@ -11,9 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <limits>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -27,7 +24,13 @@
 namespace aolab {
 namespace {
 
+using testing::expect_in_unit_interval;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::HostileDepths;
 using testing::kernel_difference;
+using testing::KernelTolerance;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The estimator differs from the scalar code by float rounding only, as for Alchemy AO
@@ -49,20 +52,9 @@ double worst_tolerance(const SaoSettings& s) {
   return std::min(1.0, c * s.intensity / s.samples);
 }
 
-Image run(const GBuffer& g, const SaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return sao(g, s, options);
-}
-
 void expect_kernels_agree(const GBuffer& g, const SaoSettings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, kMeanTolerance) << what;
-  EXPECT_LE(k.p999, kP999Tolerance) << what;
-  EXPECT_LE(k.worst, worst_tolerance(s)) << what;
-  if (std::getenv("AOLAB_PRINT_KERNEL_DIFFERENCE"))
-    std::printf("%s: mean %.3g p999 %.3g worst %.3g\n", what.c_str(), k.mean, k.p999, k.worst);
+  testing::expect_kernels_agree(sao, g, s, {kMeanTolerance, kP999Tolerance, worst_tolerance(s)},
+                                what);
 }
 
 // Every setting away from its default at least once.
@@ -164,7 +156,7 @@ TEST(SaoSimd, FilterMatchesScalarFilter) {
   SaoSettings raw;
   raw.radius = 0.25f;
   raw.filter = false;
-  const Image ao = run(f.g, raw, Kernel::Scalar);
+  const Image ao = run_kernel(sao, f.g, raw, Kernel::Scalar);
   for (const auto& [radius, stride, edge] :
        std::vector<std::tuple<int, int, float>>{{4, 2, 0.05f}, {1, 1, 0.0f}, {32, 16, 1e-3f}}) {
     SaoBlurParams p;
@@ -197,9 +189,8 @@ TEST(SaoSimd, EveryTargetMatchesScalar) {
 TEST(SaoSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(sao, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
@@ -208,29 +199,23 @@ TEST(SaoSimd, TinyImagesAndHardInputs) {
     SceneFixture f("blocks", w, h);
     SaoSettings s;
     s.radius = 0.5f;
-    const Image simd = run(f.g, s, Kernel::Simd);
-    const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
-    EXPECT_LE(k.worst, worst_tolerance(s)) << w << "x" << h;
-    for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+    const Image simd = run_kernel(sao, f.g, s, Kernel::Simd);
+    const std::string what = std::to_string(w) + "x" + std::to_string(h);
+    expect_kernels_agree(simd, run_kernel(sao, f.g, s, Kernel::Scalar),
+                         KernelTolerance::worst_only(worst_tolerance(s)), what);
+    expect_in_unit_interval(simd, what);
   }
   // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  SceneFixture f("blocks", 41, 23);
-  Image depth(41, 23, 1);
-  for (int y = 0; y < 23; ++y)
-    for (int x = 0; x < 41; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  const SceneFixture f("blocks", 41, 23);
+  HostileDepths hostile(f.g);
+  hostile.every_third_pixel_of_rows();
+  const GBuffer& g = hostile.g;
   SaoSettings s;
   s.radius = 0.5f;
-  const Image simd = run(g, s, Kernel::Simd);
-  const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.worst, worst_tolerance(s));
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f);
+  const Image simd = run_kernel(sao, g, s, Kernel::Simd);
+  expect_kernels_agree(simd, run_kernel(sao, g, s, Kernel::Scalar),
+                       KernelTolerance::worst_only(worst_tolerance(s)), "hostile depths");
+  hostile.expect_ao_one(simd);
 }
 
 }  // namespace
