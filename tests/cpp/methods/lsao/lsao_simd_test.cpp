@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,7 +16,12 @@
 namespace aolab {
 namespace {
 
-using testing::kernel_difference;
+using testing::expect_in_unit_interval;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::HostileDepths;
+using testing::KernelTolerance;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The SIMD sweep gives the scalar sweep's bits (SweepIsTheScalarSweepBitForBit). The SIMD
@@ -30,19 +34,9 @@ constexpr double kMeanTolerance = 1e-7;
 constexpr double kP999Tolerance = 1e-6;
 constexpr double kWorstTolerance = 1e-6;
 
-Image run(const GBuffer& g, const LsaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return lsao(g, s, options);
-}
-
 void expect_kernels_agree(const GBuffer& g, const LsaoSettings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, kMeanTolerance) << what;
-  EXPECT_LE(k.p999, kP999Tolerance) << what;
-  EXPECT_LE(k.worst, kWorstTolerance) << what;
-  std::printf("%-40s mean %.2e p999 %.2e worst %.2e\n", what.c_str(), k.mean, k.p999, k.worst);
+  testing::expect_kernels_agree(lsao, g, s, {kMeanTolerance, kP999Tolerance, kWorstTolerance},
+                                what);
 }
 
 // Every setting away from its default at least once (the presets' layouts among them).
@@ -140,9 +134,8 @@ TEST(LsaoSimd, MatchesScalarOnReferenceScenes) {
 TEST(LsaoSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(lsao, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
@@ -152,29 +145,23 @@ TEST(LsaoSimd, TinyImagesAndHardInputs) {
     SceneFixture f("blocks", w, h);
     LsaoSettings s;
     s.radius = 0.5f;
-    const Image simd = run(f.g, s, Kernel::Simd);
-    const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
-    EXPECT_LE(k.worst, kWorstTolerance) << w << "x" << h;
-    for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+    const Image simd = run_kernel(lsao, f.g, s, Kernel::Simd);
+    const std::string what = std::to_string(w) + "x" + std::to_string(h);
+    expect_kernels_agree(simd, run_kernel(lsao, f.g, s, Kernel::Scalar),
+                         KernelTolerance::worst_only(kWorstTolerance), what);
+    expect_in_unit_interval(simd, what);
   }
   // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  SceneFixture f("blocks", 41, 23);
-  Image depth(41, 23, 1);
-  for (int y = 0; y < 23; ++y)
-    for (int x = 0; x < 41; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  const SceneFixture f("blocks", 41, 23);
+  HostileDepths hostile(f.g);
+  hostile.every_third_pixel_of_rows();
+  const GBuffer& g = hostile.g;
   LsaoSettings s;
   s.radius = 0.5f;
-  const Image simd = run(g, s, Kernel::Simd);
-  const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.worst, kWorstTolerance);
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f);
+  const Image simd = run_kernel(lsao, g, s, Kernel::Simd);
+  expect_kernels_agree(simd, run_kernel(lsao, g, s, Kernel::Scalar),
+                       KernelTolerance::worst_only(kWorstTolerance), "hostile depths");
+  hostile.expect_ao_one(simd);
 }
 
 }  // namespace
