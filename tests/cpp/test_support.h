@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "core/base/gbuffer.h"
+#include "core/io/image_io.h"
 #include "core/methods/registry.h"
 #include "core/scenes/analytic_scenes.h"
 
@@ -33,6 +36,36 @@ struct SceneFixture {
     g.depth = scene.depth.view();
     g.normal = scene.normal.view();
     g.camera = scene.camera;
+  }
+};
+
+/// A committed reference scene (reference_scenes/NAME/reference.exr) as a G-buffer view, with
+/// the AO radius R its manifest.json gives it (the radius the scene was rendered for). Neither
+/// copied nor moved: `g` views `data`.
+struct ReferenceScene {
+  std::string name;
+  GBufferData data;
+  GBuffer g;
+  float radius;
+  explicit ReferenceScene(const std::string& scene)
+      : name(scene),
+        data(load_gbuffer(directory(scene) + "/reference.exr")),
+        g(data.view()),
+        radius(manifest_radius(scene)) {}
+  ReferenceScene(const ReferenceScene&) = delete;
+  ReferenceScene& operator=(const ReferenceScene&) = delete;
+
+ private:
+  static std::string directory(const std::string& scene) {
+    return std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" + scene;
+  }
+  // The number after the manifest's "radius" key (the file's only one).
+  static float manifest_radius(const std::string& scene) {
+    std::ifstream in(directory(scene) + "/manifest.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t key = text.find("\"radius\"");
+    if (key == std::string::npos) throw std::runtime_error("no radius in " + scene + "'s manifest");
+    return std::stof(text.substr(text.find(':', key) + 1));
   }
 };
 
