@@ -12,7 +12,6 @@
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/alchemy/alchemy.h"
 #include "tests/cpp/test_support.h"
 
@@ -24,6 +23,7 @@ using testing::expect_kernels_agree;
 using testing::expect_same_bits_for_thread_counts;
 using testing::HostileDepths;
 using testing::KernelTolerance;
+using testing::ReferenceScene;
 using testing::run_kernel;
 using testing::SceneFixture;
 
@@ -100,11 +100,9 @@ TEST(AlchemySimd, MatchesScalarAtExtremeRadii) {
 
 TEST(AlchemySimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "smooth falloff" &&
           name != "bias 0 (the tangent test decides)")

@@ -10,7 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "tests/cpp/test_support.h"
 
@@ -22,6 +21,7 @@ using testing::expect_kernels_agree;
 using testing::expect_same_bits_for_thread_counts;
 using testing::HostileDepths;
 using testing::kernel_difference;
+using testing::ReferenceScene;
 using testing::run_kernel;
 using testing::SceneFixture;
 
@@ -97,13 +97,9 @@ TEST(ChebyshevSimd, MatchesScalarOnReferenceScenes) {
   // street and engine hold background (8 % and 64 % of the pixels): shrunk windows, rows whose
   // references are the nearest valid pixel.
   for (const char* scene : {"room", "street", "grille", "engine"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (reference.json): room and grille 0.5, street 0.3, engine 0.04.
-    const float radius = scene == std::string("street")   ? 0.3f
-                         : scene == std::string("engine") ? 0.04f
-                                                          : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "medium preset" && name != "no shrinking") continue;
       expect_kernels_agree(g, s, std::string(scene) + ", " + name);

@@ -10,7 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/bilateral.h"
 #include "core/methods/vao_pp/vao_pp.h"
@@ -25,6 +24,7 @@ using testing::expect_same_bits_for_thread_counts;
 using testing::HostileDepths;
 using testing::kernel_difference;
 using testing::KernelTolerance;
+using testing::ReferenceScene;
 using testing::run_kernel;
 using testing::SceneFixture;
 
@@ -185,11 +185,9 @@ TEST(VaoSimd, MatchesScalarWithColour) {
 
 TEST(VaoSimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : vao_variants(radius))
       if (name == "vao defaults" || name == "vao axis pipes (eq. 2)")
         expect_kernels_agree(g, s, std::string(scene) + ", " + name);
