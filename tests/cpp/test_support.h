@@ -267,6 +267,37 @@ inline void expect_in_unit_interval(const Image& image, const std::string& what)
   for (float v : image.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << what;
 }
 
+/// The sizes below one vector of any instruction set (and their row tails): 1×1, 7×3, 13×5,
+/// 17×2.
+inline std::vector<std::pair<int, int>> tiny_image_sizes() {
+  return {{1, 1}, {7, 3}, {13, 5}, {17, 2}};
+}
+
+/// The hard inputs every SIMD kernel is tested on, with the settings `s`: the `blocks` scene at
+/// each of `sizes` (the SIMD result within `worst` of the scalar one, and in [0, 1]); then on
+/// 41×23 with hostile depths (HostileDepths::every_third_pixel_of_rows: background, so AO 1
+/// there), again within `worst` of the scalar result.
+template <class S, class Method>
+void expect_tiny_images_and_hostile_depths_handled(
+    Method method, const S& s, double worst,
+    const std::vector<std::pair<int, int>>& sizes = tiny_image_sizes()) {
+  for (const auto& [w, h] : sizes) {
+    const SceneFixture f("blocks", w, h);
+    const Image simd = run_kernel(method, f.g, s, Kernel::Simd);
+    const std::string what = std::to_string(w) + "x" + std::to_string(h);
+    expect_kernels_agree(simd, run_kernel(method, f.g, s, Kernel::Scalar),
+                         KernelTolerance::worst_only(worst), what);
+    expect_in_unit_interval(simd, what);
+  }
+  const SceneFixture f("blocks", 41, 23);
+  HostileDepths hostile(f.g);
+  hostile.every_third_pixel_of_rows();
+  const Image simd = run_kernel(method, hostile.g, s, Kernel::Simd);
+  expect_kernels_agree(simd, run_kernel(method, hostile.g, s, Kernel::Scalar),
+                       KernelTolerance::worst_only(worst), "hostile depths");
+  hostile.expect_ao_one(simd, "hostile depths");
+}
+
 /// A fixture owning a fresh temporary folder, removed after the test.
 class TempDirTest : public ::testing::Test {
  protected:
