@@ -15,11 +15,9 @@
 namespace aolab {
 namespace {
 
-using testing::expect_in_unit_interval;
 using testing::expect_kernels_agree;
 using testing::expect_same_bits_for_thread_counts;
-using testing::HostileDepths;
-using testing::KernelTolerance;
+using testing::expect_tiny_images_and_hostile_depths_handled;
 using testing::ReferenceScene;
 using testing::run_kernel;
 using testing::SceneFixture;
@@ -111,27 +109,11 @@ TEST(GtaoSimd, SameBitsForAnyThreadCount) {
 }
 
 TEST(GtaoSimd, TinyImagesAndHardInputs) {
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}}) {
-    SceneFixture f("blocks", w, h);
-    GtaoSettings s;
-    s.radius = 0.5f;
-    const Image simd = run_kernel(gtao, f.g, s, Kernel::Simd);
-    const std::string what = std::to_string(w) + "x" + std::to_string(h);
-    expect_kernels_agree(simd, run_kernel(gtao, f.g, s, Kernel::Scalar),
-                         KernelTolerance::worst_only(kWorstTolerance), what);
-    expect_in_unit_interval(simd, what);
-  }
-  // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  const SceneFixture f("blocks", 41, 23);
-  HostileDepths hostile(f.g);
-  hostile.every_third_pixel_of_rows();
-  const GBuffer& g = hostile.g;
+  // Images smaller than a vector; NaN, infinite, zero and negative depths, which are background:
+  // AO 1, and they occlude nothing.
   GtaoSettings s;
   s.radius = 0.5f;
-  const Image simd = run_kernel(gtao, g, s, Kernel::Simd);
-  expect_kernels_agree(simd, run_kernel(gtao, g, s, Kernel::Scalar),
-                       KernelTolerance::worst_only(kWorstTolerance), "hostile depths");
-  hostile.expect_ao_one(simd);
+  expect_tiny_images_and_hostile_depths_handled(gtao, s, kWorstTolerance);
 }
 
 }  // namespace
