@@ -6,19 +6,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/chebyshev/chebyshev.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {
 namespace {
 
+using testing::expect_in_unit_interval;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::HostileDepths;
 using testing::kernel_difference;
+using testing::ReferenceScene;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The tolerance is zero: every lane performs the scalar pixel's float and double operations in
@@ -28,13 +32,6 @@ using testing::SceneFixture;
 // register. So the kernels must agree bit for bit, not merely within rounding.
 constexpr double kWorstTolerance = 0.0;
 
-Image run(const GBuffer& g, const ChebyshevSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return chebyshev(g, s, options);
-}
-
 Image run_moments(const GBuffer& g, const ChebyshevSettings& s, Kernel kernel) {
   RunOptions options;
   options.kernel = kernel;
@@ -42,7 +39,8 @@ Image run_moments(const GBuffer& g, const ChebyshevSettings& s, Kernel kernel) {
 }
 
 void expect_kernels_agree(const GBuffer& g, const ChebyshevSettings& s, const std::string& what) {
-  const Image simd = run(g, s, Kernel::Simd), scalar = run(g, s, Kernel::Scalar);
+  const Image simd = run_kernel(chebyshev, g, s, Kernel::Simd),
+              scalar = run_kernel(chebyshev, g, s, Kernel::Scalar);
   const auto k = kernel_difference(simd, scalar);
   EXPECT_LE(k.worst, kWorstTolerance) << what << ": mean " << k.mean << ", p99.9 " << k.p999;
   EXPECT_EQ(simd.pixels(), scalar.pixels()) << what;  // also ±0 and NaN bits
@@ -99,13 +97,9 @@ TEST(ChebyshevSimd, MatchesScalarOnReferenceScenes) {
   // street and engine hold background (8 % and 64 % of the pixels): shrunk windows, rows whose
   // references are the nearest valid pixel.
   for (const char* scene : {"room", "street", "grille", "engine"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (reference.json): room and grille 0.5, street 0.3, engine 0.04.
-    const float radius = scene == std::string("street")   ? 0.3f
-                         : scene == std::string("engine") ? 0.04f
-                                                          : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "medium preset" && name != "no shrinking") continue;
       expect_kernels_agree(g, s, std::string(scene) + ", " + name);
@@ -116,9 +110,8 @@ TEST(ChebyshevSimd, MatchesScalarOnReferenceScenes) {
 TEST(ChebyshevSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(chebyshev, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
@@ -127,34 +120,27 @@ TEST(ChebyshevSimd, TinyImagesAndHardInputs) {
            {1, 1}, {2, 1}, {1, 9}, {7, 3}, {13, 5}, {17, 2}, {33, 4}}) {
     SceneFixture f("blocks", w, h);
     for (const auto& [name, s] : variants(0.5f)) {
-      const Image simd = run(f.g, s, Kernel::Simd);
-      EXPECT_EQ(simd.pixels(), run(f.g, s, Kernel::Scalar).pixels()) << w << "x" << h << name;
-      for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+      const Image simd = run_kernel(chebyshev, f.g, s, Kernel::Simd);
+      EXPECT_EQ(simd.pixels(), run_kernel(chebyshev, f.g, s, Kernel::Scalar).pixels())
+          << w << "x" << h << name;
+      expect_in_unit_interval(simd, std::to_string(w) + "x" + std::to_string(h));
     }
   }
   // NaN, infinite, zero and negative depths are background: AO 1, and they enter no window
   // (shrunk around them, or skipped and counted); rows and columns of them, and a row that is
   // background but for one pixel (its reference is that pixel's depth).
-  SceneFixture f("blocks", 83, 47);
-  Image depth(83, 47, 1);
-  for (int y = 0; y < 47; ++y)
-    for (int x = 0; x < 83; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 83; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  for (int y = 0; y < 47; ++y) depth(70, y) = bad[y % 4];
+  const SceneFixture f("blocks", 83, 47);
+  HostileDepths hostile(f.g);
+  hostile.every_third_pixel_of_rows();
+  const std::vector<float> bad = testing::hostile_depth_values();
+  for (int y = 0; y < 47; ++y) hostile.set(70, y, bad[y % 4]);
   for (int x = 0; x < 83; ++x)
-    if (x != 41) depth(x, 30) = bad[x % 4];
+    if (x != 41) hostile.set(x, 30, bad[x % 4]);
   for (int y = 35; y < 47; ++y)
-    for (int x = 0; x < 20; ++x) depth(x, y) = bad[(x + y) % 4];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+    for (int x = 0; x < 20; ++x) hostile.set(x, y, bad[(x + y) % 4]);
   for (const auto& [name, s] : variants(0.5f)) {
-    expect_kernels_agree(g, s, "hostile depth, " + name);
-    const Image simd = run(g, s, Kernel::Simd);
-    for (int i = 0; i < 4; ++i)
-      for (int x = 0; x < 83; x += 3) EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f) << name;
+    expect_kernels_agree(hostile.g, s, "hostile depth, " + name);
+    hostile.expect_ao_one(run_kernel(chebyshev, hostile.g, s, Kernel::Simd), name);
   }
 }
 

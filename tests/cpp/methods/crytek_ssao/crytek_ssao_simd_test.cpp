@@ -14,14 +14,20 @@
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/crytek_ssao/crytek_ssao.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {
 namespace {
 
+using testing::expect_in_unit_interval;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::HostileDepths;
 using testing::kernel_difference;
+using testing::KernelTolerance;
+using testing::ReferenceScene;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The two kernels take the same points and, with the tiled reflection or none, the same
@@ -55,18 +61,9 @@ double mean_tolerance(const CrytekSsaoSettings& s) {
 // two such edge cases can meet in one pixel.
 double worst_tolerance(const CrytekSsaoSettings& s) { return 2.0 * point_share(s); }
 
-Image run(const GBuffer& g, const CrytekSsaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return crytek_ssao(g, s, options);
-}
-
 void expect_kernels_agree(const GBuffer& g, const CrytekSsaoSettings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, mean_tolerance(s)) << what;
-  EXPECT_LE(k.p999, kUlpTolerance) << what;
-  EXPECT_LE(k.worst, worst_tolerance(s)) << what;
+  testing::expect_kernels_agree(crytek_ssao, g, s,
+                                {mean_tolerance(s), kUlpTolerance, worst_tolerance(s)}, what);
 }
 
 // Every setting away from its default at least once, and the combinations that take other
@@ -117,11 +114,9 @@ TEST(CrytekSsaoSimd, MatchesScalarOnAnalyticScenes) {
 
 TEST(CrytekSsaoSimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "per-pixel reflection" && name != "hemisphere" &&
           name != "published")
@@ -134,9 +129,8 @@ TEST(CrytekSsaoSimd, MatchesScalarOnReferenceScenes) {
 TEST(CrytekSsaoSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(crytek_ssao, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
@@ -159,10 +153,11 @@ TEST(CrytekSsaoSimd, TinyImages) {
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}}) {
     SceneFixture f("blocks", w, h);
     for (const auto& [name, s] : variants(0.5f)) {
-      const Image simd = run(f.g, s, Kernel::Simd);
-      const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
-      EXPECT_LE(k.worst, worst_tolerance(s)) << w << "x" << h << ", " << name;
-      for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+      const Image simd = run_kernel(crytek_ssao, f.g, s, Kernel::Simd);
+      const std::string what = std::to_string(w) + "x" + std::to_string(h) + ", " + name;
+      expect_kernels_agree(simd, run_kernel(crytek_ssao, f.g, s, Kernel::Scalar),
+                           KernelTolerance::worst_only(worst_tolerance(s)), what);
+      expect_in_unit_interval(simd, what);
     }
   }
 }
@@ -173,27 +168,20 @@ TEST(CrytekSsaoSimd, TinyImages) {
 TEST(CrytekSsaoSimd, BackgroundOfEveryKind) {
   const int w = 41, h = 23;
   SceneFixture f("blocks", w, h);
-  Image depth(w, h, 1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(),
-                       0.0f,
-                       -1.0f,
-                       -0.0f,
-                       1e30f};
-  for (int i = 0; i < 6; ++i)
-    for (int x = i % 3; x < w; x += 3) depth(x, 2 + 3 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  HostileDepths hostile(f.g);
+  std::vector<float> bad = testing::hostile_depth_values();
+  bad.push_back(-0.0f);
+  bad.push_back(1e30f);
+  for (int i = 0; i < int(bad.size()); ++i)
+    for (int x = i % 3; x < w; x += 3) hostile.set(x, 2 + 3 * i, bad[i]);
+  GBuffer& g = hostile.g;
   g.background_depth = 1e20f;  // 1e30 is background
   for (const auto& [name, s] : variants(0.5f)) {
-    const Image simd = run(g, s, Kernel::Simd);
-    const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
-    EXPECT_LE(k.mean, mean_tolerance(s)) << name;
-    EXPECT_LE(k.worst, worst_tolerance(s)) << name;
-    for (int i = 0; i < 6; ++i)
-      for (int x = i % 3; x < w; x += 3) EXPECT_EQ(simd(x, 2 + 3 * i), 1.0f) << name;
+    const Image simd = run_kernel(crytek_ssao, g, s, Kernel::Simd);
+    expect_kernels_agree(
+        simd, run_kernel(crytek_ssao, g, s, Kernel::Scalar),
+        {mean_tolerance(s), std::numeric_limits<double>::infinity(), worst_tolerance(s)}, name);
+    hostile.expect_ao_one(simd, name);
   }
   // A finite background_depth below some of the scene: those pixels become background.
   GBuffer near = f.g;
@@ -203,8 +191,8 @@ TEST(CrytekSsaoSimd, BackgroundOfEveryKind) {
       lowest = std::min(lowest, f.g.depth(x, y)), highest = std::max(highest, f.g.depth(x, y));
   near.background_depth = 0.5f * (lowest + highest);
   for (const auto& [name, s] : variants(0.5f)) {
-    const auto k = kernel_difference(run(near, s, Kernel::Simd), run(near, s, Kernel::Scalar));
-    EXPECT_LE(k.worst, worst_tolerance(s)) << "finite background, " << name;
+    expect_kernels_agree(crytek_ssao, near, s, KernelTolerance::worst_only(worst_tolerance(s)),
+                         "finite background, " + name);
   }
 }
 
@@ -220,9 +208,9 @@ TEST(CrytekSsaoSimd, DepthViewWithARowStride) {
   g.depth = ConstImageView(std::as_const(wide).data(), w, h, 1, w + pad);
   CrytekSsaoSettings s;
   s.radius = 0.5f;
-  const Image strided = run(g, s, Kernel::Simd);
-  EXPECT_EQ(strided.pixels(), run(f.g, s, Kernel::Simd).pixels());
-  const auto k = kernel_difference(strided, run(g, s, Kernel::Scalar));
+  const Image strided = run_kernel(crytek_ssao, g, s, Kernel::Simd);
+  EXPECT_EQ(strided.pixels(), run_kernel(crytek_ssao, f.g, s, Kernel::Simd).pixels());
+  const auto k = kernel_difference(strided, run_kernel(crytek_ssao, g, s, Kernel::Scalar));
   EXPECT_LE(k.worst, worst_tolerance(s));
 }
 

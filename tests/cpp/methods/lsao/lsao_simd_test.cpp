@@ -5,19 +5,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/lsao/lsao.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {
 namespace {
 
-using testing::kernel_difference;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::expect_tiny_images_and_hostile_depths_handled;
+using testing::ReferenceScene;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The SIMD sweep gives the scalar sweep's bits (SweepIsTheScalarSweepBitForBit). The SIMD
@@ -30,19 +32,9 @@ constexpr double kMeanTolerance = 1e-7;
 constexpr double kP999Tolerance = 1e-6;
 constexpr double kWorstTolerance = 1e-6;
 
-Image run(const GBuffer& g, const LsaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return lsao(g, s, options);
-}
-
 void expect_kernels_agree(const GBuffer& g, const LsaoSettings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, kMeanTolerance) << what;
-  EXPECT_LE(k.p999, kP999Tolerance) << what;
-  EXPECT_LE(k.worst, kWorstTolerance) << what;
-  std::printf("%-40s mean %.2e p999 %.2e worst %.2e\n", what.c_str(), k.mean, k.p999, k.worst);
+  testing::expect_kernels_agree(lsao, g, s, {kMeanTolerance, kP999Tolerance, kWorstTolerance},
+                                what);
 }
 
 // Every setting away from its default at least once (the presets' layouts among them).
@@ -125,11 +117,9 @@ TEST(LsaoSimd, SweepIsTheScalarSweepBitForBit) {
 
 TEST(LsaoSimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "normal-aware" && name != "low preset") continue;
       expect_kernels_agree(g, s, std::string(scene) + ", " + name);
@@ -140,41 +130,19 @@ TEST(LsaoSimd, MatchesScalarOnReferenceScenes) {
 TEST(LsaoSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(lsao, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
 TEST(LsaoSimd, TinyImagesAndHardInputs) {
-  for (const auto& [w, h] :
-       std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}, {1, 40}, {40, 1}}) {
-    SceneFixture f("blocks", w, h);
-    LsaoSettings s;
-    s.radius = 0.5f;
-    const Image simd = run(f.g, s, Kernel::Simd);
-    const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
-    EXPECT_LE(k.worst, kWorstTolerance) << w << "x" << h;
-    for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
-  }
-  // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  SceneFixture f("blocks", 41, 23);
-  Image depth(41, 23, 1);
-  for (int y = 0; y < 23; ++y)
-    for (int x = 0; x < 41; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  // Images smaller than a vector; NaN, infinite, zero and negative depths, which are background:
+  // AO 1, and they occlude nothing.
   LsaoSettings s;
   s.radius = 0.5f;
-  const Image simd = run(g, s, Kernel::Simd);
-  const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.worst, kWorstTolerance);
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f);
+  std::vector<std::pair<int, int>> sizes = testing::tiny_image_sizes();
+  sizes.insert(sizes.end(), {{1, 40}, {40, 1}});  // one column, one row
+  expect_tiny_images_and_hostile_depths_handled(lsao, s, kWorstTolerance, sizes);
 }
 
 }  // namespace

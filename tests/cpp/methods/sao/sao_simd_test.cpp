@@ -11,15 +11,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <limits>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/sao/sao.h"
 #include "core/methods/sao/sao_blur.h"
 #include "tests/cpp/test_support.h"
@@ -27,7 +23,12 @@
 namespace aolab {
 namespace {
 
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::expect_tiny_images_and_hostile_depths_handled;
 using testing::kernel_difference;
+using testing::ReferenceScene;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The estimator differs from the scalar code by float rounding only, as for Alchemy AO
@@ -49,20 +50,9 @@ double worst_tolerance(const SaoSettings& s) {
   return std::min(1.0, c * s.intensity / s.samples);
 }
 
-Image run(const GBuffer& g, const SaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return sao(g, s, options);
-}
-
 void expect_kernels_agree(const GBuffer& g, const SaoSettings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, kMeanTolerance) << what;
-  EXPECT_LE(k.p999, kP999Tolerance) << what;
-  EXPECT_LE(k.worst, worst_tolerance(s)) << what;
-  if (std::getenv("AOLAB_PRINT_KERNEL_DIFFERENCE"))
-    std::printf("%s: mean %.3g p999 %.3g worst %.3g\n", what.c_str(), k.mean, k.p999, k.worst);
+  testing::expect_kernels_agree(sao, g, s, {kMeanTolerance, kP999Tolerance, worst_tolerance(s)},
+                                what);
 }
 
 // Every setting away from its default at least once.
@@ -123,11 +113,9 @@ TEST(SaoSimd, MatchesScalarAtExtremeRadii) {
 
 TEST(SaoSimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : variants(radius)) {
       if (name != "defaults" && name != "no filter" && name != "smooth falloff" &&
           name != "bias 0 (the tangent test decides)" && name != "taps at their own pixel")
@@ -164,7 +152,7 @@ TEST(SaoSimd, FilterMatchesScalarFilter) {
   SaoSettings raw;
   raw.radius = 0.25f;
   raw.filter = false;
-  const Image ao = run(f.g, raw, Kernel::Scalar);
+  const Image ao = run_kernel(sao, f.g, raw, Kernel::Scalar);
   for (const auto& [radius, stride, edge] :
        std::vector<std::tuple<int, int, float>>{{4, 2, 0.05f}, {1, 1, 0.0f}, {32, 16, 1e-3f}}) {
     SaoBlurParams p;
@@ -197,40 +185,17 @@ TEST(SaoSimd, EveryTargetMatchesScalar) {
 TEST(SaoSimd, SameBitsForAnyThreadCount) {
   const SceneFixture f("blocks", 203, 117);
   for (const auto& [name, s] : variants(0.25f)) {
-    const Image one = run(f.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(f.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run_kernel(sao, f.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
 TEST(SaoSimd, TinyImagesAndHardInputs) {
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}}) {
-    SceneFixture f("blocks", w, h);
-    SaoSettings s;
-    s.radius = 0.5f;
-    const Image simd = run(f.g, s, Kernel::Simd);
-    const auto k = kernel_difference(simd, run(f.g, s, Kernel::Scalar));
-    EXPECT_LE(k.worst, worst_tolerance(s)) << w << "x" << h;
-    for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
-  }
-  // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  SceneFixture f("blocks", 41, 23);
-  Image depth(41, 23, 1);
-  for (int y = 0; y < 23; ++y)
-    for (int x = 0; x < 41; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  // Images smaller than a vector; NaN, infinite, zero and negative depths, which are background:
+  // AO 1, and they occlude nothing.
   SaoSettings s;
   s.radius = 0.5f;
-  const Image simd = run(g, s, Kernel::Simd);
-  const auto k = kernel_difference(simd, run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.worst, worst_tolerance(s));
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f);
+  expect_tiny_images_and_hostile_depths_handled(sao, s, worst_tolerance(s));
 }
 
 }  // namespace

@@ -6,13 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "core/io/image_io.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/bilateral.h"
 #include "core/methods/vao_pp/vao_pp.h"
@@ -21,7 +18,14 @@
 namespace aolab {
 namespace {
 
+using testing::expect_in_unit_interval;
+using testing::expect_kernels_agree;
+using testing::expect_same_bits_for_thread_counts;
+using testing::HostileDepths;
 using testing::kernel_difference;
+using testing::KernelTolerance;
+using testing::ReferenceScene;
+using testing::run_kernel;
 using testing::SceneFixture;
 
 // The kernels evaluate the same cases on the same samples; the SIMD kernel works in float
@@ -41,10 +45,7 @@ constexpr double kP999Tolerance = 1e-4;
 double worst_tolerance(int samples) { return std::min(1.0, 4.0 / samples); }
 
 Image run(const GBuffer& g, const VaoSettings& s, Kernel kernel, int threads = 0) {
-  RunOptions options;
-  options.kernel = kernel;
-  options.threads = threads;
-  return vao(g, s, options);
+  return run_kernel(vao, g, s, kernel, threads);
 }
 
 Image run(const GBuffer& g, const VaoPpSettings& s, Kernel kernel, int threads = 0,
@@ -57,12 +58,8 @@ Image run(const GBuffer& g, const VaoPpSettings& s, Kernel kernel, int threads =
 
 template <class Settings>
 void expect_kernels_agree(const GBuffer& g, const Settings& s, const std::string& what) {
-  const auto k = kernel_difference(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar));
-  EXPECT_LE(k.mean, kMeanTolerance) << what;
-  EXPECT_LE(k.p999, kP999Tolerance) << what;
-  EXPECT_LE(k.worst, worst_tolerance(s.samples)) << what;
-  if (std::getenv("AOLAB_PRINT_DIFFERENCES"))
-    std::printf("%-50s mean %.3g p999 %.3g worst %.3g\n", what.c_str(), k.mean, k.p999, k.worst);
+  testing::expect_kernels_agree(run(g, s, Kernel::Simd), run(g, s, Kernel::Scalar),
+                                {kMeanTolerance, kP999Tolerance, worst_tolerance(s.samples)}, what);
 }
 
 // Every VAO setting away from its default at least once.
@@ -188,11 +185,9 @@ TEST(VaoSimd, MatchesScalarWithColour) {
 
 TEST(VaoSimd, MatchesScalarOnReferenceScenes) {
   for (const char* scene : {"room", "street", "grille"}) {
-    const GBufferData data = load_gbuffer(std::string(AOLAB_SOURCE_DIR) + "/reference_scenes/" +
-                                          scene + "/reference.exr");
-    const GBuffer g = data.view();
-    // The scenes' own R (manifest.json): room and grille 0.5, street 0.3.
-    const float radius = scene == std::string("street") ? 0.3f : 0.5f;
+    const ReferenceScene reference(scene);
+    const GBuffer& g = reference.g;
+    const float radius = reference.radius;  // the scene's own R (its manifest.json)
     for (const auto& [name, s] : vao_variants(radius))
       if (name == "vao defaults" || name == "vao axis pipes (eq. 2)")
         expect_kernels_agree(g, s, std::string(scene) + ", " + name);
@@ -233,9 +228,8 @@ TEST(VaoSimd, CullingAndAdaptiveCountsMatchTheScalarCode) {
 TEST(VaoSimd, SameBitsForAnyThreadCount) {
   const Striped st("blocks", 203, 117);
   for (const auto& [name, s] : vao_variants(0.25f)) {
-    const Image one = run(st.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(st.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(st.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run(st.g, s, Kernel::Simd, threads); }, name);
   }
   auto pp = vao_pp_variants(0.25f);
   VaoPpSettings bleeding;
@@ -243,56 +237,48 @@ TEST(VaoSimd, SameBitsForAnyThreadCount) {
   bleeding.color_bleeding = true;
   pp.push_back({"vao_pp colour bleeding", bleeding});
   for (const auto& [name, s] : pp) {
-    const Image one = run(st.g, s, Kernel::Simd, 1);
-    EXPECT_EQ(one.pixels(), run(st.g, s, Kernel::Simd, 2).pixels()) << name;
-    EXPECT_EQ(one.pixels(), run(st.g, s, Kernel::Simd, 3).pixels()) << name;
+    expect_same_bits_for_thread_counts(
+        [&](int threads) { return run(st.g, s, Kernel::Simd, threads); }, name);
   }
 }
 
 TEST(VaoSimd, TinyImagesAndHardInputs) {
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {7, 3}, {13, 5}, {17, 2}}) {
     SceneFixture f("blocks", w, h);
+    const std::string what = std::to_string(w) + "x" + std::to_string(h);
     VaoSettings s;
     s.radius = 0.5f;
     const Image simd = run(f.g, s, Kernel::Simd);
-    EXPECT_LE(kernel_difference(simd, run(f.g, s, Kernel::Scalar)).worst,
-              worst_tolerance(s.samples))
-        << w << "x" << h;
-    for (float v : simd.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+    expect_kernels_agree(simd, run(f.g, s, Kernel::Scalar),
+                         KernelTolerance::worst_only(worst_tolerance(s.samples)), what);
+    expect_in_unit_interval(simd, what);
     VaoPpSettings p;
     p.radius = 0.5f;
     const Image simd_pp = run(f.g, p, Kernel::Simd);
-    EXPECT_LE(kernel_difference(simd_pp, run(f.g, p, Kernel::Scalar)).worst,
-              worst_tolerance(p.samples))
-        << w << "x" << h;
-    for (float v : simd_pp.pixels()) EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << w << "x" << h;
+    expect_kernels_agree(simd_pp, run(f.g, p, Kernel::Scalar),
+                         KernelTolerance::worst_only(worst_tolerance(p.samples)), what);
+    expect_in_unit_interval(simd_pp, what);
   }
   // NaN, infinite, zero and negative depths are background: AO 1, and they occlude nothing.
-  SceneFixture f("blocks", 41, 23);
-  Image depth(41, 23, 1);
-  for (int y = 0; y < 23; ++y)
-    for (int x = 0; x < 41; ++x) depth(x, y) = f.g.depth(x, y);
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 0.0f, -1.0f};
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) depth(x, 4 + 5 * i) = bad[i];
-  GBuffer g = f.g;
-  g.depth = std::as_const(depth).view();
+  const SceneFixture f("blocks", 41, 23);
+  HostileDepths hostile(f.g);
+  hostile.every_third_pixel_of_rows();
+  const GBuffer& g = hostile.g;
   VaoSettings s;
   s.radius = 0.5f;
   const Image simd = run(g, s, Kernel::Simd);
-  EXPECT_LE(kernel_difference(simd, run(g, s, Kernel::Scalar)).worst, worst_tolerance(s.samples));
+  expect_kernels_agree(simd, run(g, s, Kernel::Scalar),
+                       KernelTolerance::worst_only(worst_tolerance(s.samples)),
+                       "hostile depths, vao");
   VaoPpSettings p;
   p.radius = 0.5f;
   p.filter = false;  // the filter keeps a background pixel's value: 1
   const Image simd_pp = run(g, p, Kernel::Simd);
-  EXPECT_LE(kernel_difference(simd_pp, run(g, p, Kernel::Scalar)).worst,
-            worst_tolerance(p.samples));
-  for (int i = 0; i < 4; ++i)
-    for (int x = 0; x < 41; x += 3) {
-      EXPECT_EQ(simd(x, 4 + 5 * i), 1.0f);
-      EXPECT_EQ(simd_pp(x, 4 + 5 * i), 1.0f);
-    }
+  expect_kernels_agree(simd_pp, run(g, p, Kernel::Scalar),
+                       KernelTolerance::worst_only(worst_tolerance(p.samples)),
+                       "hostile depths, vao_pp");
+  hostile.expect_ao_one(simd, "vao");
+  hostile.expect_ao_one(simd_pp, "vao_pp");
 }
 
 // The filter's SIMD kernel takes the same taps in the same order: on a constant image it
