@@ -32,12 +32,19 @@ def test_rows_are_consistent():
 
 def test_scaling_and_radius_columns_keep_the_table_square():
     rows = kernel_bench.table(["alchemy"], repeat=1, size=SMALL, radii=True, progress=None)
+    cells = kernel_bench.header(False, True).splitlines()[0].count("|")
     assert set(rows[0]["radius_ms"]) == {str(k) for k in kernel_bench.RADIUS_SCALES}
     ratio = rows[0]["radius_ms"]["8"] / rows[0]["simd_2t_ms"]
     assert rows[0]["radius_ratio"] == pytest.approx(ratio)
-    cells = kernel_bench.header(False, True).splitlines()[0].count("|")
     for row in rows:
         assert kernel_bench.format_row(row).count("|") == cells
+
+
+def test_peak_memory_counts_at_least_the_output():
+    # HBAO holds its depth copy, the prepared normals and the output: well above the output's
+    # own 640 x 360 floats, whatever the allocator keeps.
+    output_mib = 640 * 360 * 4 / 2**20
+    assert kernel_bench.peak_memory_mb("hbao", {}, size=(640, 360)) > 2 * output_mib
 
 
 def test_samples_per_pixel_follow_the_settings():

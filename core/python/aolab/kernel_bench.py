@@ -12,8 +12,10 @@ docs/benchmarks.md):
 - ``Mpx/s`` and ``Msamples/s`` at 2 threads, where the method's samples per pixel are a
   count of its settings (``samples_per_pixel``);
 - with ``scaling``: the SIMD kernel at 3840×2160 on 2 threads, its ratio to 1280×720 (9 for
-  time linear in the pixels) and the peak memory of one run there, measured in a child
-  process (its peak resident size less the size before the run);
+  time linear in the pixels), the same at R/3 (which projects to as many pixels there as R
+  at 1280×720, so each pixel's work and neighbourhood are unchanged), and the peak memory of
+  one run there, measured in a child process (its peak resident size less the size before
+  the run);
 - with ``radii``: the SIMD kernel on 2 threads at R × 2, 4 and 8 (the preset's settings
   unchanged, so the samples per pixel stay fixed and each method's own cost growth shows),
   and the ratio ×8 / ×1.
@@ -87,16 +89,23 @@ def configuration(method: str, preset: str) -> dict:
 
 
 def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
-    """Peak resident memory of one run of the SIMD kernel at ``size``, beyond what the process
-    held before it (the G-buffer included there), in MiB, from a child process."""
+    """Peak resident memory of one run of the SIMD kernel at ``size`` beyond what the process
+    held before it (the G-buffer included there), in MiB, from a child process: Linux's peak
+    resident size (VmHWM) is reset just before the run (``/proc/self/clear_refs``), so the
+    G-buffer's own making does not hide the run's peak. It is the first run of the process, so
+    no memory the allocator kept from an earlier run hides part of it either."""
     code = (
-        "import json, resource, sys, aolab\n"
+        "import json, sys, aolab\n"
+        "def kib(field):\n"
+        "    for line in open('/proc/self/status'):\n"
+        "        if line.startswith(field + ':'):\n"
+        "            return int(line.split()[1])\n"
         "m, s, w, h, r = json.loads(sys.argv[1])\n"
         "g = aolab.analytic_scene('blocks', w, h)\n"
-        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
-        "aolab.compute(m, g, radius=r, threads=2, **s)\n"
-        "after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
-        "print((after - before) / 1024.0)\n")
+        "before = kib('VmRSS')\n"
+        "open('/proc/self/clear_refs', 'w').write('5')\n"
+        "ao = aolab.compute(m, g, radius=r, threads=2, **s)\n"
+        "print((kib('VmHWM') - before) / 1024.0)\n")
     arg = json.dumps([method, settings, size[0], size[1], RADIUS])
     out = subprocess.run([sys.executable, "-c", code, arg], capture_output=True, text=True,
                          check=True, env=dict(os.environ))
@@ -130,6 +139,13 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
                         repeat=max(1, min(repeat, 3)))
             row["large_ms"] = big
             row["large_ratio"] = big / simd2
+            # R / 3 projects to as many pixels at 3840×2160 as R at 1280×720: the same work
+            # and neighbourhood per pixel, so this ratio isolates the pixel count.
+            scale = LARGE_SIZE[0] / size[0]
+            same = _time(method, large, settings, threads=2, kernel="simd",
+                         repeat=max(1, min(repeat, 3)), radius=RADIUS / scale)
+            row["large_same_px_ms"] = same
+            row["large_same_px_ratio"] = same / simd2
             row["large_peak_mb"] = peak_memory_mb(method, settings)
         if radii:
             row["radius_ms"] = {str(k): _time(method, g, settings, threads=2, kernel="simd",
@@ -148,7 +164,7 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
                "speedup": one / two, "threads_ratio": one / two,
                "mpx_per_s": pixels / two / 1000.0, "msamples_per_s": None}
         if scaling or radii:   # not measured for the blur: empty cells keep the table square
-            row["blank_cells"] = 3 * scaling + (len(RADIUS_SCALES) + 1) * radii
+            row["blank_cells"] = 5 * scaling + (len(RADIUS_SCALES) + 1) * radii
         rows.append(row)
         if progress:
             progress(format_row(row))
@@ -167,6 +183,7 @@ def format_row(row: dict) -> str:
             f"| {samples} |")
     if "large_ms" in row:
         text += (f" {row['large_ms']:.0f} | {row['large_ratio']:.1f} "
+                 f"| {row['large_same_px_ms']:.0f} | {row['large_same_px_ratio']:.1f} "
                  f"| {row['large_peak_mb']:.0f} |")
     text += " |" * row.get("blank_cells", 0)
     if "radius_ms" in row:
@@ -178,7 +195,8 @@ def format_row(row: dict) -> str:
 def header(scaling: bool, radii: bool = False) -> str:
     h = HEADER
     if scaling:
-        h += " SIMD 2t ms at 3840×2160 | ×(9 = linear) | peak MiB at 3840×2160 |"
+        h += (" SIMD 2t ms at 3840×2160 | ×(9 = linear) | at 3840×2160, R/3 | ×(9 = linear) "
+              "| peak MiB at 3840×2160 |")
     if radii:
         h += "".join(f" R×{k} ms |" for k in RADIUS_SCALES)
         h += f" R×{RADIUS_SCALES[-1]} / R×1 |"
