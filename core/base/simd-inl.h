@@ -1,5 +1,6 @@
-// Highway helpers every SIMD kernel shares: per-pixel random numbers for a vector of pixels,
-// the background rule, a row of pixels in vectors with its tail, and atan2 (Highway 1.0 has
+// Highway helpers every SIMD kernel shares: the unit roundoff and 1/sqrt by estimate and Newton
+// step, per-pixel random numbers for a vector of pixels, the background rule, a row of pixels
+// in vectors with its tail, and atan2 (Highway 1.0 has
 // only atan). Included once per target by a kernel's own foreach_target pass, so it has
 // Highway's per-target include guard instead of #pragma once.
 //
@@ -22,6 +23,19 @@
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+
+/// The float unit roundoff, 2^-24: the kernels' rounding tolerances are multiples of it.
+constexpr float kUnitRoundoff = 1.0f / 16777216.0f;
+
+/// 1/sqrt(v) to about 1 ulp less than float's 24 bits: the ~12-bit hardware estimate and one
+/// Newton step, 5 cheap operations instead of a square root and a division (each several times
+/// slower on every x86 core). v must be > 0 and finite; callers mask the other lanes.
+template <class DF>
+HWY_INLINE hn::Vec<DF> RecipSqrt(DF df, hn::Vec<DF> v) {
+  const auto y = hn::ApproximateReciprocalSqrt(v);
+  const auto half_v_y = hn::Mul(hn::Mul(hn::Set(df, 0.5f), v), y);
+  return hn::Mul(y, hn::NegMulAdd(half_v_y, y, hn::Set(df, 1.5f)));
+}
 
 /// pcg_hash (core/sampling/random.h) on every lane: integer operations only, so the same
 /// bits as the scalar hash.

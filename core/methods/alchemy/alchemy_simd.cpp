@@ -41,8 +41,7 @@ using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 using MI = hn::Mask<DI>;
 
-constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
-constexpr int kChunk = 16;                           // taps gathered before they are tested
+constexpr int kChunk = 16;  // taps gathered before they are tested
 
 // The receiver C of each lane (hbao_receiver) and what its taps share.
 struct Receiver {

@@ -45,16 +45,6 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 
-constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
-
-/// 1/sqrt(v) to about 1 ulp: the ~12-bit hardware estimate and one Newton step, cheaper than
-/// a square root and a division. v must be > 0 and finite; callers mask the other lanes.
-HWY_INLINE VF RecipSqrt(DF df, VF v) {
-  const VF y = hn::ApproximateReciprocalSqrt(v);
-  const VF half_v_y = hn::Mul(hn::Mul(hn::Set(df, 0.5f), v), y);
-  return hn::Mul(y, hn::NegMulAdd(half_v_y, y, hn::Set(df, 1.5f)));
-}
-
 /// What every vector of a row shares.
 struct Row {
   VF inv_fx, inv_fy, fx, fy, width, height;

@@ -42,8 +42,6 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 
-constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
-
 // The receiver P of each lane (hbao_receiver).
 struct Receiver {
   VF d, nx, ny, nz;
@@ -73,15 +71,6 @@ HWY_INLINE VI TexelOf(DF df, VF v) {
   const DI di;
   const VF two23 = hn::Set(df, 8388608.0f);
   return hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(v), two23)), hn::BitCast(di, two23));
-}
-
-// 1/sqrt(v) to about 1 ulp less than float's 24 bits: the ~12-bit hardware estimate and one
-// Newton step, 5 cheap operations instead of a square root and a division (each several times
-// slower on every x86 core). v must be > 0 and finite; callers mask the other lanes.
-HWY_INLINE VF RecipSqrt(DF df, VF v) {
-  const VF y = hn::ApproximateReciprocalSqrt(v);
-  const VF half_v_y = hn::Mul(hn::Mul(hn::Set(df, 0.5f), v), y);
-  return hn::Mul(y, hn::NegMulAdd(half_v_y, y, hn::Set(df, 1.5f)));
 }
 
 // elevation_sin_on_ray: sine of the elevation, seen from P, of the point at depth z on the

@@ -64,8 +64,6 @@ using MF = hn::Mask<DF>;
 using pyramid_simd::Frame;
 using Level = GatherPyramidLevel;
 
-constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
-
 // pixel_random(seed, x, y, stream) for the pixels x0, x0 + 1, ... of row y, bit for bit, in
 // two parts: PixelHash hashes the seed and the pixel once, PixelStream each stream of it
 // (PixelRandom of simd-inl.h hashes all three for every stream).

@@ -41,8 +41,6 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 
-constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24
-
 // pixel_random(seed, x, y, stream) for the columns x of the lanes (any columns): bit for bit
 // the scalar value, as PixelRandom for consecutive ones.
 HWY_INLINE VF PixelRandomAt(DF df, std::uint32_t seed, VI x, int y, std::uint32_t stream) {
