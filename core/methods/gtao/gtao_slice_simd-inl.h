@@ -34,6 +34,7 @@
 #include "core/base/simd-inl.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/methods/hbao/hbao_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -206,21 +207,7 @@ inline MF above_tangent_plane(DF df, const Row& k, const Pixels& p, MF live, VF 
       live,
       hn::Or(hn::Not(meets), hn::Lt(hn::Mul(p.d, p.n_r0), hn::Mul(hn::Mul(ds, n_rs), margin))));
   if (hn::AllFalse(df, maybe)) return maybe;
-  const VF tau = hn::Div(hn::Mul(p.d, p.n_r0), n_rs);
-  const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
-  const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
-  // |rs| ≥ 1; g only scales the tolerance, so the hardware reciprocal estimates will do.
-  const VF inv_rs_len =
-      RecipSqrt(df, hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, hn::Set(df, 1.0f))));
-  const VF grazing_s =
-      hn::Mul(hn::ApproximateReciprocal(inv_rs_len), hn::ApproximateReciprocal(hn::Abs(n_rs)));
-  const VF tol =
-      hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))),
-              hn::MulAdd(hn::Set(df, kHbaoNormalUlps), hn::Add(p.grazing, grazing_s),
-                         hn::Set(df, kHbaoDepthUlps)));
-  const VF gap =
-      hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
-  return hn::And(hn::AndNot(rejected, maybe), hn::Gt(gap, tol));
+  return ExactTangentTest(df, hn::Mul(p.d, p.n_r0), n_rs, rsx, rsy, ds, p.grazing, maybe).counts;
 }
 
 /// The texels and depths of steps i0 … i0 + n − 1 of one side (side 0: +step, side 1: −step)

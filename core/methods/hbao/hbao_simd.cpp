@@ -31,6 +31,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/methods/hbao/hbao_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -162,23 +163,12 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   VF gain, r;
   if (s.per_sample_tangent) {
     // per_sample_candidate, exactly.
-    const VF tau = hn::Div(p.d_n_r0, n_rs);
     const VF rsx = hn::Mul(hn::Add(p.ox, qx), k.inv_fx);
     const VF rsy = hn::Neg(hn::Mul(hn::Add(p.oy, qy), k.inv_fy));
-    const MF hits = hn::And(hn::And(hn::Lt(n_rs, zero), hn::Gt(tau, zero)), hn::IsFinite(tau));
-    const MF rejected = hn::AndNot(hn::Gt(tau, ds), hits);
-    // |rs| ≥ 1; g only scales the tolerance, so the hardware reciprocal estimate will do.
-    const VF inv_rs_len =
-        RecipSqrt(df, hn::MulAdd(rsx, rsx, hn::MulAdd(rsy, rsy, hn::Set(df, 1.0f))));
-    const VF grazing_s =
-        hn::Mul(hn::ApproximateReciprocal(inv_rs_len), hn::ApproximateReciprocal(hn::Abs(n_rs)));
-    const VF tol =
-        hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(hits, tau, ds))),
-                hn::MulAdd(hn::Set(df, kHbaoNormalUlps), hn::Add(p.grazing, grazing_s),
-                           hn::Set(df, kHbaoDepthUlps)));
-    const VF gap =
-        hn::Sub(hn::IfThenElse(hits, tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
-    counts = hn::And(hn::AndNot(rejected, live), hn::Gt(gap, tol));
+    const TangentTest<DF> t = ExactTangentTest(df, p.d_n_r0, n_rs, rsx, rsy, ds, p.grazing, live);
+    const MF hits = t.hits;
+    const VF tau = t.tau, inv_rs_len = t.inv_rs_len;
+    counts = t.counts;
     if (hn::AllFalse(df, counts)) return;
     const VF sin_t =
         hn::IfThenElse(hits, ElevationSinOnRay(df, p, k, qx, qy, hn::IfThenElse(hits, tau, p.d)),
