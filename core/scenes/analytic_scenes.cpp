@@ -260,16 +260,63 @@ std::vector<std::string> analytic_scene_names() {
   return names;
 }
 
-AnalyticGBuffer analytic_scene(const std::string& name, int width, int height,
-                               const SettingValues& params) {
-  for (const auto& e : scene_table()) {
-    if (name != e.name) continue;
-    const Params p = merge(name, e.defaults, params);
-    return render_analytic_scene(e.build(p), width, height, p.at("radius"));
-  }
+namespace {
+
+// The scene table's entry for `name`, or std::invalid_argument listing the names.
+const SceneEntry& scene_entry(const std::string& name) {
+  for (const auto& e : scene_table())
+    if (name == e.name) return e;
   std::string names;
   for (const auto& n : analytic_scene_names()) names += (names.empty() ? "" : ", ") + n;
   throw_invalid("scene", "must be one of " + names, "'" + name + "'");
+}
+
+}  // namespace
+
+AnalyticGBuffer analytic_scene(const std::string& name, int width, int height,
+                               const SettingValues& params) {
+  const SceneEntry& e = scene_entry(name);
+  const Params p = merge(name, e.defaults, params);
+  return render_analytic_scene(e.build(p), width, height, p.at("radius"));
+}
+
+AnalyticScene analytic_scene_geometry(const std::string& name, const SettingValues& params) {
+  const SceneEntry& e = scene_entry(name);
+  return e.build(merge(name, e.defaults, params));
+}
+
+TriangleMesh analytic_scene_mesh(const AnalyticScene& scene, double extent) {
+  if (!(extent > 0 && std::isfinite(extent))) throw_invalid("extent", "must be > 0", extent);
+  TriangleMesh mesh;
+  for (const AnalyticFace& f : scene.faces) {
+    // Two unit vectors spanning the plane, and the plane's point nearest the camera.
+    const glm::dvec3 n = f.normal;
+    const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 u = glm::normalize(glm::cross(n, helper)), v = glm::cross(n, u);
+    const glm::dvec3 centre = scene.eye - (glm::dot(n, scene.eye) - f.offset) * n;
+    std::vector<glm::dvec3> poly = {centre - extent * u - extent * v,
+                                    centre + extent * u - extent * v,
+                                    centre + extent * u + extent * v,
+                                    centre - extent * u + extent * v};
+    for (const glm::dvec4& c : f.clips) {  // keep dot(c.xyz, X) <= c.w
+      std::vector<glm::dvec3> kept;
+      const glm::dvec3 cn(c);
+      for (std::size_t i = 0; i < poly.size(); ++i) {
+        const glm::dvec3 &a = poly[i], &b = poly[(i + 1) % poly.size()];
+        const double da = glm::dot(cn, a) - c.w, db = glm::dot(cn, b) - c.w;
+        if (da <= 0) kept.push_back(a);
+        if ((da < 0 && db > 0) || (da > 0 && db < 0)) kept.push_back(a + (da / (da - db)) * (b - a));
+      }
+      poly = std::move(kept);
+    }
+    if (poly.size() < 3) continue;
+    const auto first = std::uint32_t(mesh.vertex_count());
+    for (const glm::dvec3& p : poly)
+      for (int k = 0; k < 3; ++k) mesh.vertices.push_back(float(p[k]));
+    for (std::uint32_t i = 1; i + 1 < poly.size(); ++i)
+      mesh.triangles.insert(mesh.triangles.end(), {first, first + i, first + i + 1});
+  }
+  return mesh;
 }
 
 }  // namespace aolab

@@ -12,6 +12,7 @@
 #include "core/base/camera.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
+#include "core/base/triangle_mesh.h"
 
 namespace aolab {
 
@@ -56,6 +57,15 @@ std::vector<std::string> analytic_scene_names();
 /// R of the closed-form reference. See docs/analytic_scenes.md.
 AnalyticGBuffer analytic_scene(const std::string& name, int width, int height,
                                const SettingValues& params = {});
+
+/// The geometry of a built-in scene (the same names and params as analytic_scene).
+AnalyticScene analytic_scene_geometry(const std::string& name, const SettingValues& params = {});
+
+/// The faces of `scene` as triangles in world space, for a ray tracer: each face is the square
+/// of half-side `extent` centred at the point of its plane nearest the camera, clipped by the
+/// face's clips (Sutherland-Hodgman) and cut into a fan. An unbounded plane thus ends `extent`
+/// from the camera: its closed form holds at points farther than R from that edge.
+TriangleMesh analytic_scene_mesh(const AnalyticScene& scene, double extent);
 
 /// Cycles' AO at distance `distance` from the crease of two perpendicular planes (a floor
 /// beside a wall): 1 - (acos a - a·sqrt(1 - a²))/π for a = distance/R < 1, else 1.

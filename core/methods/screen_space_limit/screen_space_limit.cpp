@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/sampling/random.h"
+#include "core/sampling/cosine_hemisphere.h"
 
 namespace aolab {
 
@@ -28,30 +28,6 @@ struct Frame {
 
 glm::dvec3 normal_at(const Frame& f, std::size_t idx) {
   return {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]};
-}
-
-// Shirley & Chiu's concentric map of [0, 1)² onto the unit disk (JGT 1997): equal areas to
-// equal areas with little distortion, so the square's strata stay compact on the disk.
-glm::dvec2 concentric_disk(double u1, double u2) {
-  const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
-  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
-  constexpr double quarter = std::numbers::pi / 4.0;
-  double r, phi;
-  if (std::abs(a) > std::abs(b))
-    r = a, phi = quarter * (b / a);
-  else
-    r = b, phi = 2.0 * quarter - quarter * (a / b);
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
-
-// A tangent frame (t, b) for the unit normal n: Duff et al., "Building an Orthonormal Basis,
-// Revisited" (JCGT 2017), listing 3; no branch on a threshold, so no seam.
-void tangent_frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double c = n.x * n.y * a;
-  t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
 }
 
 // The pixel q's surface is its tangent plane n_q · X = c_q (through its view-space point,
@@ -178,33 +154,14 @@ void screen_space_limit_pixel(const Frame& f, const ScreenSpaceLimitSettings& s,
   const double d = depth;
   const glm::dvec3 p(f.cam.view_position(float(x) + 0.5f, float(y) + 0.5f, depth));
   const glm::dvec3 n = normal_at(f, idx);
-  glm::dvec3 t, b;
-  tangent_frame(n, t, b);
-  // ⌊√N⌋ columns of the unit square; column c holds n_c rows, so that the N strata tile the
-  // square for any N. A ray's weight is its stratum's area 1/(columns · n_c); the weights sum
-  // to 1, and summing only the blocked ones keeps an unoccluded pixel exactly 1.
-  const int columns = std::max(1, int(std::sqrt(double(s.rays))));
-  const auto seed = std::uint32_t(s.seed);
   std::fill(blocked.begin(), blocked.end(), 0.0);
-  std::uint32_t k = 0;
-  for (int c = 0; c < columns; ++c) {
-    const int rows =
-        int(std::int64_t(c + 1) * s.rays / columns - std::int64_t(c) * s.rays / columns);
-    const double weight = 1.0 / (double(columns) * rows);
-    for (int r = 0; r < rows; ++r, ++k) {
-      const double u1 = (c + double(pixel_random(seed, x, y, 2 * k))) / columns;
-      const double u2 = (r + double(pixel_random(seed, x, y, 2 * k + 1))) / rows;
-      // Malley's method: a uniform point of the disk lifted to the hemisphere is
-      // cosine-distributed about n.
-      const glm::dvec2 q = concentric_disk(u1, u2);
-      const double up = std::sqrt(std::max(0.0, 1.0 - q.x * q.x - q.y * q.y));
-      const glm::dvec3 w = glm::normalize(q.x * t + q.y * b + up * n);
-      const double gap = ray_gap(f, s, x, y, d, p, w, stop_below);
-      if (gap == kInf) continue;  // behind nothing: unblocked at every thickness
-      for (std::size_t i = 0; i < n_thick; ++i)
-        if (blocked_at(gap, thicknesses[i])) blocked[i] += weight;
-    }
-  }
+  for_each_cosine_ray(s.rays, std::uint32_t(s.seed), x, y, n,
+                      [&](const glm::dvec3& w, double weight) {
+                        const double gap = ray_gap(f, s, x, y, d, p, w, stop_below);
+                        if (gap == kInf) return;  // behind nothing: unblocked at every thickness
+                        for (std::size_t i = 0; i < n_thick; ++i)
+                          if (blocked_at(gap, thicknesses[i])) blocked[i] += weight;
+                      });
   for (std::size_t i = 0; i < n_thick; ++i) out[i] = float(std::clamp(1.0 - blocked[i], 0.0, 1.0));
 }
 

@@ -19,6 +19,7 @@ __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
+    "rtao", "ray_scene", "RayScene", "rtao_settings", "analytic_scene_mesh",
 ]
 
 GBuffer = _core.GBuffer
@@ -196,6 +197,9 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
                  "scene": f"analytic:{name}", "params": params}
     return g
 
+
+# The ray-traced peer (rtao.py): Embree against the scene's triangles.
+from .rtao import RayScene, analytic_scene_mesh, ray_scene, rtao, rtao_settings  # noqa: E402,F401
 
 # The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
 # presets.py).

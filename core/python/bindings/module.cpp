@@ -12,6 +12,7 @@ void bind_parallel(py::module_& m);
 void bind_metrics(py::module_& m);
 void bind_image_io(py::module_& m);
 void bind_analytic_scenes(py::module_& m);
+void bind_rtao(py::module_& m);
 }  // namespace aolab::python
 
 PYBIND11_MODULE(_core, m) {
@@ -24,4 +25,5 @@ PYBIND11_MODULE(_core, m) {
   bind_metrics(m);
   bind_image_io(m);
   bind_analytic_scenes(m);
+  bind_rtao(m);
 }

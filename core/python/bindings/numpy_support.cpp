@@ -6,7 +6,6 @@
 
 namespace aolab::python {
 
-namespace {
 std::string shape_string(const py::array& a) {
   std::string s = "(";
   for (py::ssize_t i = 0; i < a.ndim(); ++i) {
@@ -15,7 +14,6 @@ std::string shape_string(const py::array& a) {
   }
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
-}  // namespace
 
 FloatArray real_array(const py::object& value, const std::string& name,
                       const std::string& expected) {

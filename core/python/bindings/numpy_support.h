@@ -27,6 +27,13 @@ using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>
 FloatArray real_array(const py::object& value, const std::string& name,
                       const std::string& expected);
 
+/// An array's shape as Python prints it: "(3, 4)", "(5,)".
+std::string shape_string(const py::array& a);
+
+/// Settings described for Python (method_info()["settings"], rtao_info()["settings"]): a dict
+/// per setting with name, type, default, min, max (choices for a choice), unit, description.
+py::list describe_settings_for_python(const std::vector<SettingDescription>& settings);
+
 /// Checks ndim/shape and returns a view. `channels` = 0 means a 2-D (H, W) array; otherwise
 /// (H, W, channels) — or any of `channels` and `alt_channels` when alt_channels > 0.
 ConstImageView view_of(const FloatArray& a, const std::string& name, int channels,

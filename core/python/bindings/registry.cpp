@@ -32,8 +32,24 @@ const char* type_name(SettingType t) {
 }
 
 py::dict describe(const Method& m) {
+  py::list settings = describe_settings_for_python(m.settings);
+  py::dict out;
+  out["name"] = m.name;
+  out["title"] = m.title;
+  out["paper"] = m.paper;
+  out["needs_normal"] = m.needs_normal;
+  out["needs_color"] = m.needs_color;
+  out["oracle"] = m.oracle;
+  out["simd_kernel"] = m.has_simd_kernel;
+  out["settings"] = settings;
+  return out;
+}
+
+}  // namespace
+
+py::list describe_settings_for_python(const std::vector<SettingDescription>& descriptions) {
   py::list settings;
-  for (const auto& s : m.settings) {
+  for (const auto& s : descriptions) {
     py::dict d;
     d["name"] = s.name;
     d["type"] = type_name(s.type);
@@ -55,19 +71,8 @@ py::dict describe(const Method& m) {
     d["description"] = s.description;
     settings.append(d);
   }
-  py::dict out;
-  out["name"] = m.name;
-  out["title"] = m.title;
-  out["paper"] = m.paper;
-  out["needs_normal"] = m.needs_normal;
-  out["needs_color"] = m.needs_color;
-  out["oracle"] = m.oracle;
-  out["simd_kernel"] = m.has_simd_kernel;
-  out["settings"] = settings;
-  return out;
+  return settings;
 }
-
-}  // namespace
 
 SettingValues to_setting_values(const py::dict& d,
                                 const std::vector<SettingDescription>& descriptions) {

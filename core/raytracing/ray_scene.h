@@ -1,0 +1,62 @@
+// Triangles in view space, ready for ray queries: the scene geometry the bridge exports
+// (`mesh` pass: world-space triangles, docs/file_formats.md) moved into the G-buffer's view
+// space and put in an Intel Embree BVH (Debian libembree-dev, Embree 3 or 4). The AO
+// estimator on top of it is rtao.h.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/base/triangle_mesh.h"
+
+namespace aolab {
+
+/// A row-major 4×4 matrix (the sidecar's camera_to_world).
+using Matrix4 = std::array<double, 16>;
+
+/// The triangles of a mesh in view space, in an Embree BVH. Immutable once built: queries
+/// from any number of threads at once.
+class RayScene {
+ public:
+  /// Moves `world_mesh` into view space with the inverse of `camera_to_world` (a rigid
+  /// transform: rotation and translation, no scale, as the sidecar stores it; in double, then
+  /// rounded to float once) and builds the BVH on `threads` threads (0 = all cores).
+  /// Throws std::invalid_argument naming the parameter for a malformed mesh (a vertex count
+  /// not a multiple of 3, an index out of range, a non-finite vertex), a camera_to_world that
+  /// is not finite or not rigid, or a negative thread count; std::runtime_error if Embree
+  /// fails (out of memory).
+  RayScene(const TriangleMesh& world_mesh, const Matrix4& camera_to_world, int threads = 0);
+  ~RayScene();
+  RayScene(RayScene&&) noexcept;
+  RayScene& operator=(RayScene&&) noexcept;
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  /// Whether the segment from `origin` along the unit `direction` over [0, t_far] hits a
+  /// triangle (either side: back faces occlude, as in Cycles' AO pass). View space.
+  bool occluded(const float origin[3], const float direction[3], float t_far) const;
+
+  /// Occlusion of `count` segments (at most 16) from one origin: blocked[k] is set for each
+  /// direction k that hits within t_far. Uses Embree's packet traversal where it pays.
+  void occluded_from(const float origin[3], const float* directions, int count, float t_far,
+                     bool* blocked) const;
+
+  std::size_t triangle_count() const { return triangles_; }
+  /// Wall-clock seconds the BVH build took (Embree's rtcCommitScene), for the study's
+  /// "BVH build timed apart".
+  double build_seconds() const { return build_seconds_; }
+  /// The camera position in world space (|c| bounds the rounding of world-space floats).
+  double camera_distance_from_origin() const { return camera_distance_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::size_t triangles_ = 0;
+  double build_seconds_ = 0;
+  double camera_distance_ = 0;
+};
+
+}  // namespace aolab

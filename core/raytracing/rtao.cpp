@@ -1,0 +1,76 @@
+#include "core/raytracing/rtao.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "core/sampling/cosine_hemisphere.h"
+
+namespace aolab {
+
+namespace {
+
+// Working memory of one band of rows: the directions of a pixel's rays and their weights.
+struct Scratch {
+  std::vector<float> directions;
+  std::vector<double> weights;
+  std::unique_ptr<bool[]> blocked;
+};
+
+}  // namespace
+
+Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
+           const RunOptions& options) {
+  validate_settings(s, kRtaoFields);
+  g.validate();
+  require_normal(g, "rtao");
+  const int w = g.width(), h = g.height();
+  const int threads = resolve_threads(options.threads);
+  const Image normals = prepared_normals(g, threads);
+  const CameraIntrinsics cam = g.camera;
+  const double footprint = 1.0 / std::min(double(cam.fx), double(cam.fy));
+  const double camera_distance = scene.camera_distance_from_origin();
+  const auto seed = std::uint32_t(s.seed);
+  const float t_far = s.radius;
+  const int n_rays = s.rays;
+  const bool empty = scene.triangle_count() == 0;
+
+  return image_from_pixels(
+      w, h, threads, options.progress,
+      [&] {
+        Scratch sc;
+        sc.directions.resize(3 * std::size_t(n_rays));
+        sc.weights.resize(std::size_t(n_rays));
+        sc.blocked = std::make_unique<bool[]>(std::size_t(n_rays));
+        return sc;
+      },
+      [&](Scratch& sc, int x, int y) -> float {
+        if (!g.valid(x, y) || empty) return 1.0f;
+        const double d = g.depth(x, y);
+        // The pixel centre's camera ray at depth d (docs/conventions.md), in double.
+        const glm::dvec3 p((x + 0.5 - cam.cx) / cam.fx * d, -(y + 0.5 - cam.cy) / cam.fy * d, -d);
+        const glm::dvec3 n(normals(x, y, 0), normals(x, y, 1), normals(x, y, 2));
+        const double eps = kRtaoOffsetPixels * d * footprint +
+                           kRtaoOffsetRelative * (glm::length(p) + camera_distance);
+        const glm::dvec3 o = p + eps * n;
+        const float origin[3] = {float(o.x), float(o.y), float(o.z)};
+        int k = 0;
+        for_each_cosine_ray(n_rays, seed, x, y, n, [&](const glm::dvec3& dir, double weight) {
+          sc.directions[3 * std::size_t(k)] = float(dir.x);
+          sc.directions[3 * std::size_t(k) + 1] = float(dir.y);
+          sc.directions[3 * std::size_t(k) + 2] = float(dir.z);
+          sc.weights[std::size_t(k)] = weight;
+          ++k;
+        });
+        scene.occluded_from(origin, sc.directions.data(), k, t_far, sc.blocked.get());
+        double blocked = 0.0;
+        for (int i = 0; i < k; ++i)
+          if (sc.blocked[std::size_t(i)]) blocked += sc.weights[std::size_t(i)];
+        return float(std::clamp(1.0 - blocked, 0.0, 1.0));
+      });
+}
+
+std::vector<SettingDescription> rtao_setting_descriptions() { return describe_settings(kRtaoFields); }
+
+}  // namespace aolab
