@@ -129,7 +129,6 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
                         std::to_string(k / 3) + ")",
                     mesh.triangles[k]);
   const int n_threads = resolve_threads(threads);
-  camera_distance_ = std::sqrt(m[3] * m[3] + m[7] * m[7] + m[11] * m[11]);
 
   const std::string config = "threads=" + std::to_string(n_threads);
   impl_->device = rtcNewDevice(config.c_str());
@@ -154,13 +153,23 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
       throw std::runtime_error("Embree could not allocate the mesh");
     }
     // view = Rᵀ (world − t), with R the rotation and t the translation of camera_to_world.
+    double scale2 = 0;
     for (std::size_t i = 0; i < nv; ++i) {
-      const double w[3] = {double(mesh.vertices[3 * i]) - m[3],
-                           double(mesh.vertices[3 * i + 1]) - m[7],
-                           double(mesh.vertices[3 * i + 2]) - m[11]};
-      for (int c = 0; c < 3; ++c)
-        vb[3 * i + std::size_t(c)] = float(m[c] * w[0] + m[4 + c] * w[1] + m[8 + c] * w[2]);
+      double world2 = 0, view2 = 0, w[3];
+      for (int c = 0; c < 3; ++c) {
+        const double v = mesh.vertices[3 * i + std::size_t(c)];
+        world2 += v * v;
+        w[c] = v - m[std::size_t(4 * c + 3)];
+      }
+      for (int c = 0; c < 3; ++c) {
+        const float v = float(m[std::size_t(c)] * w[0] + m[std::size_t(4 + c)] * w[1] +
+                              m[std::size_t(8 + c)] * w[2]);
+        vb[3 * i + std::size_t(c)] = v;
+        view2 += double(v) * v;
+      }
+      scale2 = std::max({scale2, world2, view2});
     }
+    coordinate_scale_ = std::sqrt(scale2);
     std::copy(mesh.triangles.begin(), mesh.triangles.end(), ib);
     rtcCommitGeometry(geom);
     rtcAttachGeometry(impl_->scene, geom);

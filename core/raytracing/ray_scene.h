@@ -48,15 +48,16 @@ class RayScene {
   /// Wall-clock seconds the BVH build took (Embree's rtcCommitScene), for the study's
   /// "BVH build timed apart".
   double build_seconds() const { return build_seconds_; }
-  /// The camera position in world space (|c| bounds the rounding of world-space floats).
-  double camera_distance_from_origin() const { return camera_distance_; }
+  /// L: the largest distance of a vertex from the world origin or from the camera (the
+  /// scale of the float32 rounding of every triangle: rtao.h, kRtaoOffsetRounding).
+  double coordinate_scale() const { return coordinate_scale_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::size_t triangles_ = 0;
   double build_seconds_ = 0;
-  double camera_distance_ = 0;
+  double coordinate_scale_ = 0;
 };
 
 }  // namespace aolab

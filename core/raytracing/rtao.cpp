@@ -30,7 +30,7 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
   const Image normals = prepared_normals(g, threads);
   const CameraIntrinsics cam = g.camera;
   const double footprint = 1.0 / std::min(double(cam.fx), double(cam.fy));
-  const double camera_distance = scene.camera_distance_from_origin();
+  const double rounding = kRtaoOffsetRounding * scene.coordinate_scale();
   const auto seed = std::uint32_t(s.seed);
   const float t_far = s.radius;
   const int n_rays = s.rays;
@@ -51,8 +51,7 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
         // The pixel centre's camera ray at depth d (docs/conventions.md), in double.
         const glm::dvec3 p((x + 0.5 - cam.cx) / cam.fx * d, -(y + 0.5 - cam.cy) / cam.fy * d, -d);
         const glm::dvec3 n(normals(x, y, 0), normals(x, y, 1), normals(x, y, 2));
-        const double eps = kRtaoOffsetPixels * d * footprint +
-                           kRtaoOffsetRelative * (glm::length(p) + camera_distance);
+        const double eps = kRtaoOffsetPixels * d * footprint + rounding;
         const glm::dvec3 o = p + eps * n;
         const float origin[3] = {float(o.x), float(o.y), float(o.z)};
         int k = 0;

@@ -25,20 +25,21 @@ namespace aolab {
 constexpr int kRtaoDefaultRays = 1024;
 
 /// The ray origin is lifted off the surface along the normal by
-///   ε = kRtaoOffsetPixels · d / min(fx, fy) + kRtaoOffsetRelative · (|P| + |camera|),
-/// d the depth, |camera| the camera's distance from the world origin. Why:
+///   ε = kRtaoOffsetPixels · d / min(fx, fy) + kRtaoOffsetRounding · L,
+/// d the depth, L the mesh's coordinate scale (RayScene::coordinate_scale: the largest
+/// distance of a vertex from the world origin or the camera). Why:
 /// - Cycles renders the G-buffer with a 0.01-pixel filter, so the depth it stores is that of
 ///   a camera ray up to 0.005 px from the pixel centre. Rebuilt on the centre's ray, the point
 ///   misses the surface along its normal by at most 0.005 · d/f (for a plane through P with
 ///   normal n the miss is 0.005 · d/f · |n_x|, whatever the grazing angle). 0.01 pixel
 ///   footprints is twice that bound.
-/// - Float32 rounding: the mesh is stored in world space and moved to view space, Cycles'
-///   hit points are world-space floats, the depth a float: each rounds by 2^-24 of a world
-///   or view coordinate. 2^-18 leaves a factor 64 for the chain of operations.
-/// Occluders closer than ε to the surface are lost; in the committed scenes ε is 1e-4 to
-/// 3e-2 of R (docs/methods/rtao.md).
+/// - Float32 rounding: Blender's object-to-world transform, the world-space file, the move to
+///   view space and the stored depth each move a triangle or a point by at most 2^-24 of a
+///   coordinate, and every coordinate of a point on a triangle is at most L. 2^-21 is twice
+///   their sum. A 1 km scene thus gets ε ≥ 0.5 mm everywhere, a 10 m room 5 µm.
+/// Occluders closer than ε to the surface are lost (docs/methods/rtao.md gives ε per scene).
 constexpr double kRtaoOffsetPixels = 0.01;
-constexpr double kRtaoOffsetRelative = 1.0 / 262144.0;
+constexpr double kRtaoOffsetRounding = 1.0 / 2097152.0;
 
 struct RtaoSettings {
   /// R: the AO distance in view-space units (the reference's): a hit within R occludes.
