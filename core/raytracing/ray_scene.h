@@ -39,8 +39,9 @@ class RayScene {
   /// triangle (either side: back faces occlude, as in Cycles' AO pass). View space.
   bool occluded(const float origin[3], const float direction[3], float t_far) const;
 
-  /// Occlusion of `count` segments (at most 16) from one origin: blocked[k] is set for each
-  /// direction k that hits within t_far. Uses Embree's packet traversal where it pays.
+  /// Occlusion of `count` segments from one origin (directions: 3 floats each): blocked[k]
+  /// tells whether direction k hits within t_far, exactly as occluded() would. Uses Embree's
+  /// packet traversal where it pays.
   void occluded_from(const float origin[3], const float* directions, int count, float t_far,
                      bool* blocked) const;
 

@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/scenes/analytic_scenes.h"
 #include "tests/cpp/test_support.h"
@@ -227,9 +229,8 @@ TEST(RayScene, MalformedMeshesAndCamerasAreNamed) {
 // The view-space move: a triangle in front of a camera translated and turned in the world is
 // hit where the camera sees it, and missed beside it.
 TEST(RayScene, WorldTrianglesAreMovedIntoViewSpace) {
-  // Camera at (10, 0, 0) looking down world −x: view −z = world −x, view x = world −y... a
-  // rotation of 90° about world z: view x → world −y? Use columns: x_view = (0, 1, 0),
-  // y_view = (0, 0, 1), z_view = (1, 0, 0) (right-handed: x × y = z).
+  // A camera at world (10, 0, 0) looking down world −x: its view axes are the matrix's
+  // columns, x_view = world y, y_view = world z, z_view = world x (x × y = z).
   const Matrix4 c2w = {0, 0, 1, 10, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1};
   TriangleMesh m;  // a big triangle in the world plane x = 5, i.e. 5 in front of the camera
   m.vertices = {5, -100, -100, 5, 100, -100, 5, 0, 100};
@@ -240,6 +241,36 @@ TEST(RayScene, WorldTrianglesAreMovedIntoViewSpace) {
   EXPECT_TRUE(s.occluded(origin, ahead, 5.5f));
   EXPECT_FALSE(s.occluded(origin, ahead, 4.5f));
   EXPECT_FALSE(s.occluded(origin, behind, 100.0f));
+}
+
+}  // namespace
+}  // namespace aolab
+
+namespace aolab {
+namespace {
+
+// Packets (16- and 8-wide) and single rays answer alike, whatever the count of rays: the
+// packet path is a speed-up, never a different answer.
+TEST(RayScene, PacketsAgreeWithSingleRays) {
+  const TracedScene t("blocks", 8, 8);
+  const glm::vec3 p = t.g.camera.view_position(4.5f, 5.5f, t.g.depth(4, 5));
+  const float origin[3] = {p.x, p.y, p.z + 1e-3f};
+  std::vector<float> dirs;
+  for (int k = 0; k < 41; ++k) {  // directions over the sphere, many blocked, many free
+    const double z = 1.0 - 2.0 * (k + 0.5) / 41, r = std::sqrt(1.0 - z * z), phi = 2.4 * k;
+    dirs.insert(dirs.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+  }
+  int hits = 0;
+  for (int count : {1, 3, 4, 7, 8, 15, 16, 17, 24, 31, 41}) {
+    std::unique_ptr<bool[]> blocked(new bool[std::size_t(count)]);
+    t.scene.occluded_from(origin, dirs.data(), count, 2.0f, blocked.get());
+    for (int k = 0; k < count; ++k) {
+      EXPECT_EQ(blocked[std::size_t(k)], t.scene.occluded(origin, &dirs[3 * std::size_t(k)], 2.0f))
+          << count << " rays, ray " << k;
+      hits += blocked[std::size_t(k)];
+    }
+  }
+  EXPECT_GT(hits, 10);
 }
 
 }  // namespace
