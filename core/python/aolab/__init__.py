@@ -198,8 +198,8 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
     return g
 
 
-# The ray-traced peer (rtao.py): Embree against the scene's triangles.
-from .rtao import RayScene, analytic_scene_mesh, ray_scene, rtao, rtao_settings  # noqa: E402,F401
+# The ray-traced peer (raytracing.py): Embree against the scene's triangles.
+from .raytracing import RayScene, analytic_scene_mesh, ray_scene, rtao, rtao_settings  # noqa: E402,F401
 
 # The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
 # presets.py).

@@ -35,11 +35,13 @@ import statistics
 import sys
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
 import aolab
 
+from .raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
 from .scoring import metrics_mask
 from .settings import describe_value, parse_assignments
 
@@ -323,6 +325,25 @@ def cmd_analytic(args) -> int:
     return 0
 
 
+def _print_scores(g, ao, result: dict) -> None:
+    """Scores ``ao`` against the G-buffer's AO pass where it has one (into result["metrics"])
+    and prints them, or says why nothing is scored."""
+    mask = metrics_mask(g)
+    if ao.ndim == 3:
+        print("  RGB result (colour bleeding): written as an image, not scored")
+    elif mask is not None:
+        m = aolab.metrics(ao, g.reference, mask)
+        result["metrics"] = m
+        print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
+              f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
+              f"bias {m['bias']:+.4f}")
+    elif getattr(g, "reference", None) is not None:
+        print("  the input's AO pass has no finite value on a geometry pixel (all NaN): "
+              "nothing to score")
+    else:
+        print("  no reference AO in the input: nothing to score")
+
+
 def cmd_run(args) -> int:
     settings = _key_values(args.set, args.method)
     if args.json and (args.json.endswith(("/", os.sep)) or Path(args.json).is_dir()):
@@ -342,20 +363,46 @@ def cmd_run(args) -> int:
               "threads": args.threads, "seconds": elapsed, "output": str(exr)}
     print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
           f"-> {exr}, {png}")
-    mask = metrics_mask(g)
-    if ao.ndim == 3:
-        print("  RGB result (colour bleeding): written as an image, not scored")
-    elif mask is not None:
-        m = aolab.metrics(ao, g.reference, mask)
-        result["metrics"] = m
-        print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
-              f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
-              f"bias {m['bias']:+.4f}")
-    elif getattr(g, "reference", None) is not None:
-        print("  the input's AO pass has no finite value on a geometry pixel (all NaN): "
-              "nothing to score")
+    _print_scores(g, ao, result)
+    if args.json:
+        from .report import atomic_write_text
+        atomic_write_text(Path(args.json), json.dumps(result, indent=2, default=float))
+    return 0
+
+
+def cmd_rtao(args) -> int:
+    """aolab rtao: ray-traced AO of a G-buffer against its scene's triangles."""
+    if args.json and (args.json.endswith(("/", os.sep)) or Path(args.json).is_dir()):
+        raise ValueError(f"--json must be a file path, got {args.json!r}, a folder")
+    spec = args.input
+    if not spec.startswith("analytic:") and Path(spec).is_dir():
+        spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
+    g, radius = _load_input(spec, args.radius, args.width, args.height)
+    if args.mesh:
+        mesh = aolab.load_mesh(_regular_file(args.mesh, "mesh"))
+    elif spec.startswith("analytic:"):
+        name = spec.split(":", 1)[1]
+        mesh = SimpleNamespace(info={})
+        mesh.vertices, mesh.triangles = aolab.analytic_scene_mesh(name)
     else:
-        print("  no reference AO in the input: nothing to score")
+        mesh = aolab.mesh_for_gbuffer(g)
+    out = _output_stem(args.out, "rtao")
+    exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
+    scene = aolab.ray_scene(mesh, g, threads=args.threads)
+    t0 = time.perf_counter()
+    ao = aolab.rtao(g, scene, radius=radius, rays=args.rays, seed=args.seed,
+                    threads=args.threads)
+    elapsed = time.perf_counter() - t0
+    aolab.write_image(exr, ao)
+    aolab.write_image(png, ao)
+    result = {"method": "rtao", "input": args.input, "width": g.width, "height": g.height,
+              "radius": radius, "rays": args.rays, "seed": args.seed, "threads": args.threads,
+              "triangles": scene.triangles, "build_seconds": scene.build_seconds,
+              "seconds": elapsed, "output": str(exr)}
+    print(f"rtao: {g.width}x{g.height}, radius {radius:g}, {args.rays} rays per pixel, "
+          f"{scene.triangles} triangles: BVH {scene.build_seconds * 1000:.1f} ms, rays "
+          f"{elapsed * 1000:.1f} ms -> {exr}, {png}")
+    _print_scores(g, ao, result)
     if args.json:
         from .report import atomic_write_text
         atomic_write_text(Path(args.json), json.dumps(result, indent=2, default=float))
@@ -494,7 +541,7 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--json", action="store_true", help="print the descriptions as JSON")
     m.set_defaults(func=cmd_methods)
 
-    def input_options(q, threads=True):
+    def input_options(q, threads=True, settings=True):
         q.add_argument("--radius", type=radius, help="view-space radius R, finite > 0 "
                        "(default: the sidecar's ao_distance; 1 for analytic scenes)")
         q.add_argument("--width", type=side["--width"], default=1280,
@@ -504,6 +551,8 @@ def build_parser() -> argparse.ArgumentParser:
         if threads:
             q.add_argument("--threads", type=threads_option(), default=0,
                            help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
+        if not settings:
+            return
         q.add_argument("--set", action="append", metavar="KEY=VALUE",
                        help="a method setting, e.g. --set directions=16; a choice by "
                        "name, e.g. --set falloff=clipped (repeatable; `aolab methods` lists "
@@ -543,6 +592,27 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the blur's taps per pass, odd, 1 to 129 (default 5)")
     r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
     r.set_defaults(func=cmd_run)
+
+    rt = sub.add_parser(
+        "rtao", help="ray-traced AO of a G-buffer against its scene's triangles (Embree)",
+        description="Cycles' AO integral traced on the CPU with Embree from every pixel of a "
+        "G-buffer: stratified cosine-weighted rays, a hit within R occluding "
+        "(docs/methods/rtao.md). The triangles are the mesh written beside the G-buffer "
+        "(`aolab mesh`, or `aolab reference --passes depth,normal,mesh`), or --mesh.")
+    rt.add_argument("input", help="G-buffer .exr (with sidecar), a reference_scenes/<name> "
+                    "folder, or analytic:NAME (its planes as triangles)")
+    input_options(rt, settings=False)
+    rt.add_argument("--mesh", help="the scene's .mesh file (default: <stem>.mesh beside the "
+                    "G-buffer, checked against its scene hash)")
+    rt.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RTAO_DEFAULT_RAYS,
+                    help=f"rays per pixel, 1 to 65536 (default {RTAO_DEFAULT_RAYS}, the "
+                    "reference's samples)")
+    rt.add_argument("--seed", type=int_option("--seed", 0, 2**31 - 1), default=0,
+                    help="seed of the per-pixel jitter, 0 to 2^31 - 1 (default 0)")
+    rt.add_argument("--out", help="output path without extension: writes OUT.exr and OUT.png "
+                    "(default rtao_ao in the current folder)")
+    rt.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
+    rt.set_defaults(func=cmd_rtao)
 
     b = sub.add_parser("bench", help="median time of a method over repeated runs")
     b.add_argument("method", choices=aolab.methods())
