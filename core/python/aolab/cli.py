@@ -41,6 +41,7 @@ import numpy as np
 
 import aolab
 
+from .compare import RTAO_LADDER
 from .raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
 from .scoring import metrics_mask
 from .settings import describe_value, parse_assignments
@@ -93,6 +94,24 @@ def int_option(name: str, lo: int | None = None, hi: int | None = None, *,
         return value
     parse.__name__ = name   # argparse's own messages name the type
     return parse
+
+
+def rays_list_option(name: str):
+    """An argparse ``type=`` for a comma-separated list of rays per pixel, each in [1, 65536],
+    or 'none' (the empty tuple)."""
+    def convert(text: str) -> tuple[int, ...]:
+        if text.strip().lower() == "none":
+            return ()
+        try:
+            values = tuple(int(v) for v in text.split(","))
+            if values and all(1 <= v <= 65536 for v in values):
+                return values
+        except ValueError:
+            pass
+        raise argparse.ArgumentTypeError(f"{name} must be comma-separated integers in "
+                                         f"[1, 65536] or 'none', got {text!r}")
+    convert.__name__ = name
+    return convert
 
 
 def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
@@ -507,6 +526,11 @@ def add_compare_parser(sub) -> None:
                    help=f"width of the report's images, 1 to {MAX_SIDE} px (default 480)")
     c.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
+    c.add_argument("--rtao-rays", type=rays_list_option("--rtao-rays"),
+                   default=",".join(str(n) for n in RTAO_LADDER),
+                   help="rtao's rays per pixel on every scene with a mesh, comma-separated "
+                   "integers in [1, 65536] (default " + ",".join(str(n) for n in RTAO_LADDER)
+                   + "); 'none' runs no rtao")
     c.set_defaults(func=cmd_compare)
 
 

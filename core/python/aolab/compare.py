@@ -610,6 +610,10 @@ def write_results(out: Path, results: dict) -> None:
 # The study
 
 
+#: rtao's rays per pixel in the study: the CPU ray tracer's ladder, timed on the same cores as
+#: the methods (docs/methods/rtao.md).
+RTAO_LADDER = (1, 2, 4, 8, 16, 64)
+
 #: A first run longer than this (ms) is a configuration's only timed run: the slow ones (the
 #: visibility bitmask's defaults take over a second) would otherwise hold the study up by
 #: their warm-up and repeats, which change their time by less than its spread.
@@ -632,6 +636,8 @@ class Options:
     scenes_dir: Path | None = None
     progress: bool = True
     image_width: int = 480
+    #: rtao's rays per pixel on each scene with a mesh (empty: no rtao rows).
+    rtao_ladder: tuple[int, ...] = RTAO_LADDER
 
 
 def _downscale(a: np.ndarray, width: int) -> np.ndarray:
@@ -789,7 +795,8 @@ class Study:
             if m not in known:
                 raise ValueError(f"method {m!r} is not one of {known}")
         plan = {m: _method_runs(m, opts.sweep) for m in methods}
-        n_units = len(folders) * (1 + sum(len(v) for v in plan.values()))
+        n_units = len(folders) * (1 + sum(len(v) for v in plan.values())
+                                  + len(opts.rtao_ladder))
         self.meta = {
             "command": "aolab compare", "argv": sys.argv[1:],
             "started": time.strftime("%Y-%m-%d %H:%M:%S"), "sweep": opts.sweep,
@@ -847,6 +854,7 @@ class Study:
                 self._run_config(scene, method, compute_settings, settings, threads, images)
                 if bar is not None:
                     bar.update(1)
+        self._rtao_ladder(scene, threads, images, bar)
         self._noise_floor(scene)
         self.images[scene.name] = scene_images(scene, images, self.rows, opts.image_width)
         self.complete_scenes.append(scene.name)
@@ -893,6 +901,43 @@ class Study:
                 row["occluded_mae_vs_limit"] = scored[1]
                 images.offer(row, ao)
             self.rows.append(row)
+
+    def _rtao_ladder(self, scene: Scene, threads: int, images, bar) -> None:
+        """rtao at each rung of the ladder against the scene's mesh (the file beside its
+        reference.exr), timed like a method: the BVH is built once and timed apart, its time
+        stated in each row's note and settings, not added to the rung's time."""
+        ladder = self.opts.rtao_ladder
+        if not ladder:
+            return
+        try:
+            mesh = aolab.mesh_for_gbuffer(scene.g)
+            rays_scene = aolab.ray_scene(mesh, scene.g, threads=threads)
+        except (ValueError, OSError) as e:
+            self.notes.append(f"{scene.name}: rtao not run ({e})")
+            if bar is not None:
+                bar.update(len(ladder))
+            return
+        build_ms = rays_scene.build_seconds * 1000.0
+        info = {"triangles": rays_scene.triangles, "bvh_build_ms": build_ms}
+        self.scene_info[scene.name]["rtao"] = info
+        for rays in ladder:
+            if bar is not None:
+                bar.set_description(f"{scene.name}: rtao {rays} rays")
+            ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
+                                                 rays=rays, threads=threads),
+                              self.opts.warmup, self.opts.repeat, self.opts.max_ms)
+            row = _row(scene, "rtao", "rtao", f"{rays} rays", preset="",
+                       settings={"rays": rays, **info}, threads=threads, runs=len(times),
+                       note=f"Embree BVH of {rays_scene.triangles} triangles built in "
+                            f"{build_ms:.1f} ms, apart (not in the time)",
+                       **_time_fields("method", times))
+            row["total_ms"] = row["method_ms"]
+            _add_scores(row, score(ao, scene))
+            row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
+            images.offer(row, ao)
+            self.rows.append(row)
+            if bar is not None:
+                bar.update(1)
 
     def _peers(self, scene: Scene) -> None:
         mine = []
@@ -992,7 +1037,8 @@ def main(args) -> int:
                    crop=parse_crop(args.crop),
                    scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
                    progress=args.progress if args.progress is not None else sys.stderr.isatty(),
-                   image_width=args.image_width)
+                   image_width=args.image_width,
+                   rtao_ladder=tuple(args.rtao_rays))
     study = Study(opts)
 
     def terminated(signum, frame):  # `kill` keeps the partial results like Ctrl-C

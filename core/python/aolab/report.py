@@ -36,13 +36,14 @@ PLOTS = (
     ("all_ssim", "SSIM, all scored pixels", False),
 )
 #: Kinds whose time is comparable with the methods' and that may lie on the Pareto front.
-FRONT_KINDS = ("method", "cycles")
+FRONT_KINDS = ("method", "cycles", "rtao")
 #: One colour per method (eleven methods, the screen-space limit drawn apart), distinct on
 #: white and from the peers' colours below.
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf",
            "#bcbd22", "#d62728", "#7f7f7f", "#000080", "#00a087", "#800000", "#ff1493")
 CYCLES_COLOUR = "#444444"
 EEVEE_COLOUR = "#b8860b"
+RTAO_COLOUR = "#7b1fa2"
 LIMIT_COLOUR = "#2e7d32"
 #: The configurations of each method in the error-split chart: the paper's defaults, the tuned
 #: preset of the budget the study checks against EEVEE, and the largest budget's.
@@ -152,6 +153,11 @@ def series_for(rows: list[dict]) -> list[dict]:
     if cycles:
         out.append({"name": "Cycles (fewer spp)", "colour": CYCLES_COLOUR, "marker": "square",
                     "line": True, "rows": cycles})
+    rtao = sorted((r for r in rows if r["kind"] == "rtao"),
+                  key=lambda r: (r.get("settings", {}).get("rays") or 0))
+    if rtao:
+        out.append({"name": "rtao (Embree, CPU)", "colour": RTAO_COLOUR, "marker": "triangle",
+                    "line": True, "rows": rtao})
     eevee = [r for r in rows if r["kind"] == "eevee"]
     if eevee:
         out.append({"name": "EEVEE GTAO (time not comparable)", "colour": EEVEE_COLOUR,
@@ -163,6 +169,10 @@ def _marker(shape: str, x: float, y: float, r: float, attrs: str) -> str:
     if shape == "square":
         return (f'<rect x="{x - r:.2f}" y="{y - r:.2f}" width="{2 * r:.2f}" '
                 f'height="{2 * r:.2f}" {attrs}/>')
+    if shape == "triangle":
+        d = r * 1.3
+        pts = f"{x:.2f},{y - d:.2f} {x + d:.2f},{y + d * 0.8:.2f} {x - d:.2f},{y + d * 0.8:.2f}"
+        return f'<polygon points="{pts}" {attrs}/>'
     if shape == "diamond":
         d = r * 1.4
         pts = f"{x:.2f},{y - d:.2f} {x + d:.2f},{y:.2f} {x:.2f},{y + d:.2f} {x - d:.2f},{y:.2f}"
@@ -333,8 +343,8 @@ def _cell(v, fmt: str = ".4f") -> str:
     return format(v, fmt)
 
 
-_KIND_ORDER = {"baseline": 0, "method": 1, "cycles": 2, "noise_floor": 3, "eevee": 4,
-               "limit": 5}
+_KIND_ORDER = {"baseline": 0, "method": 1, "cycles": 2, "rtao": 3, "noise_floor": 4,
+               "eevee": 5, "limit": 6}
 
 
 def _row_order(r: dict):
@@ -646,7 +656,7 @@ table.results th,table.results td{border:1px solid #ddd;padding:2px 6px;text-ali
 table.results td:first-child,table.results td:nth-child(2){text-align:left}
 table.results th{background:#f4f4f4;position:sticky;top:0}
 tr.baseline{background:#fbeaea} tr.cycles,tr.noise_floor{background:#f3f3f3}
-tr.eevee{background:#fbf5e6} tr.limit{background:#edf6ee}
+tr.eevee{background:#fbf5e6} tr.limit{background:#edf6ee} tr.rtao{background:#f5eef8}
 table.check{border-collapse:collapse;font-size:13px} .check td,.check th{border:1px solid #ddd;
  padding:2px 8px;text-align:right} .check td:first-child{text-align:left}
 .pass{color:#2e7d32;font-weight:bold} .fail{color:#c0392b;font-weight:bold}
@@ -774,6 +784,49 @@ def scene_section(name: str, title: str, rows: list[dict], info: dict | None, im
     return "\n".join(parts)
 
 
+def rtao_ladder(rows: list[dict]) -> list[dict]:
+    """Per rung of rtao's ladder in ``rows`` (one scene, or the ALL means): its time and MAE
+    over all scored pixels, and the most accurate screen-space configuration (kind "method")
+    whose time is within the rung's, with its time and MAE; ``winner`` says which is more
+    accurate at that budget ("screen space", "rtao", or "" when no method fits)."""
+    methods = [r for r in rows if r["kind"] == "method" and _num(r.get("total_ms"))
+               and metric(r, "all_mae") is not None]
+    out = []
+    rungs = sorted((r for r in rows if r["kind"] == "rtao" and _num(r.get("total_ms"))
+                    and metric(r, "all_mae") is not None), key=lambda r: r["total_ms"])
+    for r in rungs:
+        fits = [m for m in methods if m["total_ms"] <= r["total_ms"]]
+        best = min(fits, key=lambda m: metric(m, "all_mae")) if fits else None
+        winner = ""
+        if best is not None:
+            winner = "screen space" if metric(best, "all_mae") < metric(r, "all_mae") else "rtao"
+        out.append({"label": r["label"], "rays": (r.get("settings") or {}).get("rays"),
+                    "ms": r["total_ms"], "mae": metric(r, "all_mae"),
+                    "method": f'{best["method"]} {best["label"]}' if best else None,
+                    "method_ms": best["total_ms"] if best else None,
+                    "method_mae": metric(best, "all_mae") if best else None, "winner": winner})
+    return out
+
+
+def rtao_crossover(ladder: list[dict]) -> float | None:
+    """The time of the cheapest rtao rung more accurate than every screen-space configuration
+    as fast as it: below it screen space wins; None if no rung wins."""
+    return next((e["ms"] for e in ladder if e["winner"] == "rtao"), None)
+
+
+def rtao_table(ladder: list[dict]) -> str:
+    if not ladder:
+        return ("<p class='missing'>No rtao rows: no scene has a mesh beside its reference "
+                "(aolab mesh), or the study ran with --rtao-rays none.</p>")
+    head = ("<tr><th>rtao</th><th>ms</th><th>MAE</th><th>best screen-space within that time"
+            "</th><th>ms</th><th>MAE</th><th>more accurate</th></tr>")
+    body = [f'<tr><td>{html.escape(e["label"])}</td><td>{_cell(e["ms"], ".1f")}</td>'
+            f'<td>{_cell(e["mae"])}</td><td>{html.escape(e["method"] or "—")}</td>'
+            f'<td>{_cell(e["method_ms"], ".1f")}</td><td>{_cell(e["method_mae"])}</td>'
+            f'<td>{html.escape(e["winner"] or "—")}</td></tr>' for e in ladder]
+    return f'<table class="check">{head}{"".join(body)}</table>'
+
+
 def study_sections(results: dict, agg: list[dict]) -> str:
     """The error split over all scenes, the tuned presets and the check against EEVEE."""
     parts = ['<h2 id="split">Where the error comes from</h2><p class="note">Per method, at '
@@ -805,6 +858,15 @@ def study_sections(results: dict, agg: list[dict]) -> str:
                  f'configuration within {EEVEE_CHECK_BUDGET_MS} ms, chosen on the other scenes '
                  'among every method\'s trials, beat EEVEE too?</p>')
     parts.append(eevee_table(eevee_check(results)))
+    ladder = rtao_ladder(agg)
+    cross = rtao_crossover(ladder)
+    parts.append('<h2 id="rtao">Against a CPU ray tracer</h2><p class="note">rtao (Embree on '
+                 'the same cores, the BVH build apart) at each rung of rays per pixel, against '
+                 'the most accurate screen-space configuration as fast as it, means over the '
+                 'scenes: ' + (f'from {cross:.0f} ms on, the ray tracer is more accurate.'
+                               if cross is not None else
+                               'screen space is more accurate at every rung.') + '</p>')
+    parts.append(rtao_table(ladder))
     return "\n".join(parts)
 
 

@@ -46,7 +46,7 @@ def _table(rows: list[dict]) -> list[str]:
         if not m:
             continue
         t = report._num(r.get("total_ms"))
-        tms = "—" if t is None else (f"{t:.1f}" if r["kind"] == "method" else
+        tms = "—" if t is None else (f"{t:.1f}" if r["kind"] in ("method", "rtao") else
                                      f"{t:.0f} (render)" if r["kind"] != "limit" else
                                      f"{t / 1000:.0f} s (oracle)")
         flag = "**weak on occluded**" if r.get("flag") == "weak" else ""
@@ -107,6 +107,46 @@ def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
         out.append(f'| {c["scene"]} | {_f(c["limit"])} ({c["limit_label"] or "—"}) | '
                    f'{_f(c["eevee"])} | {_f(c["tuned"])} | {who} | {words[c["verdict"]]} | '
                    f'{_f(c["larger"])} ({c["larger_method"] or "—"}) |')
+    out += [""] + rtao_section(results, agg)
+    return out + [""]
+
+
+def rtao_section(results: dict, agg: list[dict]) -> list[str]:
+    """rtao's ladder against the most accurate screen-space configuration as fast as each
+    rung: over all scenes, and the crossover time per scene."""
+    ladder = report.rtao_ladder(agg)
+    if not ladder:
+        return ["## Against a CPU ray tracer", "", "No rtao rows in this run (no scene has a "
+                "mesh beside its reference: `aolab mesh`).", ""]
+    builds = {name: info["rtao"] for name, info in results.get("scenes", {}).items()
+              if info.get("rtao")}
+    out = ["## Against a CPU ray tracer", "",
+           "rtao ([methods/rtao.md](methods/rtao.md)) traces Cycles' AO integral with Embree on "
+           "the same cores, at each rung of rays per pixel; each rung against the most accurate "
+           "screen-space configuration whose time is within the rung's, means over the scenes "
+           "(MAE on all scored pixels). The BVH is built once per scene and timed apart: "
+           + ", ".join(f'{n} {b["bvh_build_ms"]:.0f} ms ({b["triangles"]} triangles)'
+                       for n, b in builds.items()) + ".", "",
+           "| rtao | ms | MAE | best screen-space within that time | ms | MAE | more accurate |",
+           "|---|---|---|---|---|---|---|"]
+    for e in ladder:
+        out.append(f'| {e["label"]} | {_f(e["ms"], ".1f")} | {_f(e["mae"])} | '
+                   f'{e["method"] or "—"} | {_f(e["method_ms"], ".1f")} | '
+                   f'{_f(e["method_mae"])} | {e["winner"] or "—"} |')
+    out += ["", "Per scene, the time from which the ray tracer is more accurate than every "
+            "screen-space configuration as fast as it:", "",
+            "| scene | crossover | rtao there | best screen-space there |", "|---|---|---|---|"]
+    for name in results["meta"].get("scenes", []):
+        mine = [r for r in results["rows"] if r["scene"] == name]
+        lad = report.rtao_ladder(mine)
+        if not lad:
+            continue
+        cross = report.rtao_crossover(lad)
+        at = next((e for e in lad if e["ms"] == cross), None)
+        out.append(f'| {name} | ' + (f"{cross:.0f} ms" if cross is not None else
+                                     "none: screen space wins at every rung")
+                   + (f' | {at["label"]}, MAE {_f(at["mae"])} | {at["method"] or "—"}, MAE '
+                      f'{_f(at["method_mae"])} |' if at else " | — | — |"))
     return out + [""]
 
 
