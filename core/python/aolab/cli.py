@@ -428,6 +428,11 @@ def cmd_rtao(args) -> int:
     return 0
 
 
+def cmd_rtao_check(args) -> int:
+    from . import rtao_check
+    return rtao_check.main(args)
+
+
 def cmd_bench(args) -> int:
     settings = _key_values(args.set, args.method)
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
@@ -637,6 +642,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "(default rtao_ao in the current folder)")
     rt.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
     rt.set_defaults(func=cmd_rtao)
+
+    from .rtao_check import add_parser as add_rtao_check_parser
+    add_rtao_check_parser(sub).set_defaults(func=cmd_rtao_check)
 
     b = sub.add_parser("bench", help="median time of a method over repeated runs")
     b.add_argument("method", choices=aolab.methods())
