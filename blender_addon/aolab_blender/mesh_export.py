@@ -15,6 +15,7 @@ docs/blender_bridge.md, "Scene geometry".
 
 from __future__ import annotations
 
+import os
 import time
 
 import bpy
@@ -41,6 +42,7 @@ def export_mesh(scene, out_mesh: str, camera_name: str | None = None, report=pri
     from . import export  # it imports this module for the reference's mesh pass
     cam = export.scene_camera(scene, camera_name)
     view_layer = bpy.context.view_layer
+    os.makedirs(os.path.dirname(os.path.abspath(out_mesh)), exist_ok=True)
     with SettingsRestorer() as rs:
         # Registered first, so it runs last: re-evaluate with the restored settings.
         rs.on_restore(view_layer.update)

@@ -65,7 +65,8 @@ def encode(vertices, triangles) -> bytes:
         raise ValueError(f"triangles must be an integer (T, 3) array, got {t.dtype} {t.shape}")
     if len(v) > MAX_COUNT or len(t) > MAX_COUNT:
         raise ValueError(f"at most {MAX_COUNT} vertices and triangles, got {len(v)}, {len(t)}")
-    v32 = v.astype("<f4")
+    with np.errstate(over="ignore"):   # a double beyond float32's range: refused below
+        v32 = v.astype("<f4")
     bad = ~np.isfinite(v32).all(axis=1)
     if bad.any():
         i = int(np.argmax(bad))
