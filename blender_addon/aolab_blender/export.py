@@ -8,7 +8,8 @@ values: one ray position per pixel; docs/blender_facts.md, "Pixel filter"):
 2. the reference: the AO pass alone at `spp` samples, adaptive sampling off (it judges noise
    on Combined and stops the AO pass early), denoising off, max_bounces 0, AO distance R,
    shadow_terminator_geometry_offset 0 on every object, lights hidden, DOF and motion blur off.
-It merges both into one EXR (normals converted to view space) with a sidecar JSON, and
+It merges both into one EXR (normals converted to view space) with a sidecar JSON, and with
+the `mesh` pass also writes the scene's triangles as rendered beside it (mesh_export.py); it
 restores every setting it touched, whether it succeeds, fails or is cancelled.
 """
 
