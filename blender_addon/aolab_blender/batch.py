@@ -13,6 +13,9 @@
     --peers             render the comparison peers instead (Cycles ladder, EEVEE GTAO;
                         peers.py): --out is then a folder
     --ladder 1,4,...    the ladder's samples     --no-eevee   skip EEVEE
+    --mesh-only         export only the scene's geometry, no render (mesh_export.py): --out
+                        is then the .mesh (its .mesh.json beside it); --radius, --spp and
+                        --passes do not apply
 
 Prints `AOLAB_STAGE <stage>` lines, `AOLAB_ERROR <message>` on a problem the user can act
 on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
@@ -39,7 +42,7 @@ from aolab.bridge.passes import parse_passes  # noqa: E402
 from aolab.cli import MAX_SAMPLES, Parser, float_option, int_option  # noqa: E402
 from aolab.reference import parse_resolution  # noqa: E402
 
-from aolab_blender import export, peers  # noqa: E402
+from aolab_blender import export, mesh_export, peers  # noqa: E402
 
 
 def _argument(parse, name: str):
@@ -91,6 +94,7 @@ def parse(argv):
     p.add_argument("--ladder", type=_argument(_ladder, "--ladder"),
                    default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
+    p.add_argument("--mesh-only", action="store_true")
     return p.parse_args(argv)
 
 
@@ -103,14 +107,20 @@ def main(argv):
     if args.resolution:
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
         scene.render.resolution_percentage = 100
+
+    def stage(name: str) -> None:
+        print(f"AOLAB_STAGE {name}", flush=True)
+
+    if args.mesh_only:
+        info = mesh_export.export_mesh(scene, args.out, camera_name=args.camera, report=stage,
+                                       extra=args.extra)
+        print("AOLAB_RESULT " + json.dumps(info), flush=True)
+        return
     radius = args.radius
     if radius is None:
         if scene.world is None:
             raise export.BridgeError("the scene has no world, so no AO distance: pass --radius")
         radius = scene.world.light_settings.distance
-
-    def stage(name: str) -> None:
-        print(f"AOLAB_STAGE {name}", flush=True)
 
     if args.peers:
         result = peers.render_peers(

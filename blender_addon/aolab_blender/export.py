@@ -8,7 +8,8 @@ values: one ray position per pixel; docs/blender_facts.md, "Pixel filter"):
 2. the reference: the AO pass alone at `spp` samples, adaptive sampling off (it judges noise
    on Combined and stops the AO pass early), denoising off, max_bounces 0, AO distance R,
    shadow_terminator_geometry_offset 0 on every object, lights hidden, DOF and motion blur off.
-It merges both into one EXR (normals converted to view space) with a sidecar JSON, and
+It merges both into one EXR (normals converted to view space) with a sidecar JSON, and with
+the `mesh` pass also writes the scene's triangles as rendered beside it (mesh_export.py); it
 restores every setting it touched, whether it succeeds, fails or is cancelled.
 """
 
@@ -28,7 +29,7 @@ import numpy as np
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
-from aolab.bridge.passes import PASSES
+from aolab.bridge.passes import GEOMETRY_PASSES, PASSES
 
 from .state import SettingsRestorer
 
@@ -112,14 +113,21 @@ def content_hash(scene, cam, size: tuple[int, int] | None = None) -> str:
     return h.hexdigest()
 
 
+def evaluation_settings(rs: SettingsRestorer, scene, cam) -> None:
+    """The settings the references are evaluated (and content_hash taken) with: the mesh
+    export applies the same, so that its scene_hash equals the reference's."""
+    rs.set(scene.render, "engine", "CYCLES")
+    rs.set(scene.cycles, "device", "CPU")
+    rs.set(scene, "camera", cam)
+    rs.set(scene.render, "use_simplify", False)
+
+
 def _common_settings(rs: SettingsRestorer, scene, view_layer, cam, radius: float) -> None:
     r, c = scene.render, scene.cycles
-    rs.set(r, "engine", "CYCLES")
-    rs.set(c, "device", "CPU")
-    rs.set(scene, "camera", cam)
+    evaluation_settings(rs, scene, cam)
     for attr, value in [("use_border", False), ("use_compositing", False),
                         ("use_sequencer", False), ("use_motion_blur", False),
-                        ("use_simplify", False), ("use_single_layer", True),
+                        ("use_single_layer", True),
                         ("use_file_extension", True)]:
         rs.set(r, attr, value)
     rs.set(r.image_settings, "file_format", "OPEN_EXR_MULTILAYER")
@@ -211,9 +219,10 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
                           f"units), got {radius}")
     if spp < 1 or gbuffer_samples < 1:
         raise BridgeError(f"spp and gbuffer_samples must be >= 1, got {spp}, {gbuffer_samples}")
-    unknown = [p for p in passes if p not in PASSES]
+    known = list(PASSES) + list(GEOMETRY_PASSES)
+    unknown = [p for p in passes if p not in known]
     if unknown:
-        raise BridgeError(f"passes must be among {', '.join(PASSES)}, got {unknown}")
+        raise BridgeError(f"passes must be among {', '.join(known)}, got {unknown}")
     cam = scene_camera(scene, camera_name)
     view_layer = bpy.context.view_layer
 
@@ -230,7 +239,7 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
 
         checkpoint("gbuffer")
         rs.set(scene.cycles, "samples", gbuffer_samples)
-        _enable_only(rs, view_layer, {PASSES[p][0] for p in passes})
+        _enable_only(rs, view_layer, {PASSES[p][0] for p in passes if p in PASSES})
         gbuffer_path = os.path.join(tmp, "gbuffer.exr")
         t_gbuffer = _render(rs, scene, gbuffer_path)
 
@@ -242,6 +251,15 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
                 rs.set(obj, "hide_render", True)
         reference_path = os.path.join(tmp, "reference.exr")
         t_reference = _render(rs, scene, reference_path)
+
+        mesh_file = None
+        if "mesh" in passes:
+            from . import mesh_export  # it imports this module
+            checkpoint("mesh")
+            mesh_path = os.path.splitext(out_exr)[0] + ".mesh"
+            mesh_export.write_scene_mesh(rs, scene, view_layer, mesh_path, record, scene_hash,
+                                         extra)
+            mesh_file = os.path.basename(mesh_path)
 
         checkpoint("merge")
         g = exr.read_channels(gbuffer_path)
@@ -286,6 +304,7 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
             "view_layer": view_layer.name,
             "scene_hash": scene_hash,
             "bridge_version": BRIDGE_VERSION,
+            **({"mesh_file": mesh_file} if mesh_file else {}),
             **(extra or {}),
         }
         exr.write_multilayer(out_exr, layers, view_layer=view_layer.name)

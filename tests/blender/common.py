@@ -82,8 +82,31 @@ def scene_state(scene):
         "ids": {kind: sorted(x.name for x in getattr(bpy.data, kind))
                 for kind in ("worlds", "objects", "cameras", "meshes", "images", "materials",
                              "scenes", "lights")},
+        # What the mesh export changes to evaluate as for render: every object (those of
+        # collections outside the scene too), its modifiers and eye icon, collections, the
+        # view layers' collection flags, particle, curve and metaball settings.
+        "all_objects": {o.name: {"object": rna_values(o, depth=0),
+                                 "modifiers": [rna_values(m, depth=0) for m in o.modifiers]}
+                        for o in bpy.data.objects},
+        "hidden": {vl.name: sorted(o.name for o in vl.objects if o.hide_get(view_layer=vl))
+                   for vl in scene.view_layers},
+        "collections": {c.name: rna_values(c, depth=0) for c in bpy.data.collections},
+        "layer_collections": {vl.name: layer_collection_flags(vl.layer_collection)
+                              for vl in scene.view_layers},
+        "particles": {p.name: rna_values(p, depth=0) for p in bpy.data.particles},
+        "curves": {c.name: rna_values(c, depth=0) for c in bpy.data.curves},
+        "metaballs": {m.name: rna_values(m, depth=0) for m in bpy.data.metaballs},
     }
     return state
+
+
+def layer_collection_flags(lc, out=None):
+    """exclude, hide_viewport, holdout, indirect_only of a layer collection and its children."""
+    out = {} if out is None else out
+    out[lc.name] = [lc.exclude, lc.hide_viewport, lc.holdout, lc.indirect_only]
+    for child in lc.children:
+        layer_collection_flags(child, out)
+    return out
 
 
 def diff(a, b, path=""):

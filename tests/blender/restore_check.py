@@ -1,6 +1,7 @@
 """Inside Blender: the user's scene is unchanged — every setting the bridge touches, compared
-before and after — after an export, a failed render and a cancelled one (at every stage), and
-for a scene without a world. Also records which passes each render had enabled.
+before and after — after an export (also with the `mesh` pass), a failed render and a
+cancelled one (at every stage), and for a scene without a world. Also records which passes
+each render had enabled.
 Prints one JSON line `RESULT {...}`."""
 import json
 import os
@@ -47,6 +48,7 @@ def attempt(label, **kw):
 
 attempt("export")
 passes_of_export = list(enabled_per_render)
+attempt("export_mesh_pass", passes=["depth", "normal", "mesh"])  # also evaluates as for render
 attempt("failed", out="/proc/aolab-cannot-write-here/x.exr")  # before any render
 occupied = os.path.join(out_dir, "occupied.exr")
 os.makedirs(occupied)  # a folder where the result should go: fails after both renders

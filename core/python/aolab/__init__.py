@@ -19,7 +19,8 @@ __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
-    "rtao", "ray_scene", "RayScene", "rtao_settings", "analytic_scene_mesh",
+    "rtao", "ray_scene", "RayScene", "rtao_settings", "analytic_scene_mesh", "load_mesh",
+    "mesh_for_gbuffer",
 ]
 
 GBuffer = _core.GBuffer
@@ -175,6 +176,23 @@ def write_image(path, image: np.ndarray) -> None:
     """Writes an AO image: ``.exr`` as float32, ``.png`` as 8-bit (value·255, no transfer
     curve), atomically."""
     _core.write_image(str(path), image)
+
+
+def load_mesh(path):
+    """The scene geometry of a ``.mesh`` file (the bridge's ``mesh`` pass, `aolab mesh`):
+    a ``Mesh`` with ``vertices`` float32 (V, 3) in world space, ``triangles`` uint32 (T, 3)
+    and ``info``, its ``.mesh.json`` ({} without one). Every inconsistency is a ValueError
+    naming the file (docs/file_formats.md, "Scene geometry")."""
+    from .bridge.mesh import read_mesh
+    return read_mesh(path)
+
+
+def mesh_for_gbuffer(g):
+    """The ``Mesh`` exported with G-buffer ``g`` (from ``load_gbuffer``): ``<stem>.mesh``
+    beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's),
+    else a ValueError saying how to export one."""
+    from .bridge.mesh import mesh_for_gbuffer as find
+    return find(g)
 
 
 def analytic_scene_names() -> list[str]:

@@ -6,6 +6,7 @@
     aolab bench [options]                 time a method (median of repeated runs)
     aolab bench-table [METHOD...]         every method's scalar code against its SIMD kernel
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)
+    aolab mesh SCENE... [options]         export each scene's triangles as rendered (cached)
     aolab limits [SCENE...] [options]     compute the screen-space limit of each scene (committed)
     aolab compare [SCENE...] [options]    score every method against the references: report
     aolab presets [METHOD...]             the named presets of each method and their settings
@@ -462,6 +463,11 @@ def cmd_reference(args) -> int:
     return reference.main(args)   # a ReferenceError is an `aolab: ...` message like any other
 
 
+def cmd_mesh(args) -> int:
+    from . import reference
+    return reference.mesh_main(args)
+
+
 def cmd_presets(args) -> int:
     every = {m: aolab.presets(m) for m in args.methods or aolab.methods()}
     if args.json:
@@ -709,6 +715,27 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     f.set_defaults(func=cmd_reference)
+
+    ms = sub.add_parser("mesh", help="export each scene's triangles as Cycles renders them "
+                        "(no render; cached)",
+                        description="Exports the world-space triangles of every object Cycles' "
+                        "AO sees (modifiers, instances and visibility as for render) of each "
+                        "scene (a .blend, a build script .py, or a reference_scenes/<name> "
+                        "folder) with Blender in the background, without rendering, into "
+                        "reference.mesh + reference.mesh.json in the reference cache. A scene "
+                        "folder's manifest gives the resolution and camera, so the scene_hash "
+                        "matches its reference.json (docs/blender_bridge.md).")
+    ms.add_argument("scenes", nargs="+", metavar="SCENE")
+    ms.add_argument("--out", help="also copy reference.mesh/.mesh.json here (one folder per "
+                    "scene when several)")
+    ms.add_argument("--resolution", help="WxH, overriding the scene's (it enters the "
+                    "scene_hash, as for a reference)")
+    ms.add_argument("--camera", help="camera object (default: manifest, else the scene camera)")
+    ms.add_argument("--cache", help="cache folder (default $AOLAB_CACHE or "
+                    "~/.cache/aolab/references)")
+    ms.add_argument("--force", action="store_true", help="export even if cached")
+    ms.add_argument("--quiet", action="store_true", help="no progress bar")
+    ms.set_defaults(func=cmd_mesh)
 
     from .limits import add_limits_parser
     add_limits_parser(sub).set_defaults(func=cmd_limits)

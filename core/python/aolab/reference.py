@@ -25,7 +25,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .bridge.constants import BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON
+from .bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
+                               RESULT_MESH, RESULT_MESH_JSON)
 from .bridge.passes import parse_passes, required_passes
 
 SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build scripts
@@ -148,6 +149,8 @@ class Plan:
     peers: bool = False
     ladder: tuple[int, ...] = LADDER_SPP
     eevee: bool = True
+    # Only the scene's geometry, no render (`aolab mesh`): spp, R, passes do not apply.
+    mesh_only: bool = False
 
     def key(self) -> str:
         material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
@@ -156,14 +159,22 @@ class Plan:
                     "gbuffer_samples": self.gbuffer_samples}
         if self.peers:  # only then, so that the references' keys stay as they were
             material.update(peers=True, ladder=list(self.ladder), eevee=self.eevee)
+        if self.mesh_only:  # the geometry depends on the scene, camera and size alone
+            material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
+                        "resolution": self.resolution, "camera": self.camera,
+                        "mesh_only": True}
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
-        return f"{self.scene.name}-{'peers-' if self.peers else ''}{digest[:16]}"
+        kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
+        return f"{self.scene.name}-{kind}{digest[:16]}"
 
     def result_files(self, folder: Path) -> list[Path]:
         """The files a finished render leaves in its folder (the JSON last)."""
-        if not self.peers:
-            return [folder / RESULT_EXR, folder / RESULT_JSON]
-        return sorted(folder.glob("*.exr")) + [folder / PEERS_JSON]
+        if self.mesh_only:
+            return [folder / RESULT_MESH, folder / RESULT_MESH_JSON]
+        if self.peers:
+            return sorted(folder.glob("*.exr")) + [folder / PEERS_JSON]
+        mesh = [folder / RESULT_MESH, folder / RESULT_MESH_JSON] if "mesh" in self.passes else []
+        return [folder / RESULT_EXR, *mesh, folder / RESULT_JSON]
 
 
 def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = None,
@@ -239,8 +250,9 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         cmd.append(str(s.path))
     extra = {"source": recorded_source(s.path), "scene_name": s.name,
              "source_sha256": s.content_sha256, "manifest": s.manifest}
+    out = tmp if plan.peers else tmp / (RESULT_MESH if plan.mesh_only else RESULT_EXR)
     cmd += ["--python", str(bridge_script()), "--", "--scene", str(s.path), "--kind", s.kind,
-            "--out", str(tmp if plan.peers else tmp / RESULT_EXR), "--spp", str(plan.spp),
+            "--out", str(out), "--spp", str(plan.spp),
             "--gbuffer-samples", str(plan.gbuffer_samples), "--passes", ",".join(plan.passes),
             "--extra", json.dumps(extra)]
     if plan.radius is not None:
@@ -253,6 +265,8 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder)]
         if not plan.eevee:
             cmd.append("--no-eevee")
+    if plan.mesh_only:
+        cmd.append("--mesh-only")
 
     bar = _progress_bar(progress, s.name)
     tail, error = [], None
@@ -367,6 +381,24 @@ def main(args) -> int:
             raise ReferenceError(f"--ladder must be samples >= 1, got {args.ladder!r}")
         for plan in plans:
             plan.peers, plan.ladder, plan.eevee = True, ladder, not args.no_eevee
+    return run_plans(plans, args)
+
+
+def mesh_main(args) -> int:
+    """The `aolab mesh` command: each scene's world-space triangles as Cycles renders them,
+    without rendering, at the resolution and camera a reference of it has (so that the
+    scene_hash of reference.mesh.json equals reference.json's)."""
+    resolution = parse_resolution(args.resolution) if args.resolution else None
+    scenes = [resolve_scene(s) for s in args.scenes]  # every error before any export
+    plans = [make_plan(s, passes=["depth"], resolution=resolution, camera=args.camera)
+             for s in scenes]
+    for plan in plans:
+        plan.mesh_only = True
+    return run_plans(plans, args)
+
+
+def run_plans(plans: list[Plan], args) -> int:
+    """Renders (or takes from the cache) each plan in turn, copying its files to --out."""
     done = 0
 
     def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
@@ -383,7 +415,8 @@ def main(args) -> int:
                 if len(plans) > 1:
                     out = out / plan.scene.name
                 copy_result(plan, folder, out)
-            how = "cached" if was_cached else f"rendered in {time.perf_counter() - t0:.1f} s"
+            verb = "exported" if plan.mesh_only else "rendered"
+            how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
             print(f"{plan.scene.name}: {how} -> {plan.result_files(folder)[-1]}"
                   + (f" (copied to {args.out})" if args.out else ""))
             done += 1

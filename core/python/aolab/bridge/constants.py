@@ -6,6 +6,8 @@ comparison peers' Cycles ladder."""
 BRIDGE_VERSION = 1
 RESULT_EXR = "reference.exr"
 RESULT_JSON = "reference.json"
+RESULT_MESH = "reference.mesh"            # the `mesh` pass: scene triangles (bridge/mesh.py)
+RESULT_MESH_JSON = "reference.mesh.json"
 PEERS_DIR = "peers"          # reference_scenes/<scene>/peers/
 PEERS_JSON = "peers.json"
 #: Cycles writes 1e10 where nothing is hit: depth at or beyond this is background.

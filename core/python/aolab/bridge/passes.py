@@ -12,6 +12,10 @@ PASSES = {
     "diffuse_color": ("use_pass_diffuse_color", "DiffCol", ("R", "G", "B")),
     "emission": ("use_pass_emit", "Emit", ("R", "G", "B")),
 }
+#: Passes that are files beside the EXR, not render passes: no view-layer pass is enabled
+#: for them, and no method needs them (required_passes never adds them). "mesh": the scene's
+#: world-space triangles, <stem>.mesh + <stem>.mesh.json (bridge/mesh.py).
+GEOMETRY_PASSES = ("mesh",)
 EFFECTS = ("color_bleeding", "luminance_sensitivity")
 
 
@@ -40,7 +44,8 @@ def required_passes(methods: list[dict], effects: list[str]) -> list[str]:
 def parse_passes(text: str) -> list[str]:
     """'depth,normal' -> ['depth', 'normal'], checked; depth is always included."""
     names = [p.strip() for p in text.split(",") if p.strip()]
-    bad = [p for p in names if p not in PASSES]
+    known = list(PASSES) + list(GEOMETRY_PASSES)
+    bad = [p for p in names if p not in known]
     if bad:
-        raise ValueError(f"passes must be among {', '.join(PASSES)}, got {bad}")
-    return ["depth"] + [p for p in PASSES if p in names and p != "depth"]
+        raise ValueError(f"passes must be among {', '.join(known)}, got {bad}")
+    return ["depth"] + [p for p in known if p in names and p != "depth"]
