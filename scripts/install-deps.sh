@@ -11,6 +11,8 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   # Highway: portable SIMD with runtime dispatch (SSE4/AVX2/AVX-512/NEON), the fast kernels
   libhwy-dev
+  # Intel Embree: the BVH and ray queries of rtao, the ray-traced peer and check of the references
+  libembree-dev
   # perf: the profiles docs/benchmarks.md quotes (scripts/bench.sh --profile)
   linux-perf
   # Python (Debian's /usr/bin/python3, the one Blender embeds)

@@ -83,7 +83,10 @@ camera matrix (rotation and translation). Malformed input is a ValueError naming
            py::kw_only(), py::arg("threads") = 0)
       .def_property_readonly("triangles", &RayScene::triangle_count)
       .def_property_readonly("build_seconds", &RayScene::build_seconds,
-                             "wall-clock seconds of the BVH build");
+                             "wall-clock seconds of the BVH build")
+      .def_property_readonly("coordinate_scale", &RayScene::coordinate_scale,
+                             "L: the largest distance of a vertex from the world origin or the "
+                             "camera (the scale of the ray offset's rounding term)");
 
   m.def(
       "rtao",
