@@ -45,9 +45,11 @@
 #include "core/base/parallel.h"
 #include "core/base/settings.h"
 #include "core/base/simd_target.h"
+#include "core/base/triangle_mesh.h"
 
 // core/sampling
 #include "core/sampling/blue_noise.h"
+#include "core/sampling/cosine_hemisphere.h"
 #include "core/sampling/poisson_disk.h"
 #include "core/sampling/random.h"
 
@@ -79,3 +81,7 @@
 #include "core/methods/screen_space_limit/screen_space_limit.h"
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/vao_pp.h"
+
+// core/raytracing: rtao, the ray-traced peer (Embree), not a screen-space method
+#include "core/raytracing/ray_scene.h"
+#include "core/raytracing/rtao.h"
