@@ -26,7 +26,10 @@ from aolab.bridge.constants import BRIDGE_VERSION
 
 from .state import SettingsRestorer
 
-#: Object types whose evaluated geometry to_mesh() turns into faces.
+#: Object types that can have faces. In Blender 3.4 the faces of curves, text, surfaces and
+#: metaballs reach the depsgraph as a mesh instance of the object itself (instance true,
+#: instancer its own name), beside the object entry, whose data is not a mesh: only MESH
+#: entries are exported, as Cycles exports only mesh data, so nothing is counted twice.
 SURFACE_TYPES = ("MESH", "CURVE", "SURFACE", "FONT", "META")
 #: Geometry Cycles renders as something other than triangles (curves, points, volumes).
 NON_TRIANGLE_TYPES = {"CURVES": "hair curves, rendered by Cycles as curves, not triangles",
@@ -120,16 +123,20 @@ def _triangles(depsgraph):
     """(vertices float32 (V, 3), triangles uint32 (T, 3), objects, skipped) of every
     object instance Cycles would trace AO rays against, one after another."""
     vertices, triangles, objects, skipped = [], [], [], {}
+    empty = set()                # names with an entry without faces
     n_vertices = n_triangles = 0
     for inst in depsgraph.object_instances:
         obj = inst.object
         if not inst.show_self:   # an instancer that is not shown itself (Cycles skips it)
+            if obj.type == "MESH" and not inst.is_instance:
+                skipped.setdefault(obj.name, "an instancer whose own faces are not rendered "
+                                   "(show_instancer_for_render off)")
             continue
         if obj.type in NON_TRIANGLE_TYPES:
             skipped.setdefault(obj.name, NON_TRIANGLE_TYPES[obj.type])
             continue
-        if obj.type not in SURFACE_TYPES:
-            continue             # lights, cameras, empties... have no surface
+        if obj.type != "MESH":
+            continue             # lights, cameras, empties; curves... come as mesh instances
         # Cycles keeps the shadow-ray visibility of both the instance and its instancer.
         for owner in (obj, inst.parent) if inst.is_instance else (obj,):
             if not owner.visible_shadow:
@@ -138,6 +145,9 @@ def _triangles(depsgraph):
                 break
         else:
             co, tri = _object_triangles(obj, inst.matrix_world)
+            if not len(tri):
+                empty.add(obj.name)
+                continue
             objects.append({"name": obj.name, "data": _data_name(obj),
                             "first_triangle": n_triangles, "triangles": len(tri),
                             "instance": bool(inst.is_instance),
@@ -146,6 +156,8 @@ def _triangles(depsgraph):
             triangles.append(tri + n_vertices)
             n_vertices += len(co)
             n_triangles += len(tri)
+    for name in sorted(empty - {o["name"] for o in objects}):
+        skipped.setdefault(name, "no faces (only vertices or edges)")
     v = np.concatenate(vertices) if vertices else np.zeros((0, 3), np.float32)
     t = np.concatenate(triangles) if triangles else np.zeros((0, 3), np.uint32)
     return v, t, objects, [{"name": k, "why": w} for k, w in skipped.items()]

@@ -71,7 +71,7 @@ class RenderDepsgraphProbe(bpy.types.RenderEngine):
     def render(self, depsgraph):
         for inst in depsgraph.object_instances:
             obj = inst.object
-            if not inst.show_self or obj.type not in mesh_export.SURFACE_TYPES:
+            if not inst.show_self or obj.type != "MESH":
                 continue
             co, tri = mesh_export._object_triangles(obj, inst.matrix_world)
             rendered.append({"name": obj.name, "instance": bool(inst.is_instance),

@@ -9,7 +9,9 @@ In view of the camera (each 1 m cube = 12 triangles as rendered):
 - Prop (in the collection Props, excluded from the view layer) seen through two collection
   instances, one of them mirrored (scale x -1): 12 each;
 - ViewportHidden (hide_viewport) and EyeHidden (hide_set) are rendered: 12 each.
-Out of view: RenderHidden (hide_render) and NoShadow (visible_shadow off) are not exported.
+Out of view: RenderHidden (hide_render) and NoShadow (visible_shadow off) are not exported;
+Tube (a curve), Blob (a metaball) and the 10 particle instances of Prop on Emitter (whose own
+faces are not rendered: show_instancer_for_render off) are, at their render settings.
 """
 import bpy
 
@@ -55,6 +57,34 @@ box("ViewportHidden", (1.6, 0.6, 0.15), (0.3, 0.3, 0.3)).hide_viewport = True
 eye = box("EyeHidden", (-0.3, 0.6, 0.1), (0.2, 0.2, 0.2))
 box("RenderHidden", (0, -6, 0.5), (1, 1, 1)).hide_render = True
 box("NoShadow", (2, -6, 0.5), (1, 1, 1)).visible_shadow = False
+
+# Out of view, with viewport and render settings that differ: a bevelled curve (resolution
+# 2 in the viewport, 6 in renders), a metaball (0.5 and 0.2) and a particle system showing
+# 50 % of its 10 instances of Prop in the viewport.
+curve = bpy.data.curves.new("Tube", "CURVE")
+curve.dimensions, curve.bevel_depth, curve.bevel_resolution = "3D", 0.05, 1
+curve.resolution_u, curve.render_resolution_u = 2, 6
+spline = curve.splines.new("BEZIER")
+spline.bezier_points.add(1)
+for point, co in zip(spline.bezier_points, ((0, 0, 0), (1, 0, 0.5))):
+    point.co, point.handle_left_type, point.handle_right_type = co, "AUTO", "AUTO"
+tube = bpy.data.objects.new("Tube", curve)
+scene.collection.objects.link(tube)
+tube.location = (-3, -6, 0.5)
+ball = bpy.data.metaballs.new("Blob")
+ball.resolution, ball.render_resolution = 0.5, 0.2
+ball.elements.new().radius = 0.6
+blob = bpy.data.objects.new("Blob", ball)
+scene.collection.objects.link(blob)
+blob.location = (-5, -6, 0.5)
+emitter = box("Emitter", (4, -6, 0), (1, 1, 0.1))
+emitter.show_instancer_for_render = False
+system = emitter.modifiers.new("Particles", "PARTICLE_SYSTEM").particle_system
+settings = system.settings
+settings.count, settings.frame_start, settings.frame_end = 10, 1, 1
+settings.physics_type, settings.render_type = "NO", "OBJECT"
+settings.instance_object = bpy.data.objects["Prop"]
+settings.display_percentage = 50
 
 cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
 scene.collection.objects.link(cam)

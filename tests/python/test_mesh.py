@@ -20,6 +20,7 @@ from test_bridge import ROOT, TINY, blender_check, needs_blender
 
 SCENES = ROOT / "reference_scenes"
 MESH_SCENE = ROOT / "tests" / "data" / "mesh_scene.py"
+MESH_SCENE_TRIANGLES = 620   # as rendered (tests/data/mesh_scene.py)
 
 
 # ---- the file format (no bpy) ----
@@ -260,16 +261,21 @@ def test_export_gives_the_render_geometry_and_restores_the_scene():
     objects = [(o["name"], o["triangles"], o["instance"]) for o in r["info"]["objects"]]
     # Render levels and modifiers, not the viewport's: Smooth 192 (48 in the viewport), Row
     # 36 (12); the viewport-hidden and eye-hidden objects; both collection instances.
+    # The curve and the metaball at their render resolutions, as mesh instances of
+    # themselves; all 10 particles (5 shown in the viewport), but not their emitter.
     assert objects == [("Floor", 12, False), ("Smooth", 192, False), ("Row", 36, False),
                        ("Prop", 12, True), ("Prop", 12, True), ("ViewportHidden", 12, False),
-                       ("EyeHidden", 12, False)]
-    assert r["info"]["triangles"] == 288
+                       ("EyeHidden", 12, False), ("Tube", 72, True), ("Blob", 140, True),
+                       *[("Prop", 12, True)] * 10]
+    assert r["info"]["triangles"] == 620 == MESH_SCENE_TRIANGLES
     first = [o["first_triangle"] for o in r["info"]["objects"]]
-    assert first == [0, 12, 204, 240, 252, 264, 276]
+    assert first == [0, 12, 204, 240, 252, 264, 276, 288, 360, *range(500, 620, 12)]
     assert {s["name"]: s["why"] for s in r["info"]["skipped"]} == {
         "NoShadow": "NoShadow has Ray Visibility > Shadow off (visible_shadow): Cycles' AO "
                     "rays ignore it",
-        "RenderHidden": "hidden from render (Disable in Renders, hide_render)"}
+        "RenderHidden": "hidden from render (Disable in Renders, hide_render)",
+        "Emitter": "an instancer whose own faces are not rendered "
+                   "(show_instancer_for_render off)"}
     assert r["stages"] == ["prepare", "mesh", "done"]
     # What Blender evaluates for a real render: the same surfaces (but for the one Cycles' AO
     # ignores), the same triangle counts and the same world-space vertices.
@@ -306,7 +312,7 @@ def test_mesh_pass_agrees_with_the_depth_pass(tmp_path):
     assert g.sidecar["passes"] == ["depth", "normal", "mesh", "ao"]
     assert g.sidecar["mesh_file"] == "reference.mesh"
     mesh = aolab.mesh_for_gbuffer(g)
-    assert (g.width, g.height) == (64, 48) and len(mesh.triangles) == 288
+    assert (g.width, g.height) == (64, 48) and len(mesh.triangles) == MESH_SCENE_TRIANGLES
     rows, cols = (a.ravel() for a in np.mgrid[0:g.height, 0:g.width])
     geometry, rel, disagree = depth_agreement(mesh, g, rows, cols)
     assert 0.2 < geometry.mean() < 1 and disagree == 0
