@@ -30,9 +30,12 @@ def write_y_exr(path: Path, image: np.ndarray, half: bool = True) -> None:
     out.close()
 
 
-def link_scene(src: Path, dst: Path) -> None:
+def link_scene(src: Path, dst: Path, mesh: bool = False) -> None:
     dst.mkdir(parents=True)
-    for name in ("reference.exr", "reference.json", "manifest.json"):
+    names = ["reference.exr", "reference.json", "manifest.json"]
+    if mesh:   # the scene's triangles: the study then runs rtao on it
+        names += ["reference.mesh", "reference.mesh.json"]
+    for name in names:
         os.symlink(src / name, dst / name)
 
 
@@ -95,9 +98,10 @@ def write_synthetic_limits(folder: Path) -> dict:
 
 
 def make_scenes(tmp: Path) -> Path:
-    """tmp/scenes with room (synthetic peers and limits) and grille (neither)."""
+    """tmp/scenes with room (synthetic peers and limits, and its mesh: rtao runs) and grille
+    (none of them)."""
     scenes = tmp / "scenes"
-    link_scene(SCENES / "room", scenes / "room")
+    link_scene(SCENES / "room", scenes / "room", mesh=True)
     link_scene(SCENES / "grille", scenes / "grille")
     write_synthetic_peers(scenes / "room")
     write_synthetic_limits(scenes / "room")

@@ -14,6 +14,7 @@ import pytest
 
 import aolab
 from aolab import cli, compare, presets, regions, results_doc
+from aolab import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
 
@@ -200,6 +201,44 @@ def test_the_check_against_eevee_states_each_verdict():
         "screen_space_limit_t0.25R" and checks["P"]["method"] == "vao"
     assert all(c["verdict"] == "unknown" for c in report.eevee_check({**results, "tuned": None}))
     assert 'data-verdict="fail"' in report.eevee_table(list(checks.values()))
+
+
+def test_rtao_ladder_runs_where_a_mesh_is_timed_and_scored(study):
+    rows = [r for r in study["json"]["rows"] if r["kind"] == "rtao"]
+    room = sorted((r for r in rows if r["scene"] == "room"), key=lambda r: r["settings"]["rays"])
+    assert [r["settings"]["rays"] for r in room] == list(compare.RTAO_LADDER)
+    assert not [r for r in rows if r["scene"] == "grille"]   # no mesh there
+    assert any("grille: rtao not run" in n for n in study["json"]["notes"])
+    info = study["json"]["scenes"]["room"]["rtao"]
+    assert info["triangles"] > 1000 and info["bvh_build_ms"] > 0
+    for r in room:
+        assert r["method"] == "rtao" and r["method_ms"] > 0 and r["total_ms"] == r["method_ms"]
+        assert r["settings"]["bvh_build_ms"] == info["bvh_build_ms"]
+        assert "built in" in r["note"] and "not in the time" in r["note"]
+    # More rays, less error (the 64-ray MAE well under the 1-ray one), and the ray tracer is
+    # unbiased: the 64-ray bias within the noise of the crop's pixels.
+    mae = [r["metrics"]["all"]["mae"] for r in room]
+    assert mae[-1] < 0.5 * mae[0]
+    assert abs(room[-1]["metrics"]["all"]["bias"]) < 0.01
+    report = parse_report(study["out"] / "report.html")
+    keys = {r["key"] for r in room}
+    assert keys & {p["data-key"] for p in report.points}
+    assert "Against a CPU ray tracer" in study["html"]
+    ladder = report_mod.rtao_ladder([r for r in study["json"]["rows"] if r["scene"] == "room"])
+    assert [e["rays"] for e in ladder] == list(compare.RTAO_LADDER)
+    assert all(e["winner"] in ("rtao", "screen space", "") for e in ladder)
+
+
+def test_rtao_rays_option_is_checked_and_none_skips_it(tmp_path):
+    scenes = tmp_path / "scenes"
+    from compare_support import SCENES, link_scene
+    link_scene(SCENES / "room", scenes / "room", mesh=True)
+    assert run_compare(scenes, tmp_path / "out", "--methods", "crytek_ssao", "--sweep",
+                       "quick", "--rtao-rays", "none") == 0
+    rows = json.loads((tmp_path / "out" / "results.json").read_text())["rows"]
+    assert not [r for r in rows if r["kind"] == "rtao"]
+    for bad in ("0", "1,x", "70000", ""):
+        assert run_compare(scenes, tmp_path / "o2", "--rtao-rays", bad) == 2
 
 
 def test_baseline_scores_no_occlusion(study):
