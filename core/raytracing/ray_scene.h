@@ -39,11 +39,11 @@ class RayScene {
   /// triangle (either side: back faces occlude, as in Cycles' AO pass). View space.
   bool occluded(const float origin[3], const float direction[3], float t_far) const;
 
-  /// Occlusion of `count` segments from one origin (directions: 3 floats each): blocked[k]
-  /// tells whether direction k hits within t_far, exactly as occluded() would. Uses Embree's
+  /// Occlusion of `count` segments from one origin, direction k being (dx[k], dy[k], dz[k]):
+  /// blocked[k] tells whether it hits within t_far, exactly as occluded() would. Uses Embree's
   /// packet traversal where it pays.
-  void occluded_from(const float origin[3], const float* directions, int count, float t_far,
-                     bool* blocked) const;
+  void occluded_from(const float origin[3], const float* dx, const float* dy, const float* dz,
+                     int count, float t_far, bool* blocked) const;
 
   std::size_t triangle_count() const { return triangles_; }
   /// Wall-clock seconds the BVH build took (Embree's rtcCommitScene), for the study's

@@ -11,9 +11,10 @@ namespace aolab {
 
 namespace {
 
-// Working memory of one band of rows: the directions of a pixel's rays and their weights.
+// Working memory of one band of rows: the directions of a pixel's rays (x, y, z apart, as
+// Embree's packets hold them) and their weights.
 struct Scratch {
-  std::vector<float> directions;
+  std::vector<float> dx, dy, dz;
   std::vector<double> weights;
   std::unique_ptr<bool[]> blocked;
 };
@@ -40,7 +41,9 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
       w, h, threads, options.progress,
       [&] {
         Scratch sc;
-        sc.directions.resize(3 * std::size_t(n_rays));
+        sc.dx.resize(std::size_t(n_rays));
+        sc.dy.resize(std::size_t(n_rays));
+        sc.dz.resize(std::size_t(n_rays));
         sc.weights.resize(std::size_t(n_rays));
         sc.blocked = std::make_unique<bool[]>(std::size_t(n_rays));
         return sc;
@@ -50,19 +53,22 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
         const double d = g.depth(x, y);
         // The pixel centre's camera ray at depth d (docs/conventions.md), in double.
         const glm::dvec3 p((x + 0.5 - cam.cx) / cam.fx * d, -(y + 0.5 - cam.cy) / cam.fy * d, -d);
-        const glm::dvec3 n(normals(x, y, 0), normals(x, y, 1), normals(x, y, 2));
+        const glm::vec3 n(normals(x, y, 0), normals(x, y, 1), normals(x, y, 2));
         const double eps = kRtaoOffsetPixels * d * footprint + rounding;
-        const glm::dvec3 o = p + eps * n;
+        const glm::dvec3 o = p + eps * glm::dvec3(n);
         const float origin[3] = {float(o.x), float(o.y), float(o.z)};
         int k = 0;
-        for_each_cosine_ray(n_rays, seed, x, y, n, [&](const glm::dvec3& dir, double weight) {
-          sc.directions[3 * std::size_t(k)] = float(dir.x);
-          sc.directions[3 * std::size_t(k) + 1] = float(dir.y);
-          sc.directions[3 * std::size_t(k) + 2] = float(dir.z);
+        // Directions in float: the rays are traced in float, and double sines and cosines
+        // cost a sixth of the whole run.
+        for_each_cosine_ray(n_rays, seed, x, y, n, [&](const glm::vec3& dir, double weight) {
+          sc.dx[std::size_t(k)] = dir.x;
+          sc.dy[std::size_t(k)] = dir.y;
+          sc.dz[std::size_t(k)] = dir.z;
           sc.weights[std::size_t(k)] = weight;
           ++k;
         });
-        scene.occluded_from(origin, sc.directions.data(), k, t_far, sc.blocked.get());
+        scene.occluded_from(origin, sc.dx.data(), sc.dy.data(), sc.dz.data(), k, t_far,
+                            sc.blocked.get());
         double blocked = 0.0;
         for (int i = 0; i < k; ++i)
           if (sc.blocked[std::size_t(i)]) blocked += sc.weights[std::size_t(i)];

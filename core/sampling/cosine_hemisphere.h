@@ -14,32 +14,36 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <numbers>
+#include <type_traits>
 
 #include "core/sampling/random.h"
 
 namespace aolab {
 
 /// Shirley & Chiu's concentric map of [0, 1)² onto the unit disk: equal areas to equal areas
-/// with little distortion, so the square's strata stay compact on the disk.
-inline glm::dvec2 concentric_disk(double u1, double u2) {
-  const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
-  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
-  constexpr double quarter = std::numbers::pi / 4.0;
-  double r, phi;
+/// with little distortion, so the square's strata stay compact on the disk. In double (the
+/// screen-space limit's committed images) or float (rtao: a third of the cost).
+template <class Real>
+glm::vec<2, Real> concentric_disk(Real u1, Real u2) {
+  const Real a = Real(2) * u1 - Real(1), b = Real(2) * u2 - Real(1);
+  if (a == Real(0) && b == Real(0)) return {Real(0), Real(0)};
+  constexpr Real quarter = std::numbers::pi_v<Real> / Real(4);
+  Real r, phi;
   if (std::abs(a) > std::abs(b))
     r = a, phi = quarter * (b / a);
   else
-    r = b, phi = 2.0 * quarter - quarter * (a / b);
+    r = b, phi = Real(2) * quarter - quarter * (a / b);
   return {r * std::cos(phi), r * std::sin(phi)};
 }
 
 /// A tangent frame (t, b) for the unit normal n: Duff et al., "Building an Orthonormal Basis,
 /// Revisited" (JCGT 2017), listing 3; no branch on a threshold, so no seam.
-inline void tangent_frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double c = n.x * n.y * a;
-  t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
+template <class Real>
+void tangent_frame(const glm::vec<3, Real>& n, glm::vec<3, Real>& t, glm::vec<3, Real>& b) {
+  const Real sign = std::copysign(Real(1), n.z);
+  const Real a = Real(-1) / (sign + n.z);
+  const Real c = n.x * n.y * a;
+  t = {Real(1) + sign * n.x * n.x * a, sign * c, -sign * n.x};
   b = {c, sign + n.y * n.y * a, -n.y};
 }
 
@@ -48,24 +52,33 @@ inline void tangent_frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
 /// column c holds n_c rows, so that the N strata tile the square for any N; the weights sum to
 /// 1, so summing only the blocked ones keeps an unoccluded pixel exactly 1. Ray k is jittered
 /// in its stratum by pixel_random(seed, x, y, 2k) and (.., 2k + 1): the same directions for
-/// the same pixel whatever the thread.
-template <class Ray>
-void for_each_cosine_ray(int rays, std::uint32_t seed, int x, int y, const glm::dvec3& n,
+/// the same pixel whatever the thread. `Real` is the arithmetic (double or float); the
+/// weights are always double, so that they sum to 1 closely for any N.
+template <class Real, class Ray>
+void for_each_cosine_ray(int rays, std::uint32_t seed, int x, int y, const glm::vec<3, Real>& n,
                          Ray&& ray) {
-  glm::dvec3 t, b;
+  using Vec3 = glm::vec<3, Real>;
+  Vec3 t, b;
   tangent_frame(n, t, b);
   const int columns = std::max(1, int(std::sqrt(double(rays))));
+  const std::uint32_t pixel = pixel_hash(seed, x, y);
   std::uint32_t k = 0;
   for (int c = 0; c < columns; ++c) {
     const int rows = int(std::int64_t(c + 1) * rays / columns - std::int64_t(c) * rays / columns);
     const double weight = 1.0 / (double(columns) * rows);
     for (int r = 0; r < rows; ++r, ++k) {
-      const double u1 = (c + double(pixel_random(seed, x, y, 2 * k))) / columns;
-      const double u2 = (r + double(pixel_random(seed, x, y, 2 * k + 1))) / rows;
+      Real u1, u2;
+      if constexpr (std::is_same_v<Real, float>) {
+        u1 = (Real(c) + pixel_stream_random(pixel, 2 * k)) * (1.0f / float(columns));
+        u2 = (Real(r) + pixel_stream_random(pixel, 2 * k + 1)) * (1.0f / float(rows));
+      } else {
+        u1 = (Real(c) + Real(pixel_stream_random(pixel, 2 * k))) / Real(columns);
+        u2 = (Real(r) + Real(pixel_stream_random(pixel, 2 * k + 1))) / Real(rows);
+      }
       // Malley's method: a uniform point of the disk lifted to the hemisphere is
       // cosine-distributed about n.
-      const glm::dvec2 q = concentric_disk(u1, u2);
-      const double up = std::sqrt(std::max(0.0, 1.0 - q.x * q.x - q.y * q.y));
+      const glm::vec<2, Real> q = concentric_disk(u1, u2);
+      const Real up = std::sqrt(std::max(Real(0), Real(1) - q.x * q.x - q.y * q.y));
       ray(glm::normalize(q.x * t + q.y * b + up * n), weight);
     }
   }

@@ -14,13 +14,23 @@ inline std::uint32_t pcg_hash(std::uint32_t v) {
   return (word >> 22u) ^ word;
 }
 
-/// A uniform float in [0, 1) for pixel (x, y), stream `stream` (one per random quantity).
-inline float pixel_random(std::uint32_t seed, int x, int y, std::uint32_t stream) {
+/// The per-pixel part of pixel_random's hash chain, for callers that draw many streams at one
+/// pixel: pixel_random(seed, x, y, s) == pixel_stream_random(pixel_hash(seed, x, y), s).
+inline std::uint32_t pixel_hash(std::uint32_t seed, int x, int y) {
   std::uint32_t h = pcg_hash(seed ^ 0x9E3779B9u);
   h = pcg_hash(h ^ std::uint32_t(x));
-  h = pcg_hash(h ^ std::uint32_t(y) * 0x85EBCA6Bu);
-  h = pcg_hash(h + stream * 0xC2B2AE35u);
+  return pcg_hash(h ^ std::uint32_t(y) * 0x85EBCA6Bu);
+}
+
+/// Stream `stream` of the pixel whose pixel_hash is `pixel`: a uniform float in [0, 1).
+inline float pixel_stream_random(std::uint32_t pixel, std::uint32_t stream) {
+  const std::uint32_t h = pcg_hash(pixel + stream * 0xC2B2AE35u);
   return float(h >> 8) * (1.0f / 16777216.0f);  // 24 bits: exact in float, < 1
+}
+
+/// A uniform float in [0, 1) for pixel (x, y), stream `stream` (one per random quantity).
+inline float pixel_random(std::uint32_t seed, int x, int y, std::uint32_t stream) {
+  return pixel_stream_random(pixel_hash(seed, x, y), stream);
 }
 
 }  // namespace aolab

@@ -926,7 +926,7 @@ class Study:
             ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
                                                  rays=rays, threads=threads),
                               self.opts.warmup, self.opts.repeat, self.opts.max_ms)
-            row = _row(scene, "rtao", "rtao", f"{rays} rays", preset="",
+            row = _row(scene, "rtao", "rtao", f"{rays} ray{'s' if rays != 1 else ''}", preset="",
                        settings={"rays": rays, **info}, threads=threads, runs=len(times),
                        note=f"Embree BVH of {rays_scene.triangles} triangles built in "
                             f"{build_ms:.1f} ms, apart (not in the time)",

@@ -255,15 +255,17 @@ TEST(RayScene, PacketsAgreeWithSingleRays) {
   const TracedScene t("blocks", 8, 8);
   const glm::vec3 p = t.g.camera.view_position(4.5f, 5.5f, t.g.depth(4, 5));
   const float origin[3] = {p.x, p.y, p.z + 1e-3f};
-  std::vector<float> dirs;
+  std::vector<float> dirs, dx, dy, dz;
   for (int k = 0; k < 41; ++k) {  // directions over the sphere, many blocked, many free
     const double z = 1.0 - 2.0 * (k + 0.5) / 41, r = std::sqrt(1.0 - z * z), phi = 2.4 * k;
     dirs.insert(dirs.end(), {float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+    dx.push_back(dirs[dirs.size() - 3]), dy.push_back(dirs[dirs.size() - 2]);
+    dz.push_back(dirs.back());
   }
   int hits = 0;
   for (int count : {1, 3, 4, 7, 8, 15, 16, 17, 24, 31, 41}) {
     std::unique_ptr<bool[]> blocked(new bool[std::size_t(count)]);
-    t.scene.occluded_from(origin, dirs.data(), count, 2.0f, blocked.get());
+    t.scene.occluded_from(origin, dx.data(), dy.data(), dz.data(), count, 2.0f, blocked.get());
     for (int k = 0; k < count; ++k) {
       EXPECT_EQ(blocked[std::size_t(k)], t.scene.occluded(origin, &dirs[3 * std::size_t(k)], 2.0f))
           << count << " rays, ray " << k;
