@@ -12,10 +12,9 @@ namespace aolab {
 namespace {
 
 // Working memory of one band of rows: the directions of a pixel's rays (x, y, z apart, as
-// Embree's packets hold them) and their weights.
+// Embree's packets hold them) and which of them are blocked.
 struct Scratch {
   std::vector<float> dx, dy, dz;
-  std::vector<double> weights;
   std::unique_ptr<bool[]> blocked;
 };
 
@@ -35,17 +34,18 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
   const auto seed = std::uint32_t(s.seed);
   const float t_far = s.radius;
   const int n_rays = s.rays;
+  const CosineStrata strata(n_rays);
+  const std::size_t padded = strata.column.size();
   const bool empty = scene.triangle_count() == 0;
 
   return image_from_pixels(
       w, h, threads, options.progress,
       [&] {
         Scratch sc;
-        sc.dx.resize(std::size_t(n_rays));
-        sc.dy.resize(std::size_t(n_rays));
-        sc.dz.resize(std::size_t(n_rays));
-        sc.weights.resize(std::size_t(n_rays));
-        sc.blocked = std::make_unique<bool[]>(std::size_t(n_rays));
+        sc.dx.resize(padded);
+        sc.dy.resize(padded);
+        sc.dz.resize(padded);
+        sc.blocked = std::make_unique<bool[]>(padded);
         return sc;
       },
       [&](Scratch& sc, int x, int y) -> float {
@@ -57,21 +57,15 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
         const double eps = kRtaoOffsetPixels * d * footprint + rounding;
         const glm::dvec3 o = p + eps * glm::dvec3(n);
         const float origin[3] = {float(o.x), float(o.y), float(o.z)};
-        int k = 0;
-        // Directions in float: the rays are traced in float, and double sines and cosines
-        // cost a sixth of the whole run.
-        for_each_cosine_ray(n_rays, seed, x, y, n, [&](const glm::vec3& dir, double weight) {
-          sc.dx[std::size_t(k)] = dir.x;
-          sc.dy[std::size_t(k)] = dir.y;
-          sc.dz[std::size_t(k)] = dir.z;
-          sc.weights[std::size_t(k)] = weight;
-          ++k;
-        });
-        scene.occluded_from(origin, sc.dx.data(), sc.dy.data(), sc.dz.data(), k, t_far,
+        // The rays of for_each_cosine_ray<float>, drawn a vector at a time: drawn one by one,
+        // they cost half as much as Embree's traversal of them.
+        cosine_directions(strata, pixel_hash(seed, x, y), n, sc.dx.data(), sc.dy.data(),
+                          sc.dz.data());
+        scene.occluded_from(origin, sc.dx.data(), sc.dy.data(), sc.dz.data(), n_rays, t_far,
                             sc.blocked.get());
         double blocked = 0.0;
-        for (int i = 0; i < k; ++i)
-          if (sc.blocked[std::size_t(i)]) blocked += sc.weights[std::size_t(i)];
+        for (int i = 0; i < n_rays; ++i)
+          if (sc.blocked[std::size_t(i)]) blocked += strata.weight[std::size_t(i)];
         return float(std::clamp(1.0 - blocked, 0.0, 1.0));
       });
 }

@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 #include <numbers>
 #include <type_traits>
+#include <vector>
 
 #include "core/sampling/random.h"
 
@@ -83,5 +84,26 @@ void for_each_cosine_ray(int rays, std::uint32_t seed, int x, int y, const glm::
     }
   }
 }
+
+/// The strata of for_each_cosine_ray for one ray count, as tables per ray, so that a SIMD
+/// kernel can draw the rays of a pixel in vectors: ray k lies in column columns_k, row rows_k
+/// of a column of `rows_per_column_k` rows, with weight weight_k. Padded with copies of ray 0
+/// to a multiple of 16 (the widest vector), so that whole vectors can be loaded.
+struct CosineStrata {
+  explicit CosineStrata(int rays);
+  int rays;
+  int columns;
+  std::vector<float> column, row, inv_rows;  ///< per ray, as floats
+  std::vector<double> weight;                ///< per ray, the area of its stratum
+};
+
+/// The directions of for_each_cosine_ray<float>(strata.rays, ...) at the pixel whose
+/// pixel_hash is `pixel`, about the unit normal n, as arrays dx, dy, dz of strata.rays floats
+/// (room for the padding: strata.column.size()), in SIMD (Highway, the best target of this
+/// CPU). They differ from the scalar ones by float rounding (the sines and cosines are
+/// Highway's, the divisions reciprocals): at most a few units of 1e-7 per component
+/// (cosine_hemisphere_test.cpp).
+void cosine_directions(const CosineStrata& strata, std::uint32_t pixel, const glm::vec3& n,
+                       float* dx, float* dy, float* dz);
 
 }  // namespace aolab
