@@ -10,7 +10,7 @@
 namespace aolab {
 
 struct TriangleMesh {
-  std::vector<float> vertices;          ///< 3 floats per vertex: x, y, z
+  std::vector<float> vertices;           ///< 3 floats per vertex: x, y, z
   std::vector<std::uint32_t> triangles;  ///< 3 vertex indices per triangle
   std::size_t vertex_count() const { return vertices.size() / 3; }
   std::size_t triangle_count() const { return triangles.size() / 3; }

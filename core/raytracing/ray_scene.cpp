@@ -54,8 +54,7 @@ std::string embree_error_name(RTCError e) {
 void check_embree(RTCDevice device, const char* what) {
   const RTCError e = rtcGetDeviceError(device);
   if (e != RTC_ERROR_NONE)
-    throw std::runtime_error(std::string("Embree failed to ") + what + ": " +
-                             embree_error_name(e));
+    throw std::runtime_error(std::string("Embree failed to ") + what + ": " + embree_error_name(e));
 }
 
 // Embree's one-ray and 8-ray occlusion queries, for either major version.
@@ -149,8 +148,7 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
       double dot = 0;
       for (int r = 0; r < 3; ++r) dot += m[4 * r + i] * m[4 * r + j];
       if (std::abs(dot - (i == j ? 1.0 : 0.0)) > kRigidTolerance)
-        throw_invalid("camera_to_world",
-                      "must be a rotation and a translation (no scale or shear)",
+        throw_invalid("camera_to_world", "must be a rotation and a translation (no scale or shear)",
                       "columns " + std::to_string(i) + " and " + std::to_string(j) +
                           " with the dot product " + detail::exact_number(dot));
     }
@@ -241,8 +239,8 @@ bool RayScene::occluded(const float o[3], const float d[3], float t_far) const {
   return ray.tfar < 0.0f;
 }
 
-void RayScene::occluded_from(const float o[3], const float* dx, const float* dy,
-                             const float* dz, int count, float t_far, bool* blocked) const {
+void RayScene::occluded_from(const float o[3], const float* dx, const float* dy, const float* dz,
+                             int count, float t_far, bool* blocked) const {
   // Rays from one origin share their first BVH nodes, so packets traverse them together:
   // 16-wide packets measured about 1.4x the single-ray rate on the committed scenes, 8-wide a
   // little less. A short tail goes one ray at a time, as a mostly idle packet costs more.
@@ -252,8 +250,7 @@ void RayScene::occluded_from(const float o[3], const float* dx, const float* dy,
                                      blocked + k);
   if (count - k >= 4) {
     const int n = std::min(count - k, 8);
-    occluded_packet_of<8, RTCRay8>(impl_->scene, o, dx + k, dy + k, dz + k, n, t_far,
-                                   blocked + k);
+    occluded_packet_of<8, RTCRay8>(impl_->scene, o, dx + k, dy + k, dz + k, n, t_far, blocked + k);
     k += n;
   }
   for (; k < count; ++k) {

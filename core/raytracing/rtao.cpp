@@ -70,6 +70,8 @@ Image rtao(const GBuffer& g, const RayScene& scene, const RtaoSettings& s,
       });
 }
 
-std::vector<SettingDescription> rtao_setting_descriptions() { return describe_settings(kRtaoFields); }
+std::vector<SettingDescription> rtao_setting_descriptions() {
+  return describe_settings(kRtaoFields);
+}
 
 }  // namespace aolab

@@ -51,14 +51,18 @@ void CosineDirections(const CosineStrata& strata, std::uint32_t pixel, const glm
     const auto a_wins = hn::Gt(hn::Abs(a), hn::Abs(bb));
     const VF larger = hn::IfThenElse(a_wins, a, bb), smaller = hn::IfThenElse(a_wins, bb, a);
     const auto centre = hn::Eq(larger, zero);
-    const VF ratio = hn::IfThenZeroElse(centre, hn::Div(smaller, hn::IfThenElse(centre, one, larger)));
-    const VF phi = hn::IfThenElse(a_wins, hn::Mul(quarter, ratio),
-                                  hn::NegMulAdd(quarter, ratio, half_pi));
+    const VF ratio =
+        hn::IfThenZeroElse(centre, hn::Div(smaller, hn::IfThenElse(centre, one, larger)));
+    const VF phi =
+        hn::IfThenElse(a_wins, hn::Mul(quarter, ratio), hn::NegMulAdd(quarter, ratio, half_pi));
     const VF qx = hn::Mul(larger, hn::Cos(df, phi)), qy = hn::Mul(larger, hn::Sin(df, phi));
     const VF up = hn::Sqrt(hn::ZeroIfNegative(hn::NegMulAdd(qx, qx, hn::NegMulAdd(qy, qy, one))));
-    VF x = hn::MulAdd(qx, hn::Set(df, t.x), hn::MulAdd(qy, hn::Set(df, b.x), hn::Mul(up, hn::Set(df, n.x))));
-    VF y = hn::MulAdd(qx, hn::Set(df, t.y), hn::MulAdd(qy, hn::Set(df, b.y), hn::Mul(up, hn::Set(df, n.y))));
-    VF z = hn::MulAdd(qx, hn::Set(df, t.z), hn::MulAdd(qy, hn::Set(df, b.z), hn::Mul(up, hn::Set(df, n.z))));
+    VF x = hn::MulAdd(qx, hn::Set(df, t.x),
+                      hn::MulAdd(qy, hn::Set(df, b.x), hn::Mul(up, hn::Set(df, n.x))));
+    VF y = hn::MulAdd(qx, hn::Set(df, t.y),
+                      hn::MulAdd(qy, hn::Set(df, b.y), hn::Mul(up, hn::Set(df, n.y))));
+    VF z = hn::MulAdd(qx, hn::Set(df, t.z),
+                      hn::MulAdd(qy, hn::Set(df, b.z), hn::Mul(up, hn::Set(df, n.z))));
     const VF inv_length = RecipSqrt(df, hn::MulAdd(x, x, hn::MulAdd(y, y, hn::Mul(z, z))));
     hn::StoreU(hn::Mul(x, inv_length), df, dx + k);
     hn::StoreU(hn::Mul(y, inv_length), df, dy + k);

@@ -294,10 +294,9 @@ TriangleMesh analytic_scene_mesh(const AnalyticScene& scene, double extent) {
     const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     const glm::dvec3 u = glm::normalize(glm::cross(n, helper)), v = glm::cross(n, u);
     const glm::dvec3 centre = scene.eye - (glm::dot(n, scene.eye) - f.offset) * n;
-    std::vector<glm::dvec3> poly = {centre - extent * u - extent * v,
-                                    centre + extent * u - extent * v,
-                                    centre + extent * u + extent * v,
-                                    centre - extent * u + extent * v};
+    std::vector<glm::dvec3> poly = {
+        centre - extent * u - extent * v, centre + extent * u - extent * v,
+        centre + extent * u + extent * v, centre - extent * u + extent * v};
     for (const glm::dvec4& c : f.clips) {  // keep dot(c.xyz, X) <= c.w
       std::vector<glm::dvec3> kept;
       const glm::dvec3 cn(c);
@@ -305,7 +304,8 @@ TriangleMesh analytic_scene_mesh(const AnalyticScene& scene, double extent) {
         const glm::dvec3 &a = poly[i], &b = poly[(i + 1) % poly.size()];
         const double da = glm::dot(cn, a) - c.w, db = glm::dot(cn, b) - c.w;
         if (da <= 0) kept.push_back(a);
-        if ((da < 0 && db > 0) || (da > 0 && db < 0)) kept.push_back(a + (da / (da - db)) * (b - a));
+        if ((da < 0 && db > 0) || (da > 0 && db < 0))
+          kept.push_back(a + (da / (da - db)) * (b - a));
       }
       poly = std::move(kept);
     }

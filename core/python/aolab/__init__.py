@@ -217,7 +217,8 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
 
 
 # The ray-traced peer (raytracing.py): Embree against the scene's triangles.
-from .raytracing import RayScene, analytic_scene_mesh, ray_scene, rtao, rtao_settings  # noqa: E402,F401
+from .raytracing import (RayScene, analytic_scene_mesh, ray_scene, rtao,  # noqa: E402,F401
+                         rtao_settings)
 
 # The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
 # presets.py).

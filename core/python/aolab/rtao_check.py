@@ -87,10 +87,10 @@ def traced(folder: Path, g, rays: int, seed: int, threads: int) -> tuple[np.ndar
     """rtao of the scene at ``rays`` (cached); returns (ao, info)."""
     mesh = aolab.mesh_for_gbuffer(g)
     radius = float(g.sidecar["ao_distance"])
+    mesh_sha = mesh.info.get("sha256") or _sha256_bytes(mesh.vertices.tobytes()
+                                                        + mesh.triangles.tobytes())
     key_material = {"version": RTAO_CACHE_VERSION, "gbuffer": _sha256(Path(g.path)),
-                    "mesh": mesh.info.get("sha256") or _sha256_bytes(mesh.vertices.tobytes()
-                                                                    + mesh.triangles.tobytes()),
-                    "rays": rays, "seed": seed, "radius": radius}
+                    "mesh": mesh_sha, "rays": rays, "seed": seed, "radius": radius}
     key = hashlib.sha256(json.dumps(key_material, sort_keys=True).encode()).hexdigest()[:20]
     where = cache_dir() / f"{folder.name}-{key}.exr"
     side = where.with_suffix(".json")
@@ -178,16 +178,12 @@ def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | No
     depth = np.asarray(g.depth, np.float64)
     jump = np.zeros(depth.shape, bool)
     with np.errstate(invalid="ignore", divide="ignore"):
-        for axis in (0, 1):
-            step = np.abs(np.diff(depth, axis=axis)) / np.minimum(
-                depth[:-1] if axis == 0 else depth[:, :-1], depth[1:] if axis == 0 else depth[:, 1:])
+        # Rows, then columns: the step between each pixel and its next neighbour.
+        for before, after in ((np.s_[:-1], np.s_[1:]), (np.s_[:, :-1], np.s_[:, 1:])):
+            step = np.abs(depth[after] - depth[before]) / np.minimum(depth[before], depth[after])
             big = ~(step <= SILHOUETTE_JUMP)   # NaN (background beside) counts as a jump
-            if axis == 0:
-                jump[:-1] |= big
-                jump[1:] |= big
-            else:
-                jump[:, :-1] |= big
-                jump[:, 1:] |= big
+            jump[before] |= big
+            jump[after] |= big
     result["outliers"] = {
         "pixels": int(outlier.sum()), "share": float(outlier.sum() / max(valid.sum(), 1)),
         "bias_contribution": float(diff[outlier].sum() / max(valid.sum(), 1)),

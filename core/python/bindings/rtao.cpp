@@ -21,9 +21,10 @@ py::array checked_rows_of_three(const py::object& value, const std::string& name
   if (value.is_none()) throw_invalid(name, "must be an (N, 3) array", "None");
   py::array a = py::module_::import("numpy").attr("asarray")(value);
   if (kinds.find(a.dtype().kind()) == std::string::npos)
-    throw_invalid(name, "must be an (N, 3) array of " +
-                            std::string(kinds == "iu" ? "integers" : "real numbers"),
-                  "dtype " + py::str(a.dtype()).cast<std::string>());
+    throw_invalid(
+        name,
+        "must be an (N, 3) array of " + std::string(kinds == "iu" ? "integers" : "real numbers"),
+        "dtype " + py::str(a.dtype()).cast<std::string>());
   if (a.ndim() != 2 || a.shape(1) != 3)
     throw_invalid(name, "must be an (N, 3) array", shape_string(a));
   return a;
@@ -42,10 +43,10 @@ TriangleMesh mesh_from_arrays(const py::object& vertices, const py::object& tria
   const std::int64_t* src = t.data();
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     if (src[k] < 0 || src[k] > std::int64_t(std::numeric_limits<std::uint32_t>::max()))
-      throw_invalid("triangles",
-                    "must hold vertex indices in [0, 2^32 - 1] (triangle " +
-                        std::to_string(k / 3) + ")",
-                    src[k]);
+      throw_invalid(
+          "triangles",
+          "must hold vertex indices in [0, 2^32 - 1] (triangle " + std::to_string(k / 3) + ")",
+          src[k]);
     mesh.triangles[k] = std::uint32_t(src[k]);
   }
   return mesh;
@@ -79,8 +80,8 @@ camera matrix (rotation and translation). Malformed input is a ValueError naming
              py::gil_scoped_release release;
              return RayScene(mesh, c2w, threads);
            }),
-           py::arg("vertices"), py::arg("triangles"), py::arg("camera_to_world"),
-           py::kw_only(), py::arg("threads") = 0)
+           py::arg("vertices"), py::arg("triangles"), py::arg("camera_to_world"), py::kw_only(),
+           py::arg("threads") = 0)
       .def_property_readonly("triangles", &RayScene::triangle_count)
       .def_property_readonly("build_seconds", &RayScene::build_seconds,
                              "wall-clock seconds of the BVH build")
@@ -114,7 +115,8 @@ camera matrix (rotation and translation). Malformed input is a ValueError naming
       "analytic_scene_mesh",
       [](const std::string& name, const py::dict& params, double extent) {
         const SettingValues values = to_setting_values(params);
-        const TriangleMesh mesh = analytic_scene_mesh(analytic_scene_geometry(name, values), extent);
+        const TriangleMesh mesh =
+            analytic_scene_mesh(analytic_scene_geometry(name, values), extent);
         py::array_t<float> v({py::ssize_t(mesh.vertex_count()), py::ssize_t(3)});
         std::copy(mesh.vertices.begin(), mesh.vertices.end(), v.mutable_data());
         py::array_t<std::uint32_t> t({py::ssize_t(mesh.triangle_count()), py::ssize_t(3)});

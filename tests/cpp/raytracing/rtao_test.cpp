@@ -191,9 +191,9 @@ TEST(Rtao, SettingsAndGBufferAreChecked) {
             std::string::npos);
   GBuffer no_normal = t.g;
   no_normal.normal = {};
-  EXPECT_NE(invalid_argument_message([&] { rtao(no_normal, t.scene, settings(1.0f)); })
-                .find("normal"),
-            std::string::npos);
+  EXPECT_NE(
+      invalid_argument_message([&] { rtao(no_normal, t.scene, settings(1.0f)); }).find("normal"),
+      std::string::npos);
 }
 
 TEST(RayScene, MalformedMeshesAndCamerasAreNamed) {

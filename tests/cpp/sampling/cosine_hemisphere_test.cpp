@@ -26,8 +26,8 @@ float tolerance(const glm::vec3& w, const glm::vec3& n) {
 }
 
 TEST(CosineHemisphere, SimdDirectionsMatchTheScalarTemplate) {
-  const std::vector<glm::vec3> normals = {{0, 0, 1}, {0, 0, -1}, {0.6f, 0.0f, 0.8f},
-                                          {-0.48f, 0.6f, -0.64f}, {1, 0, 0}};
+  const std::vector<glm::vec3> normals = {
+      {0, 0, 1}, {0, 0, -1}, {0.6f, 0.0f, 0.8f}, {-0.48f, 0.6f, -0.64f}, {1, 0, 0}};
   for (int rays : {1, 2, 3, 7, 16, 17, 64, 100, 1024}) {
     const CosineStrata strata(rays);
     ASSERT_EQ(strata.column.size() % 16, 0u);
@@ -64,8 +64,10 @@ TEST(CosineHemisphere, DirectionsAreCosineDistributed) {
   std::vector<float> dx(strata.column.size()), dy(dx.size()), dz(dx.size());
   cosine_directions(strata, pixel_hash(0, 1, 2), {0, 0, 1}, dx.data(), dy.data(), dz.data());
   double mean_cos = 0, mean_x = 0;
-  for (int k = 0; k < 4096; ++k) mean_cos += strata.weight[std::size_t(k)] * dz[std::size_t(k)],
-                                 mean_x += strata.weight[std::size_t(k)] * dx[std::size_t(k)];
+  for (std::size_t k = 0; k < 4096; ++k) {
+    mean_cos += strata.weight[k] * dz[k];
+    mean_x += strata.weight[k] * dx[k];
+  }
   EXPECT_NEAR(mean_cos, 2.0 / 3.0, 1e-3);
   EXPECT_NEAR(mean_x, 0.0, 1e-3);
 }
