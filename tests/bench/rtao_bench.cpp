@@ -27,7 +27,9 @@ const AnalyticGBuffer& blocks() {
   return scene;
 }
 
-TriangleMesh blocks_mesh() { return analytic_scene_mesh(analytic_scene_geometry("blocks"), kExtent); }
+TriangleMesh blocks_mesh() {
+  return analytic_scene_mesh(analytic_scene_geometry("blocks"), kExtent);
+}
 
 void BM_RtaoBuild(benchmark::State& state) {
   const TriangleMesh mesh = blocks_mesh();
