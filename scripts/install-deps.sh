@@ -18,6 +18,8 @@ PACKAGES=(
   # Python (Debian's /usr/bin/python3, the one Blender embeds)
   python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
   python3-skimage python3-tqdm python3-matplotlib python3-optuna
+  # Dask: `aolab reference --workers N` and `--scheduler ADDRESS` (docs/scale_out.md)
+  python3-distributed
   # headless browser: tests/python/test_report.py opens the comparison report in it
   chromium
   # Blender 3.4 (its Python is the same 3.11; `import aolab` is tested inside it)

@@ -13,6 +13,7 @@
     --peers             render the comparison peers instead (Cycles ladder, EEVEE GTAO;
                         peers.py): --out is then a folder
     --ladder 1,4,...    the ladder's samples     --no-eevee   skip EEVEE
+    --frame N           render animation frame N (scene.frame_set; recorded as "frame")
     --mesh-only         export only the scene's geometry, no render (mesh_export.py): --out
                         is then the .mesh (its .mesh.json beside it); --radius, --spp and
                         --passes do not apply
@@ -40,7 +41,7 @@ import bpy  # noqa: E402
 from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
 from aolab.cli import MAX_SAMPLES, Parser, float_option, int_option  # noqa: E402
-from aolab.reference import parse_resolution  # noqa: E402
+from aolab.reference import MAX_FRAME, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
 
@@ -95,6 +96,7 @@ def parse(argv):
                    default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
     p.add_argument("--mesh-only", action="store_true")
+    p.add_argument("--frame", type=int_option("--frame", -MAX_FRAME, MAX_FRAME))
     return p.parse_args(argv)
 
 
@@ -104,6 +106,11 @@ def main(argv):
         bpy.ops.wm.read_factory_settings(use_empty=True)
         runpy.run_path(args.scene, run_name="__main__")
     scene = bpy.context.scene
+    if args.frame is not None:
+        # Animation (camera paths, moving objects) is evaluated at this frame for the G-buffer,
+        # the reference and the mesh alike.
+        scene.frame_set(args.frame)
+        args.extra = {**args.extra, "frame": args.frame}
     if args.resolution:
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
         scene.render.resolution_percentage = 100

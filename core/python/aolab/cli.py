@@ -97,6 +97,22 @@ def int_option(name: str, lo: int | None = None, hi: int | None = None, *,
     return parse
 
 
+def parse_frames_option(text: str) -> list[int]:
+    from .reference import parse_frames
+    return parse_frames(text)
+
+
+def _checked(parse):
+    """An argparse ``type=`` from a parser that raises ValueError naming the option."""
+    def convert(text: str):
+        try:
+            return parse(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+    convert.__name__ = parse.__name__
+    return convert
+
+
 def rays_list_option(name: str):
     """An argparse ``type=`` for a comma-separated list of rays per pixel, each in [1, 65536],
     or 'none' (the empty tuple)."""
@@ -714,6 +730,16 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
+    f.add_argument("--frames", type=_checked(parse_frames_option),
+                   help="animation frames: N, START-END or START-END:STEP (one reference each, "
+                   "copied to OUT/frames/NNNN; default: a sequence scene's manifest frames)")
+    f.add_argument("--workers", type=int_option("--workers", 1, 256), default=1,
+                   help="render on a local Dask cluster of this many workers, 1 to 256 (default "
+                   "1: in this process, one job after another; docs/scale_out.md)")
+    f.add_argument("--scheduler", metavar="ADDRESS",
+                   help="render on the Dask cluster whose scheduler is at ADDRESS (e.g. "
+                   "tcp://10.0.0.5:8786); its workers need aolab and Blender and the cache on "
+                   "shared storage (docs/scale_out.md)")
     f.set_defaults(func=cmd_reference)
 
     ms = sub.add_parser("mesh", help="export each scene's triangles as Cycles renders them "

@@ -13,6 +13,7 @@ a batch resumes where it stopped.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -151,6 +152,8 @@ class Plan:
     eevee: bool = True
     # Only the scene's geometry, no render (`aolab mesh`): spp, R, passes do not apply.
     mesh_only: bool = False
+    # The animation frame rendered (scene.frame_set), or None: the file's current frame.
+    frame: int | None = None
 
     def key(self) -> str:
         material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
@@ -163,9 +166,12 @@ class Plan:
             material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
                         "resolution": self.resolution, "camera": self.camera,
                         "mesh_only": True}
+        if self.frame is not None:  # only then, so that still renders keep their keys
+            material["frame"] = self.frame
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
         kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
-        return f"{self.scene.name}-{kind}{digest[:16]}"
+        frame = "" if self.frame is None else f"f{self.frame:04d}-"
+        return f"{self.scene.name}-{kind}{frame}{digest[:16]}"
 
     def result_files(self, folder: Path) -> list[Path]:
         """The files a finished render leaves in its folder (the JSON last)."""
@@ -227,9 +233,16 @@ def _progress_bar(enabled: bool, desc: str):
     return tqdm(total=0, desc=desc, unit="spp", dynamic_ncols=True, leave=False)
 
 
+class Stopped(Exception):
+    """A render stopped because its caller asked (render's ``should_stop``)."""
+
+
 def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
-           progress: bool = True, blender: str | None = None) -> tuple[Path, bool]:
-    """Renders (or finds in the cache) the reference of `plan`. Returns (folder, cached)."""
+           progress: bool = True, blender: str | None = None,
+           should_stop=None) -> tuple[Path, bool]:
+    """Renders (or finds in the cache) the reference of `plan`. Returns (folder, cached).
+    ``should_stop()``, when given, is asked at each line Blender prints: True stops the render
+    (Blender killed, its temporary folder removed) with Stopped."""
     cache = Path(cache) if cache else default_cache()
     if not force:
         hit = cached_result(cache, plan)
@@ -261,6 +274,8 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         cmd += ["--resolution", f"{plan.resolution[0]}x{plan.resolution[1]}"]
     if plan.camera:
         cmd += ["--camera", plan.camera]
+    if plan.frame is not None:
+        cmd += ["--frame", str(plan.frame)]
     if plan.peers:
         cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder)]
         if not plan.eevee:
@@ -272,10 +287,13 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     tail, error = [], None
     try:
         env = dict(os.environ, **{PACKAGE_PATH_ENV: package_path()})
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                stdin=subprocess.DEVNULL, env=env)
+        proc = subprocess.Popen(_die_with_parent(cmd), stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True, stdin=subprocess.DEVNULL,
+                                env=env)
         stage = ""
         for line in proc.stdout:
+            if should_stop is not None and should_stop():
+                raise Stopped(f"{s.name}: stopped")
             line = line.rstrip("\n")
             tail = (tail + [line])[-40:]
             if line.startswith("AOLAB_STAGE "):
@@ -304,6 +322,15 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
             proc.kill()
             proc.wait()
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _die_with_parent(cmd: list[str]) -> list[str]:
+    """cmd run under util-linux's `setpriv --pdeathsig KILL` where it exists (Linux): if this
+    process dies (a Dask worker killed, `kill -9`), the kernel kills Blender too, instead of
+    leaving it rendering for nobody. Its temporary folder is then removed by the next render's
+    clean-up (_remove_stale_temporaries)."""
+    setpriv = shutil.which("setpriv")
+    return [setpriv, "--pdeathsig", "KILL", "--"] + cmd if setpriv else cmd
 
 
 def _xvfb() -> list[str]:
@@ -367,6 +394,64 @@ def parse_resolution(text: str, name: str = "--resolution") -> tuple[int, int]:
                      f"{MIN_RESOLUTION}x{MIN_RESOLUTION}), got {text!r}")
 
 
+#: Blender's frame range (scene.frame_current's hard limits in 3.4 and 4.x).
+MAX_FRAME = 1048574
+
+
+def parse_frames(text: str, name: str = "--frames") -> list[int]:
+    """``N``, ``S-E`` or ``S-E:STEP`` (E included, STEP >= 1; frames may be negative, as in
+    Blender: ``-5--1``) -> the frame numbers; a ValueError naming ``name`` otherwise."""
+    import re
+    m = re.fullmatch(r"\s*(-?\d+)(?:\s*-\s*(-?\d+)(?:\s*:\s*(\d+))?)?\s*", str(text))
+    if m:
+        start = int(m.group(1))
+        end = int(m.group(2)) if m.group(2) is not None else start
+        step = int(m.group(3)) if m.group(3) is not None else 1
+        if (step >= 1 and start <= end and -MAX_FRAME <= start and end <= MAX_FRAME
+                and (end - start) // step < 100000):
+            return list(range(start, end + 1, step))
+    raise ValueError(f"{name} must be N, START-END or START-END:STEP with START <= END, STEP "
+                     f">= 1, frames in [-{MAX_FRAME}, {MAX_FRAME}] and at most 100000 of them, "
+                     f"got {text!r}")
+
+
+def manifest_frames(scene: Scene) -> list[int] | None:
+    """The frames a sequence scene's manifest names ({"start", "end", "step"}), or None."""
+    f = scene.manifest.get("frames")
+    if f is None:
+        return None
+    try:
+        return parse_frames(f"{int(f['start'])}-{int(f['end'])}:{int(f.get('step', 1))}")
+    except (KeyError, TypeError, ValueError):
+        raise ReferenceError(f"{scene.name}: manifest.json's \"frames\" must be {{\"start\": S, "
+                             f"\"end\": E, \"step\": T}} with S <= E and T >= 1, got {f!r}") \
+            from None
+
+
+def per_frame(plans: list[Plan], frames: list[int] | None) -> list[Plan]:
+    """One plan per frame of ``frames``, or of each scene's manifest frames when None; a still
+    scene without frames keeps its one plan."""
+    out = []
+    for plan in plans:
+        mine = frames if frames is not None else manifest_frames(plan.scene)
+        if mine is None:
+            out.append(plan)
+        else:
+            out += [dataclasses.replace(plan, frame=f) for f in mine]
+    return out
+
+
+def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
+    """Where --out receives a plan's files: OUT, OUT/<scene> when several scenes, and
+    .../frames/NNNN for a frame (docs/file_formats.md, "Sequences")."""
+    out = Path(out)
+    if several_scenes:
+        out = out / plan.scene.name
+    if plan.frame is not None:
+        out = out / "frames" / f"{plan.frame:04d}"
+    return out
+
+
 def main(args) -> int:
     """The `aolab reference` command (arguments from cli.py)."""
     resolution = parse_resolution(args.resolution) if args.resolution else None
@@ -381,6 +466,13 @@ def main(args) -> int:
             raise ReferenceError(f"--ladder must be samples >= 1, got {args.ladder!r}")
         for plan in plans:
             plan.peers, plan.ladder, plan.eevee = True, ladder, not args.no_eevee
+    frames = args.frames
+    if isinstance(frames, str):
+        frames = parse_frames(frames)
+    plans = per_frame(plans, frames)
+    if getattr(args, "scheduler", None) or getattr(args, "workers", 1) > 1:
+        from . import cluster
+        return cluster.run_plans(plans, args)
     return run_plans(plans, args)
 
 
@@ -400,6 +492,7 @@ def mesh_main(args) -> int:
 def run_plans(plans: list[Plan], args) -> int:
     """Renders (or takes from the cache) each plan in turn, copying its files to --out."""
     done = 0
+    several = len({p.scene.name for p in plans}) > 1
 
     def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
         raise KeyboardInterrupt
@@ -411,13 +504,11 @@ def run_plans(plans: list[Plan], args) -> int:
             folder, was_cached = render(plan, args.cache, force=args.force,
                                         progress=not args.quiet and sys.stderr.isatty())
             if args.out:
-                out = Path(args.out)
-                if len(plans) > 1:
-                    out = out / plan.scene.name
-                copy_result(plan, folder, out)
+                copy_result(plan, folder, output_folder(args.out, plan, several))
             verb = "exported" if plan.mesh_only else "rendered"
             how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
-            print(f"{plan.scene.name}: {how} -> {plan.result_files(folder)[-1]}"
+            what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
+            print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
                   + (f" (copied to {args.out})" if args.out else ""))
             done += 1
     except KeyboardInterrupt:

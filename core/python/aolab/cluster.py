@@ -1,0 +1,160 @@
+"""`aolab reference --workers N` and `--scheduler ADDRESS`: references rendered on a Dask
+cluster (Debian's python3-distributed), not a scheduler of AO Lab's own (docs/scale_out.md).
+
+Each job is one plan (a scene, camera and frame) and runs `reference.render` on a worker,
+exactly as `aolab reference` does in one process: Blender in the background, the result
+written to a temporary folder in the cache and renamed into place. So the cache keys, the
+atomic writes and the resume are the same, and the cache must be storage every worker and
+this process see at the same path (a shared file system when workers are on several
+machines).
+
+- **A worker lost mid-render** (its machine or process gone): the scheduler gives its job to
+  another worker (Dask's own retry of tasks whose worker died); the lost Blender dies with its
+  worker (`setpriv --pdeathsig`), and its temporary folder, never visible as an entry, is
+  removed by the next render's clean-up on that machine.
+- **Progress** counts jobs done / running / queued.
+- **Ctrl-C** (or SIGTERM) sets a cluster-wide event that every running job polls at each line
+  Blender prints, so their renders stop and clean up; queued jobs are cancelled. Finished
+  entries stay: running the same command again resumes.
+"""
+
+from __future__ import annotations
+
+import logging
+import signal
+import sys
+import time
+import uuid
+from pathlib import Path
+
+from . import reference
+
+#: How often a running job asks the cluster whether to stop (s): each ask is a round trip to
+#: the scheduler, and Blender prints several lines a second.
+STOP_POLL_S = 1.0
+#: How often the progress line is redrawn (s).
+PROGRESS_S = 0.5
+
+
+def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -> dict:
+    """One plan on a worker: reference.render, stopping when the client sets ``stop_event``."""
+    from distributed import Event
+    event = Event(stop_event)
+    last = [0.0, False]
+
+    def should_stop() -> bool:
+        now = time.monotonic()
+        if now - last[0] >= STOP_POLL_S:
+            last[0], last[1] = now, event.is_set()
+        return last[1]
+
+    t0 = time.perf_counter()
+    folder, cached = reference.render(plan, Path(cache), force=force, progress=False,
+                                      should_stop=should_stop)
+    import socket
+    return {"folder": str(folder), "cached": cached, "seconds": time.perf_counter() - t0,
+            "worker": socket.gethostname()}
+
+
+def connect(scheduler: str | None, workers: int):
+    """(client, cluster): a client of the scheduler at ``scheduler``, or of a new local cluster
+    of ``workers`` single-threaded worker processes on the loopback interface (Blender uses
+    every core of its machine itself)."""
+    from distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            return Client(scheduler, timeout="20s"), None
+        except (OSError, TimeoutError) as e:
+            raise reference.ReferenceError(
+                f"--scheduler {scheduler}: no Dask scheduler answers there ({e}); start one with "
+                "`dask scheduler` and workers with `dask worker ADDRESS` (docs/scale_out.md)") \
+                from None
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                           host="127.0.0.1", dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def run_plans(plans: list[reference.Plan], args) -> int:
+    """The plans as jobs on the cluster; their files copied to --out as they finish."""
+    from distributed import Event
+    cache = Path(args.cache).resolve() if args.cache else reference.default_cache()
+    cache.mkdir(parents=True, exist_ok=True)
+    several = len({p.scene.name for p in plans}) > 1
+    client, cluster = connect(getattr(args, "scheduler", None), args.workers)
+    stop = Event(f"aolab-stop-{uuid.uuid4().hex}", client=client)
+    futures = {}
+
+    def terminated(signum, frame):  # `kill` stops the jobs like Ctrl-C
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGTERM, terminated)
+    done = 0
+    try:
+        for plan in plans:
+            # pure=False: a key per submission, so that a second run re-submits; the cache
+            # makes a finished job return at once.
+            f = client.submit(render_job, plan, str(cache), args.force, stop.name, pure=False,
+                              key=f"aolab-reference-{plan.key()}-{uuid.uuid4().hex[:8]}")
+            futures[f] = plan
+        pending = dict(futures)
+        quiet = args.quiet or not sys.stderr.isatty()
+        last = 0.0
+        while pending:
+            finished = [f for f in pending if f.done()]
+            for f in finished:
+                plan = pending.pop(f)
+                result = f.result()   # a job's error (a ReferenceError) is the command's
+                folder = Path(result["folder"])
+                if args.out:
+                    reference.copy_result(plan, folder,
+                                          reference.output_folder(args.out, plan, several))
+                what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
+                how = "cached" if result["cached"] else \
+                    f"rendered in {result['seconds']:.1f} s on {result['worker']}"
+                print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
+                      + (f" (copied to {args.out})" if args.out else ""), flush=True)
+                done += 1
+            now = time.monotonic()
+            if not quiet and now - last >= PROGRESS_S:
+                running = _running(client, pending)
+                print(f"\r  jobs: {done} done, {running} running, "
+                      f"{len(pending) - running} queued ", end="", file=sys.stderr, flush=True)
+                last = now
+            if pending:
+                time.sleep(0.1)
+        if not quiet:
+            print(file=sys.stderr)
+    except KeyboardInterrupt:
+        stop.set()
+        client.cancel(list(futures))
+        print(f"\ninterrupted after {done} of {len(plans)} jobs; the running renders are "
+              "stopped; run the same command again to resume (finished jobs come from the "
+              "cache)", file=sys.stderr)
+        _wait_for_stops(client, futures)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, old)
+        client.close()
+        if cluster is not None:
+            cluster.close()
+        reference._remove_stale_temporaries(cache)
+    return 0
+
+
+def _running(client, pending: dict) -> int:
+    """How many of the pending jobs a worker is running now."""
+    keys = {f.key for f in pending}
+    try:
+        processing = client.processing()
+    except Exception:   # the scheduler busy or gone: the count is only a display
+        return 0
+    return sum(1 for tasks in processing.values() for k in tasks if k in keys)
+
+
+def _wait_for_stops(client, futures: dict, timeout_s: float = 30.0) -> None:
+    """Gives the running jobs time to kill their Blender and remove their temporary folders
+    (they poll the stop event every STOP_POLL_S)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline and _running(client, futures):
+        time.sleep(0.2)
