@@ -983,8 +983,9 @@ class Study:
             "title": _manifest(folder).get("title", name), "samples": _samples(previous),
             "flicker_floor": {
                 "value": float(np.mean(floor)), "pairs": floors, "estimated": True,
-                "source": "estimated from the reference's own values: binomial noise "
-                          "v(1 - v)/N per pixel and frame, independent between frames"}
+                "source": "upper estimate from the reference's own values: binomial noise "
+                          "v(1 - v)/N per pixel and frame, independent between frames (2-4x "
+                          "the noise Cycles' stratified samples have on the stills)"}
             if floor else None}
         mine = [r for r in self.rows if r.get("sequence") == name]
         for r in aggregate(mine, names, name, unit="frame"):
