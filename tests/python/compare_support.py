@@ -142,3 +142,40 @@ def parse_report(path: Path) -> PlotPoints:
     p = PlotPoints()
     p.feed(Path(path).read_text(encoding="utf-8"))
     return p
+
+
+#: The synthetic sequence of make_sequence: frames 1, 3, 5, 7 (step 2) of a 96x54 window
+#: into room that moves SHIFT px to the right from one frame to the next.
+SEQUENCE_FRAMES = {"start": 1, "end": 7, "step": 2}
+SEQUENCE_SIZE = (96, 54)
+SEQUENCE_SHIFT = 4
+
+
+def make_sequence(scenes: Path, name: str = "pan") -> Path:
+    """A sequence scene folder cut from room's committed reference: each frame the same-sized
+    window moved SEQUENCE_SHIFT px right of the frame before, its sidecar's cx moved with it,
+    so the camera pans (a shift of the principal point is a pan of a pinhole camera's image
+    plane; the reference, rendered once, is exact for every frame)."""
+    g = aolab.load_gbuffer(SCENES / "room" / "reference.exr")
+    folder = scenes / name
+    folder.mkdir(parents=True)
+    manifest = json.loads((SCENES / "room" / "manifest.json").read_text())
+    manifest.update(name=name, title="room, panned", frames=SEQUENCE_FRAMES,
+                    resolution=list(SEQUENCE_SIZE))
+    (folder / "manifest.json").write_text(json.dumps(manifest, indent=1))
+    w, h = SEQUENCE_SIZE
+    f = SEQUENCE_FRAMES
+    for i, frame in enumerate(range(f["start"], f["end"] + 1, f["step"])):
+        x0, y0 = 560 + SEQUENCE_SHIFT * i, 380
+        window = (slice(y0, y0 + h), slice(x0, x0 + w))
+        crop = aolab.GBuffer(np.ascontiguousarray(g.depth[window]),
+                             np.ascontiguousarray(g.normal[window]),
+                             fx=g.fx, fy=g.fy, cx=g.cx - x0, cy=g.cy - y0,
+                             background_depth=g.background_depth)
+        out = folder / "frames" / f"{frame:04d}"
+        out.mkdir(parents=True)
+        aolab.save_gbuffer(out / "reference.exr", crop,
+                           reference=np.ascontiguousarray(g.reference[window]),
+                           sidecar={"ao_distance": g.sidecar["ao_distance"],
+                                    "samples": g.sidecar["samples"], "frame": frame})
+    return folder

@@ -29,11 +29,28 @@ def test_scene_is_complete_and_rendered_as_the_protocol_says(folder):
                 "effects", "tests"):
         assert key in manifest, key
     assert manifest["name"] == folder.name and (folder / manifest["build"]).exists()
-    exr = folder / "reference.exr"
+    frames = manifest.get("frames")
+    if frames is None:
+        exrs = [folder / "reference.exr"]
+        size = [1280, 720]
+    else:   # a sequence: frames/NNNN/reference.exr per frame, at the manifest's resolution
+        numbers = range(frames["start"], frames["end"] + 1, frames["step"])
+        exrs = [folder / "frames" / f"{f:04d}" / "reference.exr" for f in numbers]
+        size = manifest["resolution"]
+        if not (folder / "frames").exists():
+            pytest.skip(f"sequence {folder.name} not rendered yet: aolab reference "
+                        f"{folder.name} --frames {frames['start']}-{frames['end']}")
+    for exr in exrs:
+        check_rendered(folder, manifest, exr, size)
+
+
+def check_rendered(folder, manifest, exr, size):
+    """One rendered reference of a scene (a still's, or a frame of a sequence) as the protocol
+    says."""
     assert exr.exists(), f"not rendered yet: scripts/update_references.sh {folder.name}"
     g = aolab.load_gbuffer(exr)
     side = g.sidecar
-    assert [g.width, g.height] == manifest["resolution"] == [1280, 720]
+    assert [g.width, g.height] == manifest["resolution"] == size
     assert side["samples"] == 1024 and side["ao_distance"] == manifest["radius"]
     assert side["render"]["use_adaptive_sampling"] is False
     assert side["render"]["max_bounces"] == 0 and side["render"]["filter_width"] == 0.01

@@ -53,11 +53,12 @@ BASELINE = "baseline_one"
 LIMIT_KIND = "limit"
 
 #: results.csv columns before the per-region metrics.
-BASE_COLUMNS = ("key", "scene", "kind", "method", "label", "preset", "settings", "threads",
+BASE_COLUMNS = ("key", "scene", "sequence", "frame", "kind", "method", "label", "preset",
+                "settings", "threads",
                 "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
                 "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "runs",
                 "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
-                "occluded_mae_vs_limit", "occluded_mae_definition", "flag", "note")
+                "occluded_mae_vs_limit", "occluded_mae_definition", "flicker", "flag", "note")
 
 
 def columns() -> list[str]:
@@ -124,14 +125,55 @@ def find_scenes_dir() -> Path | None:
     return None
 
 
+#: A sequence scene's folder of frames: frames/NNNN/reference.exr (docs/file_formats.md).
+FRAMES_DIR = "frames"
+#: Between a sequence's name and its frame number in the scene name of a frame's rows.
+FRAME_SEPARATOR = "@"
+
+
+def frame_numbers(folder: Path) -> list[int] | None:
+    """The frames of a sequence scene (its manifest's ``"frames": {"start", "end", "step"}``),
+    or None for a still scene. A malformed "frames" is a ValueError naming it."""
+    spec = _manifest(folder).get("frames")
+    if spec is None:
+        return None
+    keys = ("start", "end", "step")
+    ok = isinstance(spec, dict) and all(isinstance(spec.get(k), int)
+                                        and not isinstance(spec.get(k), bool) for k in keys)
+    if not ok or not (0 <= spec["start"] <= spec["end"] <= 9999 and spec["step"] >= 1):
+        raise ValueError(f"scene {folder.name!r}: manifest.json \"frames\" must be "
+                         '{"start": S, "end": E, "step": T} with integers 0 <= S <= E <= 9999 '
+                         f"and T >= 1, got {spec!r}")
+    return list(range(spec["start"], spec["end"] + 1, spec["step"]))
+
+
+def frame_folder(folder: Path, frame: int) -> Path:
+    """Where frame ``frame`` of a sequence lives: ``folder/frames/NNNN``."""
+    return Path(folder) / FRAMES_DIR / f"{frame:04d}"
+
+
+def frame_scene_name(sequence: str, frame: int) -> str:
+    """The scene name of a frame's rows: ``<sequence>@NNNN``."""
+    return f"{sequence}{FRAME_SEPARATOR}{frame:04d}"
+
+
+def is_scene(folder: Path) -> bool:
+    """A still scene with its reference.exr, or a sequence with its first frame rendered."""
+    if (folder / "reference.exr").exists():
+        return True
+    frames = frame_numbers(folder) if (folder / "manifest.json").exists() else None
+    return bool(frames) and (frame_folder(folder, frames[0]) / "reference.exr").exists()
+
+
 def resolve_scenes(specs: list[str], scenes_dir: Path | None) -> list[Path]:
-    """Folders holding reference.exr: names in ``scenes_dir``, folders, or .exr paths (their
-    folder). No spec: every folder of ``scenes_dir`` with a reference.exr, sorted."""
+    """Scene folders (is_scene): names in ``scenes_dir``, folders, or .exr paths (their
+    folder). No spec: every scene folder of ``scenes_dir``, sorted (a sequence not rendered
+    yet is left out)."""
     if not specs:
         if scenes_dir is None:
             raise ValueError("no reference_scenes folder found: run from the repository, pass "
                              "--scenes-dir, or set AOLAB_SCENES")
-        found = sorted(p for p in Path(scenes_dir).iterdir() if (p / "reference.exr").exists())
+        found = sorted(p for p in Path(scenes_dir).iterdir() if p.is_dir() and is_scene(p))
         if not found:
             raise ValueError(f"no scene with a reference.exr in {scenes_dir}")
         return found
@@ -142,8 +184,11 @@ def resolve_scenes(specs: list[str], scenes_dir: Path | None) -> list[Path]:
             p = p.parent
         elif not p.exists() and scenes_dir is not None:
             p = Path(scenes_dir) / spec
-        if not (p / "reference.exr").exists():
-            raise ValueError(f"scene {spec!r}: no reference.exr found (looked in {p})")
+        if not is_scene(p):
+            frames = frame_numbers(p) if (p / "manifest.json").exists() else None
+            where = (f"{frame_folder(p, frames[0]) / 'reference.exr'} (a sequence: render "
+                     "its frames with `aolab reference --frames`)" if frames else p)
+            raise ValueError(f"scene {spec!r}: no reference.exr found (looked in {where})")
         out.append(p)
     return out
 
@@ -258,15 +303,22 @@ class Scene:
     #: The scene's screen-space limit: its committed thickness with the lowest occluded MAE
     #: (a Peer), against which each method's approximation error is measured; None without.
     limit: object = None
+    #: A frame of a sequence: the sequence's name and the frame number (None for a still).
+    sequence: str | None = None
+    frame: int | None = None
+    #: A frame's scored images by (kind, method, label), kept for the flicker against the
+    #: next frame; None for a still scene, whose images are not kept.
+    outputs: dict | None = None
 
 
-def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
+def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None) -> tuple:
     """(G-buffer, reference AO, R, the crop fitted to the frame or None) of a scene folder,
-    cropped to a centred ``crop`` if given."""
+    cropped to a centred ``crop`` if given; ``name`` (default: the folder's) in errors."""
+    shown = name or folder.name
     g = aolab.load_gbuffer(folder / "reference.exr")
     sidecar = g.sidecar or {}
     if "ao_distance" not in sidecar:
-        raise ValueError(f"scene {folder.name!r}: its sidecar ({folder / 'reference.json'}) "
+        raise ValueError(f"scene {shown!r}: its sidecar ({folder / 'reference.json'}) "
                          "has no 'ao_distance', the R the reference was rendered with, which "
                          "the study runs every method at; render it with `aolab reference`")
     try:
@@ -274,10 +326,10 @@ def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
     except (TypeError, ValueError):
         radius = math.nan
     if not (math.isfinite(radius) and radius > 0):
-        raise ValueError(f"scene {folder.name!r}: ao_distance must be a finite number > 0, got "
+        raise ValueError(f"scene {shown!r}: ao_distance must be a finite number > 0, got "
                          f"{sidecar['ao_distance']!r}")
     if g.reference is None:
-        raise ValueError(f"scene {folder.name!r}: reference.exr has no AO pass to score against")
+        raise ValueError(f"scene {shown!r}: reference.exr has no AO pass to score against")
     reference = np.asarray(g.reference, np.float32)
     if crop is not None:
         crop = crop.fit(g.width, g.height)
@@ -293,20 +345,41 @@ def load_cropped(folder: Path, crop: Crop | None = None) -> tuple:
     where = "" if crop is None else f" in the {crop.width}x{crop.height} crop"
     valid = np.asarray(g.valid_mask(), bool)
     if not valid.any():
-        raise ValueError(f"scene {folder.name!r}: reference.exr has no geometry pixel{where} "
+        raise ValueError(f"scene {shown!r}: reference.exr has no geometry pixel{where} "
                          "(its depth is background everywhere), so there is nothing to score")
     if not np.isfinite(reference[valid]).any():
-        raise ValueError(f"scene {folder.name!r}: the AO pass of reference.exr has no finite "
+        raise ValueError(f"scene {shown!r}: the AO pass of reference.exr has no finite "
                          f"value on any geometry pixel{where} (all NaN or infinite), so there is "
                          "nothing to score against; render the reference again")
     return g, reference, radius, crop
 
 
-def load_scene(folder: Path, crop: Crop | None = None) -> Scene:
-    g, reference, radius, crop = load_cropped(folder, crop)
+def load_scene(folder: Path, crop: Crop | None = None, name: str | None = None) -> Scene:
+    g, reference, radius, crop = load_cropped(folder, crop, name)
     masks = region_masks(g, reference, radius)
     peers, notes = load_peers(folder, reference.shape, crop)
-    return Scene(folder.name, folder, g, reference, radius, masks, peers, notes)
+    return Scene(name or folder.name, folder, g, reference, radius, masks, peers, notes)
+
+
+def check_sequence(folder: Path, crop: Crop | None = None) -> None:
+    """Every frame of a sequence loads (load_cropped) and all have the first frame's size and
+    R, so that consecutive frames compare pixel by pixel; a ValueError names the frame."""
+    first = None
+    for frame in frame_numbers(folder):
+        where = frame_folder(folder, frame)
+        name = frame_scene_name(folder.name, frame)
+        if not (where / "reference.exr").exists():
+            raise ValueError(f"scene {folder.name!r}: frame {frame} has no reference.exr "
+                             f"(looked in {where}); render the sequence with `aolab reference "
+                             "--frames`")
+        g, reference, radius, _ = load_cropped(where, crop, name)
+        if first is None:
+            first = (reference.shape, radius)
+        elif (reference.shape, radius) != first:
+            raise ValueError(f"scene {name!r}: {reference.shape[1]}x{reference.shape[0]} at "
+                             f"R = {radius:g}, but the sequence's first frame is "
+                             f"{first[0][1]}x{first[0][0]} at R = {first[1]:g}: every frame "
+                             "of a sequence must have the same size and R")
 
 
 # ----------------------------------------------------------------------------------------
@@ -429,6 +502,49 @@ def vs_limit(ao: np.ndarray, scene: Scene) -> float | None:
 
 
 # ----------------------------------------------------------------------------------------
+# Temporal stability (docs/comparison.md, "Temporal stability")
+
+
+def flicker(ao_prev: np.ndarray, ao: np.ndarray, ref_prev: np.ndarray, ref: np.ndarray,
+            valid_prev: np.ndarray, valid: np.ndarray) -> float | None:
+    """The flicker of a pair of consecutive frames: the mean over the pixels scored in both of
+    |(AO_t - AO_t-1) - (Ref_t - Ref_t-1)|, the change of a method's image that the reference's
+    change does not explain; None when no pixel is scored in both."""
+    both = np.asarray(valid_prev, bool) & np.asarray(valid, bool)
+    if not both.any():
+        return None
+    change = ao[both].astype(np.float64) - ao_prev[both]
+    wanted = ref[both].astype(np.float64) - ref_prev[both]
+    return float(np.mean(np.abs(change - wanted)))
+
+
+def flicker_floor(ref_prev: np.ndarray, ref: np.ndarray, valid_prev: np.ndarray,
+                  valid: np.ndarray, samples: int) -> float | None:
+    """The flicker the reference's own Monte Carlo noise gives a noise-free method, estimated
+    from the two frames themselves: each pixel's AO is a mean of ``samples`` binary rays
+    (occluded or not), of variance v(1 - v)/N; the noises of two frames are independent, so
+    their difference has variance s^2 = v_t(1 - v_t)/N + v_t-1(1 - v_t-1)/N and, taken as
+    normal, a mean absolute value s·sqrt(2/pi). The mean of that over the pixels scored in both
+    frames; None when ``samples`` is unknown (< 1) or no pixel is scored in both. Cycles'
+    stratified samples are less noisy than independent rays, so this is an upper estimate."""
+    both = np.asarray(valid_prev, bool) & np.asarray(valid, bool)
+    if samples < 1 or not both.any():
+        return None
+    a = np.clip(ref_prev[both].astype(np.float64), 0.0, 1.0)
+    b = np.clip(ref[both].astype(np.float64), 0.0, 1.0)
+    s = np.sqrt((a * (1 - a) + b * (1 - b)) / samples)
+    return float(np.mean(s) * math.sqrt(2 / math.pi))
+
+
+def _samples(scene: Scene) -> int:
+    """The reference's samples per pixel from its sidecar (0 when unknown)."""
+    try:
+        return int((scene.g.sidecar or {}).get("samples") or 0)
+    except (TypeError, ValueError):
+        return 0
+
+
+# ----------------------------------------------------------------------------------------
 # Timing
 
 
@@ -471,6 +587,8 @@ def _row(scene: Scene | str, kind: str, method: str, label: str, **extra) -> dic
            "method": method, "label": label, "note": ""}
     if not isinstance(scene, str):
         row.update(width=scene.g.width, height=scene.g.height, radius=scene.radius)
+        if scene.sequence is not None:
+            row.update(sequence=scene.sequence, frame=scene.frame)
     row.update(extra)
     return row
 
@@ -479,6 +597,14 @@ def _add_scores(row: dict, scored: dict) -> None:
     row["calib_a"], row["calib_b"] = scored["calib_a"], scored["calib_b"]
     row["occluded_mae_definition"] = scored.get("occluded_definition")
     row["metrics"] = {region: dict(m) for region, m in scored["regions"].items()}
+
+
+def _score_row(scene: Scene, row: dict, ao: np.ndarray, scored: dict | None = None) -> None:
+    """Scores ``row`` (``scored``: its scores when already computed) and, on a frame of a
+    sequence, keeps ``ao`` for the flicker against the next frame."""
+    _add_scores(row, scored if scored is not None else score(ao, scene))
+    if scene.outputs is not None:
+        scene.outputs[(row["kind"], row["method"], row["label"])] = ao
 
 
 def flag_rows(rows: list[dict]) -> None:
@@ -496,25 +622,29 @@ def flag_rows(rows: list[dict]) -> None:
         r["flag"] = "weak" if ratio > WEAK_FRACTION else ""
 
 
-def aggregate(rows: list[dict], scene_names: list[str]) -> list[dict]:
-    """Rows of scene "ALL": per (kind, method, label), the mean over the scenes that have it of
-    every metric and time (counts summed). Only complete scenes take part."""
+def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SCENE,
+              unit: str = "scene") -> list[dict]:
+    """Rows of scene ``name`` ("ALL", or a sequence over its frames, ``unit`` "frame"): per
+    (kind, method, label), the mean over the scenes that have it of every metric and time
+    (counts summed). Only complete scenes take part."""
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
         if r["scene"] in scene_names and "metrics" in r:
             groups.setdefault((r["kind"], r["method"], r["label"]), []).append(r)
     out = []
     for (kind, method, label), rs in groups.items():
-        agg = _row(AGGREGATE_SCENE, kind, method, label, n_scenes=len(rs),
+        agg = _row(name, kind, method, label, n_scenes=len(rs),
                    preset=rs[0].get("preset", ""), settings=rs[0].get("settings", {}),
                    threads=rs[0].get("threads"),
-                   note=f"mean over {len(rs)} scene(s): {', '.join(r['scene'] for r in rs)}")
+                   note=f"mean over {len(rs)} {unit}(s): {', '.join(r['scene'] for r in rs)}")
         for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
                     "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b",
-                    "occluded_mae_vs_limit", "occluded_mae_definition"):
+                    "occluded_mae_vs_limit", "occluded_mae_definition", "flicker"):
             vals = [r[col] for r in rs if r.get(col) is not None]
-            # against the limit: over the scenes that have one (as the split's limit line)
-            if vals and (len(vals) == len(rs) or col == "occluded_mae_vs_limit"):
+            # against the limit: over the scenes that have one (as the split's limit line);
+            # the flicker: over the frame pairs (a sequence's first frame has none) or over
+            # the sequences
+            if vals and (len(vals) == len(rs) or col in ("occluded_mae_vs_limit", "flicker")):
                 agg[col] = float(np.mean(vals))
         metrics = {}
         for region in REGIONS:
@@ -785,7 +915,10 @@ class Study:
         scenes_dir = opts.scenes_dir or find_scenes_dir()
         folders = resolve_scenes(opts.scenes, scenes_dir)
         for folder in folders:  # every scene's errors before any work
-            load_cropped(folder, opts.crop)
+            if frame_numbers(folder):
+                check_sequence(folder, opts.crop)
+            else:
+                load_cropped(folder, opts.crop)
         # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
         # when named.
         methods = opts.methods if opts.methods else [
@@ -795,8 +928,8 @@ class Study:
             if m not in known:
                 raise ValueError(f"method {m!r} is not one of {known}")
         plan = {m: _method_runs(m, opts.sweep) for m in methods}
-        n_units = len(folders) * (1 + sum(len(v) for v in plan.values())
-                                  + len(opts.rtao_ladder))
+        frames = sum(len(frame_numbers(f) or [None]) for f in folders)
+        n_units = frames * (1 + sum(len(v) for v in plan.values()) + len(opts.rtao_ladder))
         self.meta = {
             "command": "aolab compare", "argv": sys.argv[1:],
             "started": time.strftime("%Y-%m-%d %H:%M:%S"), "sweep": opts.sweep,
@@ -815,7 +948,10 @@ class Study:
         bar = _progress(opts.progress, n_units)
         try:
             for folder in folders:
-                self._run_scene(folder, plan, threads, bar)
+                if frame_numbers(folder):
+                    self._run_sequence(folder, plan, threads, bar)
+                else:
+                    self._run_scene(folder, plan, threads, bar)
         finally:
             if bar is not None:
                 bar.close()
@@ -824,11 +960,67 @@ class Study:
         self.publish()
         return results
 
-    def _run_scene(self, folder: Path, plan: dict, threads: int, bar) -> None:
+    def _run_sequence(self, folder: Path, plan: dict, threads: int, bar) -> None:
+        """Each frame scored as a scene of its own (rows of scene <name>@NNNN with ``sequence``
+        and ``frame``), each row's flicker against the frame before, the reference's flicker
+        floor per pair, then the sequence's rows (scene <name>): means over its frames, the
+        flicker over its pairs. The images shown are the first frame's."""
+        name = folder.name
+        frames = frame_numbers(folder)
+        names = [frame_scene_name(name, f) for f in frames]
+        floors, previous = [], None
+        for frame, frame_name in zip(frames, names):
+            scene = self._run_scene(frame_folder(folder, frame), plan, threads, bar,
+                                    name=frame_name, sequence=(name, frame))
+            if previous is not None:
+                floors.append(self._flicker(previous, scene))
+            previous = scene
+        first = self.scene_info[names[0]]
+        floor = [f for f in floors if f is not None]
+        self.scene_info[name] = {
+            "folder": str(folder), "sequence": True, "frames": frames, "frame_scenes": names,
+            "width": first["width"], "height": first["height"], "radius": first["radius"],
+            "title": _manifest(folder).get("title", name), "samples": _samples(previous),
+            "flicker_floor": {
+                "value": float(np.mean(floor)), "pairs": floors, "estimated": True,
+                "source": "upper estimate from the reference's own values: binomial noise "
+                          "v(1 - v)/N per pixel and frame, independent between frames (2-4x "
+                          "the noise Cycles' stratified samples have on the stills)"}
+            if floor else None}
+        mine = [r for r in self.rows if r.get("sequence") == name]
+        for r in aggregate(mine, names, name, unit="frame"):
+            r["sequence"] = name
+            self.rows.append(r)
+        self.images[name] = self.images.get(names[0])
+        self.complete_scenes.append(name)
+        self.write(partial=True)
+
+    def _flicker(self, previous: Scene, scene: Scene) -> float | None:
+        """Sets the flicker of every row of ``scene`` scored in both frames (against
+        ``previous``) and returns the reference's flicker floor for the pair."""
+        valid_prev, valid = previous.regions["all"], scene.regions["all"]
+        for r in self.rows:
+            if r["scene"] != scene.name:
+                continue
+            kept = (r["kind"], r["method"], r["label"])
+            if kept in previous.outputs and kept in scene.outputs:
+                r["flicker"] = flicker(previous.outputs[kept], scene.outputs[kept],
+                                       previous.reference, scene.reference, valid_prev, valid)
+        previous.outputs = None     # only the frame before is needed: free its images
+        return flicker_floor(previous.reference, scene.reference, valid_prev, valid,
+                             min(_samples(previous), _samples(scene)))
+
+    def _run_scene(self, folder: Path, plan: dict, threads: int, bar, name: str | None = None,
+                   sequence: tuple[str, int] | None = None) -> Scene:
+        """One scene (or, with ``name`` and ``sequence`` = (its name, the frame), one frame of
+        a sequence, whose images are then kept for the flicker)."""
         opts = self.opts
         if bar is not None:
-            bar.set_description(f"{folder.name}: loading")
-        scene = load_scene(folder, opts.crop)
+            bar.set_description(f"{name or folder.name}: loading")
+        scene = load_scene(folder, opts.crop, name)
+        if sequence is not None:
+            scene.sequence, scene.frame = sequence
+            scene.outputs = {}
         self.notes.extend(f"{scene.name}: {n}" for n in scene.notes)
         self.scene_info[scene.name] = {
             "folder": str(folder), "width": scene.g.width, "height": scene.g.height,
@@ -842,7 +1034,7 @@ class Study:
         # The baseline, AO = 1 everywhere: no occlusion at all, no time.
         base = _row(scene, "baseline", BASELINE, "AO=1", preset="", settings={},
                     note="no occlusion at all (AO = 1 everywhere)")
-        _add_scores(base, score(np.ones_like(scene.reference), scene))
+        _score_row(scene, base, np.ones_like(scene.reference))
         self.rows.append(base)
         self._peers(scene)
         if bar is not None:
@@ -857,8 +1049,10 @@ class Study:
         self._rtao_ladder(scene, threads, images, bar)
         self._noise_floor(scene)
         self.images[scene.name] = scene_images(scene, images, self.rows, opts.image_width)
-        self.complete_scenes.append(scene.name)
+        if sequence is None:   # a sequence is complete with its last frame (_run_sequence)
+            self.complete_scenes.append(scene.name)
         self.write(partial=True)
+        return scene
 
     def _run_config(self, scene, method, compute_settings, settings, threads, images):
         opts = self.opts
@@ -897,7 +1091,7 @@ class Study:
                 row["note"] = (f"output has shape {ao.shape} (RGB, e.g. colour bleeding): timed, "
                                "not scored against the grey AO reference")
             else:
-                _add_scores(row, scored[0])
+                _score_row(scene, row, ao, scored[0])
                 row["occluded_mae_vs_limit"] = scored[1]
                 images.offer(row, ao)
             self.rows.append(row)
@@ -932,7 +1126,7 @@ class Study:
                             f"{build_ms:.1f} ms, apart (not in the time)",
                        **_time_fields("method", times))
             row["total_ms"] = row["method_ms"]
-            _add_scores(row, score(ao, scene))
+            _score_row(scene, row, ao)
             row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
             images.offer(row, ao)
             self.rows.append(row)
@@ -948,7 +1142,7 @@ class Study:
             row = _row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
                        settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
                        note=p.entry.get("note", ""))
-            _add_scores(row, score(p.ao, scene))
+            _score_row(scene, row, p.ao)
             self.rows.append(row)
             mine.append((p, row))
         limits = [(p, r) for p, r in mine if p.kind == LIMIT_KIND
@@ -1070,7 +1264,8 @@ def main(args) -> int:
     finally:
         signal.signal(signal.SIGTERM, previous)
     meta = results["meta"]
-    n = sum(1 for r in results["rows"] if r["kind"] == "method" and r["scene"] != AGGREGATE_SCENE)
+    # a sequence's configurations are counted once (its rows over the frames), not per frame
+    n = sum(1 for r in results["rows"] if r["kind"] == "method" and r["scene"] in meta["scenes"])
     print(f"aolab compare: {n} configurations on {len(meta['scenes'])} scenes in "
           f"{meta['elapsed_s']:.0f} s ({meta['machine']['threads']} threads, "
           f"{meta['machine']['cpu']}) -> {opts.out}/report.html, results.csv, results.json")

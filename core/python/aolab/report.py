@@ -180,6 +180,23 @@ def _marker(shape: str, x: float, y: float, r: float, attrs: str) -> str:
     return f'<circle cx="{x:.2f}" cy="{y:.2f}" r="{r:.2f}" {attrs}/>'
 
 
+def _axes(out: list[str], ticks: list[float], py, box: tuple, x_label: str,
+          y_label: str) -> None:
+    """A plot's horizontal grid lines at ``ticks`` (``py`` maps a value to its y) with their
+    labels, and the two axis titles; ``box`` = (left, top, width, height of the plot area,
+    height of the image)."""
+    ml, mt, pw, ph, height = box
+    for v in ticks:
+        Y = py(v)
+        out.append(f'<line x1="{ml}" y1="{Y:.2f}" x2="{ml + pw}" y2="{Y:.2f}" class="grid"/>')
+        out.append(f'<text x="{ml - 6}" y="{Y + 4:.2f}" class="tick" text-anchor="end">'
+                   f'{_tick_label(v)}</text>')
+    out.append(f'<text x="{ml + pw / 2:.1f}" y="{height - 8}" class="axis" text-anchor="middle">'
+               f'{html.escape(x_label)}</text>')
+    out.append(f'<text transform="translate(14,{mt + ph / 2:.1f}) rotate(-90)" class="axis" '
+               f'text-anchor="middle">{html.escape(y_label)}</text>')
+
+
 def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_better: bool,
              hlines: list[dict], standalone: bool = False) -> str:
     """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
@@ -234,15 +251,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
             if m == 1 or (x1 - x0) <= 2:
                 out.append(f'<text x="{X:.2f}" y="{mt + ph + 16}" class="tick" '
                            f'text-anchor="middle">{_tick_label(v)}</text>')
-    for v in _nice_ticks(y0, y1):
-        Y = py(v)
-        out.append(f'<line x1="{ml}" y1="{Y:.2f}" x2="{ml + pw}" y2="{Y:.2f}" class="grid"/>')
-        out.append(f'<text x="{ml - 6}" y="{Y + 4:.2f}" class="tick" text-anchor="end">'
-                   f'{_tick_label(v)}</text>')
-    out.append(f'<text x="{ml + pw / 2:.1f}" y="{height - 8}" class="axis" text-anchor="middle">'
-               'time per frame, ms (log scale; method + blur)</text>')
-    out.append(f'<text transform="translate(14,{mt + ph / 2:.1f}) rotate(-90)" class="axis" '
-               f'text-anchor="middle">{html.escape(label)}</text>')
+    _axes(out, _nice_ticks(y0, y1), py, (ml, mt, pw, ph, height),
+          "time per frame, ms (log scale; method + blur)", label)
     # Horizontal lines: AO = 1 baseline, noise floor.
     for h in lines:
         Y = py(h["value"])
@@ -406,6 +416,166 @@ def table(rows: list[dict], floor: dict | None) -> str:
 
 
 # ----------------------------------------------------------------------------------------
+# Temporal stability: sequences (docs/comparison.md, "Temporal stability")
+
+#: Settings that draw a per-pixel random pattern fixed to the screen (aolab.method_info:
+#: "randomly per pixel", a blue-noise or tiled rotation, random directions or start steps):
+#: under a moving camera the pattern stays while the geometry slides beneath it. A setting
+#: counts as on when its value is true, a non-zero number or a name other than "none".
+NOISE_SETTINGS = ("random_rotation", "jitter", "noise", "rotation", "random_directions",
+                  "random_start")
+
+
+def per_pixel_noise(method: str, settings: dict) -> list[str]:
+    """The NOISE_SETTINGS that are on for ``method`` with a row's recorded ``settings`` (which
+    name only what differs from the method's defaults: aolab.method_info gives the rest)."""
+    import aolab
+    try:
+        values = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]}
+    except ValueError:      # a peer, the baseline or rtao: no method settings
+        values = {}
+    values.update(settings or {})
+    on = []
+    for name in NOISE_SETTINGS:
+        v = values.get(name)
+        off = isinstance(v, str) and v.lower() in ("none", "off", "false", "0")
+        if v is None or v is False or v == 0 or off:
+            continue
+        on.append(name if v is True or isinstance(v, (int, float)) else f"{name} {v}")
+    return on
+
+
+def sequence_best(rows: list[dict], budget_ms: float) -> list[dict]:
+    """Per method, among a sequence's rows (means over its frames), the configuration with the
+    lowest MAE on all scored pixels within ``budget_ms`` (else its fastest), as the images
+    choose; by method name."""
+    out = []
+    for m in sorted({r["method"] for r in rows if r["kind"] == "method"}):
+        mine = [r for r in rows if r["kind"] == "method" and r["method"] == m
+                and _num(r.get("total_ms")) is not None and metric(r, "all_mae") is not None]
+        fits = [r for r in mine if r["total_ms"] <= budget_ms]
+        if fits:
+            out.append(min(fits, key=lambda r: metric(r, "all_mae")))
+        elif mine:
+            out.append(min(mine, key=lambda r: r["total_ms"]))
+    return out
+
+
+def frames_plot(plot_id: str, frame_rows: list[dict], best: list[dict],
+                standalone: bool = False) -> str:
+    """MAE on all scored pixels against the frame, one line per configuration of ``best``
+    through its rows of each frame (``frame_rows``). Every point is of class ``point`` with
+    data-key (the frame's row), data-metric "all_mae", data-x (the frame) and data-y; the
+    plot says data-x-column="frame"."""
+    width, height = 672, 300
+    ml, mr, mt, mb = 62, 232, 16, 44
+    pw, ph = width - ml - mr, height - mt - mb
+    lines = []
+    for i, b in enumerate(best):
+        pts = sorted((r["frame"], metric(r, "all_mae"), r) for r in frame_rows
+                     if r["kind"] == b["kind"] and r["method"] == b["method"]
+                     and r["label"] == b["label"] and metric(r, "all_mae") is not None)
+        if pts:
+            lines.append((b, PALETTE[i % len(PALETTE)], pts))
+    if not lines:
+        return "<p class='missing'>No frame has a scored configuration.</p>"
+    frames = sorted({f for _, _, pts in lines for f, _, _ in pts})
+    top = max(y for _, _, pts in lines for _, y, _ in pts) * 1.08 or 1.0
+    x0, x1 = frames[0], frames[-1] if frames[-1] > frames[0] else frames[0] + 1
+
+    def px(f):
+        return ml + (f - x0) / (x1 - x0) * pw
+
+    def py(y):
+        return mt + (1 - y / top) * ph
+
+    out = [f'<svg class="plot frames" id="{html.escape(plot_id)}" '
+           'xmlns="http://www.w3.org/2000/svg" '
+           f'width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
+           'data-metric="all_mae" data-x-column="frame" role="img" '
+           'aria-label="MAE against the frame">',
+           f'<rect x="{ml}" y="{mt}" width="{pw}" height="{ph}" class="frame"/>']
+    if standalone:
+        out.insert(1, f"<style>{SVG_CSS}</style>")
+    for f in frames:
+        X = px(f)
+        out.append(f'<line x1="{X:.2f}" y1="{mt}" x2="{X:.2f}" y2="{mt + ph}" class="grid"/>'
+                   f'<text x="{X:.2f}" y="{mt + ph + 16}" class="tick" text-anchor="middle">'
+                   f'{f}</text>')
+    _axes(out, _nice_ticks(0.0, top), py, (ml, mt, pw, ph, height), "frame",
+          "MAE, all scored pixels")
+    for i, (b, colour, pts) in enumerate(lines):
+        path = " ".join(f"{px(f):.2f},{py(y):.2f}" for f, y, _ in pts)
+        out.append(f'<polyline points="{path}" fill="none" stroke="{colour}" '
+                   'stroke-width="1.4"/>')
+        for f, y, r in pts:
+            out.append(f'<circle cx="{px(f):.2f}" cy="{py(y):.2f}" r="3.2" class="point" '
+                       f'fill="{colour}" data-key="{html.escape(r["key"])}" '
+                       f'data-metric="all_mae" data-x="{f}" data-y="{_fmt(y)}"><title>'
+                       f'{html.escape(r["key"])}: MAE {y:.4f}</title></circle>')
+        ly = mt + 10 + 16 * i
+        out.append(f'<rect x="{ml + pw + 12}" y="{ly - 8}" width="10" height="10" '
+                   f'fill="{colour}"/><text x="{ml + pw + 26}" y="{ly + 1}" class="legend">'
+                   f'{html.escape(b["method"] + " " + b["label"])}</text>')
+    out.append("</svg>")
+    return "\n".join(out)
+
+
+def flicker_entries(rows: list[dict]) -> list[dict]:
+    """A sequence's rows (means over its frames) that have a flicker, least first: the
+    configuration, its flicker, MAE, time and the per-pixel noise settings it has on."""
+    out = [{"key": r["key"], "kind": r["kind"], "method": r["method"], "label": r["label"],
+            "flicker": _num(r.get("flicker")), "mae": metric(r, "all_mae"),
+            "ms": _num(r.get("total_ms")),
+            # rtao draws its rays from a per-pixel hash: a random pattern too, not a setting
+            "noise": (["random rays per pixel"] if r["kind"] == "rtao" else
+                      per_pixel_noise(r["method"], r.get("settings") or {}))}
+           for r in rows if _num(r.get("flicker")) is not None]
+    return sorted(out, key=lambda e: (e["flicker"], e["method"], e["label"]))
+
+
+def flicker_table(entries: list[dict], floor: dict | None) -> str:
+    head = ("<tr><th>method</th><th>setting</th><th>flicker</th><th>MAE (mean over frames)"
+            "</th><th>ms</th><th>per-pixel random pattern</th></tr>")
+    body = []
+    if floor:
+        body.append(f'<tr class="floor"><td colspan="2">reference flicker floor (est.)</td>'
+                    f'<td>{_cell(floor.get("value"))}</td><td colspan="3">'
+                    f'{html.escape(floor.get("source", ""))}</td></tr>')
+    for e in entries:
+        noise = ", ".join(e["noise"]) if e["noise"] else "none"
+        body.append(f'<tr class="{e["kind"]}" data-key="{html.escape(e["key"])}" '
+                    f'data-flicker="{_fmt(e["flicker"])}"><td>{html.escape(e["method"])}</td>'
+                    f'<td>{html.escape(e["label"])}</td><td>{_cell(e["flicker"])}</td>'
+                    f'<td>{_cell(e["mae"])}</td><td>{_cell(e["ms"], ".1f")}</td>'
+                    f'<td>{html.escape(noise)}</td></tr>')
+    return f'<table class="check flicker">{head}{"".join(body)}</table>'
+
+
+def sequence_section(name: str, rows: list[dict], info: dict, budget_ms: float) -> str:
+    """A sequence's temporal stability: per-frame MAE of each method's best configuration
+    within the budget, and the flicker of every configuration, least first."""
+    frame_rows = [r for r in rows if r.get("sequence") == name and r.get("frame") is not None]
+    means = [r for r in rows if r["scene"] == name]
+    floor = info.get("flicker_floor")
+    return "\n".join([
+        f'<h3 id="temporal-{html.escape(name)}">Temporal stability</h3>',
+        f'<p class="note">Frames {", ".join(str(f) for f in info.get("frames", []))}, each '
+        'scored as a scene of its own (rows ' + html.escape(name) + '@NNNN in results.csv; the '
+        'plots and table above are their means). <b>Flicker</b>: the mean over pixels scored '
+        'in both frames of |(AO<sub>t</sub> − AO<sub>t−1</sub>) − (Ref<sub>t</sub> − '
+        'Ref<sub>t−1</sub>)|, averaged over consecutive frames: how much a configuration’s '
+        'image changes where the reference’s does not. The reference’s own flicker floor '
+        '(its noise alone) is ' + (f'{floor["value"]:.4f}, {html.escape(floor["source"])}'
+                                   if floor else 'unknown') + '. The last column names the '
+        'per-pixel random patterns a configuration has on (random rotation, jitter ...): fixed '
+        'to the screen, they stay while the geometry moves, so per-pixel random rotation and '
+        'jitter show what they cost in motion.</p>',
+        frames_plot(f"plot-{name}-frames", frame_rows, sequence_best(means, budget_ms)),
+        f'<div class="scroll">{flicker_table(flicker_entries(means), floor)}</div>'])
+
+
+# ----------------------------------------------------------------------------------------
 # The error split, the tuned presets and the check against EEVEE
 
 #: The parts of the error split: (key, label, colour).
@@ -512,6 +682,8 @@ def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list
               if tuned else {})
     out = []
     for name in results["meta"].get("scenes", []):
+        if (results.get("scenes", {}).get(name) or {}).get("sequence"):
+            continue    # a sequence has no peers: tuning and EEVEE are about the stills
         rows = [r for r in results["rows"] if r["scene"] == name]
         eevee = [metric(r, "occluded_mae") for r in rows if r["kind"] == "eevee"]
         eevee = eevee[0] if eevee else None
@@ -905,6 +1077,8 @@ def render_html(results: dict, images: dict) -> str:
                         + "</p>")
         body.append(scene_section(name, name, mine, info, images.get(name),
                                   meta.get("budget_ms", 0), f"plot-{name}"))
+        if info and info.get("sequence"):
+            body.append(sequence_section(name, rows, info, meta.get("budget_ms", 0)))
     if results.get("notes"):
         notes = "".join(f"<li>{html.escape(n)}</li>" for n in results["notes"])
         body.append(f"<h2>Notes</h2><ul>{notes}</ul>")

@@ -150,6 +150,51 @@ def rtao_section(results: dict, agg: list[dict]) -> list[str]:
     return out + [""]
 
 
+def temporal_section(results: dict) -> list[str]:
+    """"Temporal stability": per sequence scene, the reference's flicker floor, each method's
+    best configuration within the budget with its MAE per frame, and the flicker of every
+    configuration, least first (report.py's tables)."""
+    meta, scenes = results["meta"], results.get("scenes", {})
+    sequences = [n for n in meta.get("scenes", []) if (scenes.get(n) or {}).get("sequence")]
+    out = ["## Temporal stability", ""]
+    if not sequences:
+        return out + ["No sequence scene in this run (a scene whose manifest has \"frames\": "
+                      "[comparison.md](comparison.md#temporal-stability)).", ""]
+    out += ["Each frame of a sequence is scored as a scene of its own; the **flicker** is the "
+            "mean over pixels scored in both of two consecutive frames of "
+            "|(AO_t − AO_t−1) − (Ref_t − Ref_t−1)|, averaged over the pairs "
+            "([comparison.md](comparison.md#temporal-stability)). \"random pattern\" names the "
+            "per-pixel random rotation and jitter a configuration has on: fixed to the screen, "
+            "they show what they cost in motion.", ""]
+    budget = meta.get("budget_ms", 0)
+    for name in sequences:
+        info = scenes[name]
+        rows = [r for r in results["rows"] if r["scene"] == name]
+        frame_rows = [r for r in results["rows"]
+                      if r.get("sequence") == name and r.get("frame") is not None]
+        floor = info.get("flicker_floor")
+        frames = info.get("frames", [])
+        out += [f"### {name}", "",
+                f'Frames {", ".join(str(f) for f in frames)}, {info.get("width")}×'
+                f'{info.get("height")}, R = {info.get("radius")}; reference flicker floor: '
+                + (f'{_f(floor.get("value"))} ({floor["source"]}).' if floor else "unknown."),
+                "", f"MAE per frame, each method's best configuration within {budget:g} ms:", "",
+                "| method | setting | " + " | ".join(str(f) for f in frames) + " |",
+                "|---|---|" + "---|" * len(frames)]
+        for b in report.sequence_best(rows, budget):
+            mae = {r["frame"]: report.metric(r, "all_mae") for r in frame_rows
+                   if (r["kind"], r["method"], r["label"]) == (b["kind"], b["method"], b["label"])}
+            out.append(f'| {b["method"]} | {b["label"]} | '
+                       + " | ".join(_f(mae.get(f)) for f in frames) + " |")
+        out += ["", "| method | setting | flicker | MAE (mean over frames) | ms | random pattern |",
+                "|---|---|---|---|---|---|"]
+        for e in report.flicker_entries(rows):
+            out.append(f'| {e["method"]} | {e["label"]} | {_f(e["flicker"])} | {_f(e["mae"])} | '
+                       f'{_f(e["ms"], ".1f")} | {", ".join(e["noise"]) or "none"} |')
+        out.append("")
+    return out
+
+
 def generated(results: dict, image_dir: str = "images") -> str:
     meta = results["meta"]
     mc = meta.get("machine", {})
@@ -171,6 +216,7 @@ def generated(results: dict, image_dir: str = "images") -> str:
             lines.append("")
         lines += _table(agg) + [""]
         lines += study_sections(results, agg, image_dir)
+    lines += temporal_section(results)
     for name in meta.get("scenes", []):
         mine = [r for r in rows if r["scene"] == name]
         if not mine:
