@@ -21,9 +21,18 @@ done
 if [ ${#names[@]} -eq 0 ]; then
   for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
 fi
+is_sequence() {  # a sequence scene: its manifest names "frames" (frames/NNNN/reference.*)
+  /usr/bin/python3 -c 'import json, sys; sys.exit(0 if "frames" in json.load(open(sys.argv[1])) else 1)' "$1/manifest.json"
+}
 status=0
 for name in "${names[@]}"; do
   dir="$root/reference_scenes/$name"
+  if is_sequence "$dir"; then
+    # A sequence's geometry moves with its frames: aolab reference --passes ...,mesh renders
+    # it per frame beside each frame's reference; a mesh of the whole folder would be wrong.
+    echo "$name: a sequence scene, skipped (render its frames with --passes depth,normal,mesh)"
+    continue
+  fi
   /usr/bin/python3 -m aolab mesh "$dir" --out "$dir" "${force[@]}"
   if [ -f "$dir/reference.json" ]; then
     # aolab.mesh_for_gbuffer's own check, on the sidecar alone (no EXR needs reading).

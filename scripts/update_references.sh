@@ -29,7 +29,21 @@ done
 if [ ${#names[@]} -eq 0 ]; then
   for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
 fi
+is_sequence() {  # a sequence scene: its manifest names "frames" (frames/NNNN/reference.*)
+  /usr/bin/python3 -c 'import json, sys; sys.exit(0 if "frames" in json.load(open(sys.argv[1])) else 1)' "$1/manifest.json"
+}
 for name in "${names[@]}"; do
+  if is_sequence "$root/reference_scenes/$name"; then
+    # A sequence (manifest "frames"): one reference per frame into <name>/frames/NNNN/; the
+    # study scores its frames and their flicker, without peers or screen-space limits.
+    if [ "$limits" = 0 ] && [ "$peers" = 0 ]; then
+      /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --spp 1024 \
+        --out "$root/reference_scenes/$name" "${force[@]}"
+    else
+      echo "$name: a sequence scene has no peers or limits, skipped"
+    fi
+    continue
+  fi
   if [ "$limits" = 1 ]; then
     /usr/bin/python3 -m aolab limits "$root/reference_scenes/$name" "${force[@]}"
     continue
