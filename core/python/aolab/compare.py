@@ -867,7 +867,12 @@ class Study:
     def results(self, partial: bool) -> dict:
         rows = list(self.rows)
         flag_rows(rows)
-        agg = aggregate(rows, self.complete_scenes) if self.complete_scenes else []
+        # ALL is the mean over the still scenes: a sequence's frames have their own size (the
+        # committed one 320x180), so their times would pull the means of the stills' 1280x720
+        # times down; sequences have their own rows and section (temporal stability).
+        stills = [n for n in self.complete_scenes
+                  if not self.scene_info.get(n, {}).get("sequence")]
+        agg = aggregate(rows, stills) if stills else []
         meta = dict(self.meta)
         meta["partial"] = partial
         meta["finished"] = time.strftime("%Y-%m-%d %H:%M:%S")
