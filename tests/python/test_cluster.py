@@ -121,3 +121,35 @@ def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
     assert "--scheduler tcp://127.0.0.1:9" in r.stderr and "Traceback" not in r.stderr
+
+
+@needs_blender
+def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_path):
+    """Ctrl-C at a terminal sends SIGINT to the whole foreground process group: the command,
+    its local workers and their Blenders. The command ends with status 130, no Blender is
+    left, and the cache holds complete entries only; the same command then resumes."""
+    cache = tmp_path / "cache"
+    args = [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
+            FRAMES, "--spp", "1024", "--cache", str(cache), "--workers", "2"]
+    run = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not blender_children_of(set(), str(cache)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert blender_children_of(set(), str(cache)), "no render started"
+        os.killpg(run.pid, signal.SIGINT)
+        out, err = run.communicate(timeout=120)
+    finally:
+        if run.poll() is None:
+            os.killpg(run.pid, signal.SIGKILL)
+    assert run.returncode == 130, err[-2000:]
+    assert "interrupted" in err and "Traceback" not in err
+    time.sleep(1.0)
+    assert not blender_children_of(set(), str(cache))
+    assert not [p.name for p in cache.iterdir() if p.name.startswith(".")]
+    assert all((p / "reference.json").exists() for p in cache.iterdir())
+    # Resume: the same command finishes what is missing.
+    again = subprocess.run(args[:args.index("--spp") + 1] + ["64"] + args[args.index("--spp") + 2:],
+                           capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr[-2000:]

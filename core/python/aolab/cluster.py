@@ -69,9 +69,16 @@ def connect(scheduler: str | None, workers: int):
                 f"--scheduler {scheduler}: no Dask scheduler answers there ({e}); start one with "
                 "`dask scheduler` and workers with `dask worker ADDRESS` (docs/scale_out.md)") \
                 from None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    # Ctrl-C at a terminal reaches the whole process group. The workers start with SIGINT
+    # ignored (a disposition a new process keeps, and Python then installs no handler), so
+    # that only this process answers it, by stopping the jobs through the cluster.
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None,
+                               silence_logs=logging.ERROR)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return Client(cluster), cluster
 
 
