@@ -39,6 +39,7 @@ import aolab
 from . import presets as presets_mod
 from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .limits import LIMITS_DIR, LIMITS_JSON
+from .raytracing import RTAO_LADDER
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from .regions import REGIONS, region_masks
 from .report import WEAK_FRACTION, atomic_write_text
@@ -740,10 +741,6 @@ def write_results(out: Path, results: dict) -> None:
 # The study
 
 
-#: rtao's rays per pixel in the study: the CPU ray tracer's ladder, timed on the same cores as
-#: the methods (docs/methods/rtao.md).
-RTAO_LADDER = (1, 2, 4, 8, 16, 64)
-
 #: A first run longer than this (ms) is a configuration's only timed run: the slow ones (the
 #: visibility bitmask's defaults take over a second) would otherwise hold the study up by
 #: their warm-up and repeats, which change their time by less than its spread.
@@ -1164,29 +1161,34 @@ class Study:
                 r["occluded_mae_vs_limit"] = vs_limit(p.ao, scene)
 
     def _noise_floor(self, scene: Scene) -> None:
-        """The reference's own noise floor: measured (an independent 1024-spp render), or
-        estimated from the 256-spp render (MAE x sqrt(2/5): Monte Carlo noise halves with 4x
-        the samples, and a difference of two renders adds their variances), or unknown."""
+        """The reference's own noise floor (noise_floor_peer), per region, or unknown."""
         mine = {r["method"]: r for r in self.rows if r["scene"] == scene.name and "metrics" in r}
-        measured = [p for p in scene.peers if p.kind == "noise_floor"]
         info = self.scene_info[scene.name]
-        if measured:
-            r = mine[measured[0].name]
-            info["noise_floor"] = {"source": f"measured: {measured[0].name} vs the reference",
-                                   "key": r["key"], "estimated": False,
-                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] for reg in REGIONS},
-                                   "all_ssim": r["metrics"]["all"]["ssim"]}
-            return
-        rung = [p for p in scene.peers if p.kind == "cycles" and p.entry.get("samples") == 256]
-        if rung:
-            r = mine[rung[0].name]
-            f = math.sqrt(2 / 5)
-            info["noise_floor"] = {"source": f"estimated: {rung[0].name} MAE x sqrt(2/5)",
-                                   "key": r["key"], "estimated": True,
-                                   **{f"{reg}_mae": r["metrics"][reg]["mae"] * f
-                                      for reg in REGIONS}}
-        else:
+        chosen = noise_floor_peer(scene.peers)
+        if chosen is None:
             info["noise_floor"] = None
+            return
+        peer, factor, source = chosen
+        r = mine[peer.name]
+        info["noise_floor"] = {"source": source, "key": r["key"], "estimated": factor != 1.0,
+                               **{f"{reg}_mae": r["metrics"][reg]["mae"] * factor
+                                  for reg in REGIONS}}
+        if factor == 1.0:
+            info["noise_floor"]["all_ssim"] = r["metrics"]["all"]["ssim"]
+
+
+def noise_floor_peer(peers: list[Peer]) -> tuple[Peer, float, str] | None:
+    """The peer whose MAE against the reference gives the reference's own noise floor, the
+    factor on that MAE and a description: an independent 1024-spp render (measured, factor 1),
+    else the 256-spp rung (estimated, MAE x sqrt(2/5): Monte Carlo noise halves with 4x the
+    samples, and a difference of two renders adds their variances); None without either."""
+    measured = [p for p in peers if p.kind == "noise_floor"]
+    if measured:
+        return measured[0], 1.0, f"measured: {measured[0].name} vs the reference"
+    rung = [p for p in peers if p.kind == "cycles" and p.entry.get("samples") == 256]
+    if rung:
+        return rung[0], math.sqrt(2 / 5), f"estimated: {rung[0].name} MAE x sqrt(2/5)"
+    return None
 
 
 def tuned_results() -> dict | None:

@@ -24,7 +24,7 @@ import numpy as np
 
 import aolab
 
-from .compare import find_scenes_dir, load_renders, resolve_scenes
+from .compare import find_scenes_dir, load_renders, noise_floor_peer, resolve_scenes
 from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .regions import REGIONS, region_masks
 from .report import atomic_write_text
@@ -68,19 +68,15 @@ def cache_dir() -> Path:
     return Path(base) / "aolab" / "rtao"
 
 
-def noise_floor(folder: Path, g, reference: np.ndarray, mask: np.ndarray) -> tuple[float, str]:
-    """The reference's noise floor as an MAE over ``mask``: measured against an independent
-    1024-spp render, or estimated from the 256-spp rung; (nan, "unknown") without peers."""
+def noise_floor(folder: Path, reference: np.ndarray, mask: np.ndarray) -> tuple[float, str]:
+    """The reference's noise floor as an MAE over ``mask``, from the peer the study takes it
+    from (compare.noise_floor_peer); (nan, "unknown") without peers."""
     peers, _ = load_renders(folder / PEERS_DIR, PEERS_JSON, reference.shape, None)
-    measured = [p for p in peers if p.kind == "noise_floor"]
-    if measured:
-        return float(np.mean(np.abs(measured[0].ao[mask] - reference[mask]))), \
-            f"measured ({measured[0].name})"
-    rung = [p for p in peers if p.kind == "cycles" and p.entry.get("samples") == 256]
-    if rung:
-        mae = float(np.mean(np.abs(rung[0].ao[mask] - reference[mask])))
-        return mae * math.sqrt(2 / 5), "estimated (256 spp x sqrt(2/5))"
-    return math.nan, "unknown"
+    chosen = noise_floor_peer(peers)
+    if chosen is None:
+        return math.nan, "unknown"
+    peer, factor, source = chosen
+    return float(np.mean(np.abs(peer.ao[mask] - reference[mask]))) * factor, source
 
 
 def traced(folder: Path, g, rays: int, seed: int, threads: int) -> tuple[np.ndarray, dict]:
@@ -150,7 +146,7 @@ def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | No
     valid = masks["all"]
     diff = ao.astype(np.float64) - reference
     d = diff[valid]
-    floor, source = noise_floor(folder, g, reference, valid)
+    floor, source = noise_floor(folder, reference, valid)
     bias_se = float(np.std(d) / math.sqrt(d.size))
     result = {"scene": folder.name, "pixels": int(valid.sum()), "mae": float(np.mean(np.abs(d))),
               "bias": float(np.mean(d)), "bias_se": bias_se, "noise_floor": floor,
