@@ -40,21 +40,11 @@ if os.environ.get("AOLAB_PACKAGE_PATH"):
 import bpy  # noqa: E402
 from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
-from aolab.cli import MAX_SAMPLES, Parser, float_option, int_option  # noqa: E402
+from aolab.cli import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
+                       int_option)
 from aolab.reference import MAX_FRAME, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
-
-
-def _argument(parse, name: str):
-    """An argparse ``type=`` from a parser that raises ValueError naming the option."""
-    def convert(text: str):
-        try:
-            return parse(text)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
-    convert.__name__ = name
-    return convert
 
 
 def _ladder(text: str) -> list[int]:
@@ -87,12 +77,12 @@ def parse(argv):
     p.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES), default=1024)
     p.add_argument("--gbuffer-samples", type=int_option("--gbuffer-samples", 1, MAX_SAMPLES),
                    default=1)
-    p.add_argument("--passes", type=_argument(parse_passes, "--passes"), default="depth,normal")
-    p.add_argument("--resolution", type=_argument(parse_resolution, "--resolution"))
+    p.add_argument("--passes", type=checked_type(parse_passes, "--passes"), default="depth,normal")
+    p.add_argument("--resolution", type=checked_type(parse_resolution, "--resolution"))
     p.add_argument("--camera")
-    p.add_argument("--extra", type=_argument(_extra, "--extra"), default="{}")
+    p.add_argument("--extra", type=checked_type(_extra, "--extra"), default="{}")
     p.add_argument("--peers", action="store_true")
-    p.add_argument("--ladder", type=_argument(_ladder, "--ladder"),
+    p.add_argument("--ladder", type=checked_type(_ladder, "--ladder"),
                    default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
     p.add_argument("--mesh-only", action="store_true")

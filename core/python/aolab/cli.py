@@ -42,8 +42,9 @@ import numpy as np
 
 import aolab
 
-from .compare import RTAO_LADDER
 from .raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
+from .raytracing import RTAO_LADDER
+from .reference import parse_frames
 from .scoring import metrics_mask
 from .settings import describe_value, parse_assignments
 
@@ -97,19 +98,15 @@ def int_option(name: str, lo: int | None = None, hi: int | None = None, *,
     return parse
 
 
-def parse_frames_option(text: str) -> list[int]:
-    from .reference import parse_frames
-    return parse_frames(text)
-
-
-def _checked(parse):
-    """An argparse ``type=`` from a parser that raises ValueError naming the option."""
+def checked_type(parse, name: str):
+    """An argparse ``type=`` from a parser that raises ValueError naming the option: argparse
+    then prints the usage line and ``argument NAME: <the message>`` (also batch.py's)."""
     def convert(text: str):
         try:
             return parse(text)
         except ValueError as e:
             raise argparse.ArgumentTypeError(str(e)) from None
-    convert.__name__ = parse.__name__
+    convert.__name__ = name
     return convert
 
 
@@ -380,10 +377,15 @@ def _print_scores(g, ao, result: dict) -> None:
         print("  no reference AO in the input: nothing to score")
 
 
+def _check_json_path(path: str | None) -> None:
+    """--json (aolab run, aolab rtao) names a file: a folder is refused before any work."""
+    if path and (path.endswith(("/", os.sep)) or Path(path).is_dir()):
+        raise ValueError(f"--json must be a file path, got {path!r}, a folder")
+
+
 def cmd_run(args) -> int:
     settings = _key_values(args.set, args.method)
-    if args.json and (args.json.endswith(("/", os.sep)) or Path(args.json).is_dir()):
-        raise ValueError(f"--json must be a file path, got {args.json!r}, a folder")
+    _check_json_path(args.json)
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
     out = _output_stem(args.out, args.method)
     exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
@@ -408,8 +410,7 @@ def cmd_run(args) -> int:
 
 def cmd_rtao(args) -> int:
     """aolab rtao: ray-traced AO of a G-buffer against its scene's triangles."""
-    if args.json and (args.json.endswith(("/", os.sep)) or Path(args.json).is_dir()):
-        raise ValueError(f"--json must be a file path, got {args.json!r}, a folder")
+    _check_json_path(args.json)
     spec = args.input
     if not spec.startswith("analytic:") and Path(spec).is_dir():
         spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
@@ -730,7 +731,7 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
-    f.add_argument("--frames", type=_checked(parse_frames_option),
+    f.add_argument("--frames", type=checked_type(parse_frames, "--frames"),
                    help="animation frames: N, START-END or START-END:STEP (one reference each, "
                    "copied to OUT/frames/NNNN; default: a sequence scene's manifest frames)")
     f.add_argument("--workers", type=int_option("--workers", 1, 256), default=1,

@@ -11,6 +11,9 @@ from . import _core
 RayScene = _core.RayScene
 #: The default rays per pixel: the reference's own 1024 samples (core/raytracing/rtao.h).
 DEFAULT_RAYS = next(s["default"] for s in _core.rtao_settings() if s["name"] == "rays")
+#: rtao's rays per pixel in the study (`aolab compare --rtao-rays`): the CPU ray tracer's
+#: ladder, timed on the same cores as the methods (docs/methods/rtao.md).
+RTAO_LADDER = (1, 2, 4, 8, 16, 64)
 
 
 def rtao_settings() -> list[dict]:
