@@ -18,12 +18,7 @@ for a in "$@"; do
     *) names+=("$a") ;;
   esac
 done
-if [ ${#names[@]} -eq 0 ]; then
-  for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
-fi
-is_sequence() {  # a sequence scene: its manifest names "frames" (frames/NNNN/reference.*)
-  /usr/bin/python3 -c 'import json, sys; sys.exit(0 if "frames" in json.load(open(sys.argv[1])) else 1)' "$1/manifest.json"
-}
+. "$root/scripts/scene_list.sh"
 status=0
 for name in "${names[@]}"; do
   dir="$root/reference_scenes/$name"

@@ -26,12 +26,7 @@ for a in "$@"; do
     *) names+=("$a") ;;
   esac
 done
-if [ ${#names[@]} -eq 0 ]; then
-  for d in "$root"/reference_scenes/*/; do [ -f "$d/manifest.json" ] && names+=("$(basename "$d")"); done
-fi
-is_sequence() {  # a sequence scene: its manifest names "frames" (frames/NNNN/reference.*)
-  /usr/bin/python3 -c 'import json, sys; sys.exit(0 if "frames" in json.load(open(sys.argv[1])) else 1)' "$1/manifest.json"
-}
+. "$root/scripts/scene_list.sh"
 for name in "${names[@]}"; do
   if is_sequence "$root/reference_scenes/$name"; then
     # A sequence (manifest "frames"): one reference per frame into <name>/frames/NNNN/; the
