@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <glm/mat4x4.hpp>
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,15 @@ namespace aolab {
 
 /// A row-major 4×4 matrix (the sidecar's camera_to_world).
 using Matrix4 = std::array<double, 16>;
+
+/// A glm matrix (column-major: m[column][row]; the analytic scenes' camera_to_world) as a
+/// Matrix4.
+inline Matrix4 row_major(const glm::dmat4& m) {
+  Matrix4 out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out[std::size_t(4 * r + c)] = m[c][r];
+  return out;
+}
 
 /// The triangles of a mesh in view space, in an Embree BVH. Immutable once built: queries
 /// from any number of threads at once.

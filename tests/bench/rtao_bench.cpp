@@ -15,13 +15,6 @@ using namespace aolab;
 /// Half-side of the squares the analytic planes become: far beyond every visible R-ball.
 constexpr double kExtent = 1000.0;
 
-Matrix4 row_major(const glm::dmat4& m) {
-  Matrix4 out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out[std::size_t(4 * r + c)] = m[c][r];
-  return out;
-}
-
 const AnalyticGBuffer& blocks() {
   static const AnalyticGBuffer scene = analytic_scene("blocks", bench::kWidth, bench::kHeight);
   return scene;

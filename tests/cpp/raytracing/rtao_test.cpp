@@ -28,13 +28,6 @@ constexpr double kExtent = 1000.0;
 /// Pixels deeper than this are not scored: their R-ball could reach the planes' edges.
 constexpr float kScoredDepth = 400.0f;
 
-Matrix4 row_major(const glm::dmat4& m) {
-  Matrix4 out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out[std::size_t(4 * r + c)] = m[c][r];  // glm: [column][row]
-  return out;
-}
-
 // An analytic scene as a G-buffer and as triangles in an Embree scene.
 struct TracedScene : SceneFixture {
   RayScene scene;
