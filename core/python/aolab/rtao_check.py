@@ -79,9 +79,10 @@ def noise_floor(folder: Path, reference: np.ndarray, mask: np.ndarray) -> tuple[
     return float(np.mean(np.abs(peer.ao[mask] - reference[mask]))) * factor, source
 
 
-def traced(folder: Path, g, rays: int, seed: int, threads: int) -> tuple[np.ndarray, dict]:
-    """rtao of the scene at ``rays`` (cached); returns (ao, info)."""
-    mesh = aolab.mesh_for_gbuffer(g)
+def traced(folder: Path, g, mesh, rays: int, seed: int,
+           threads: int) -> tuple[np.ndarray, dict]:
+    """rtao of the scene (its G-buffer ``g`` and ``mesh``) at ``rays`` (cached); returns
+    (ao, info)."""
     radius = float(g.sidecar["ao_distance"])
     mesh_sha = mesh.info.get("sha256") or _sha256_bytes(mesh.vertices.tobytes()
                                                         + mesh.triangles.tobytes())
@@ -141,7 +142,8 @@ def faces_on_points(points: np.ndarray, mesh, camera_to_world) -> np.ndarray:
 def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | None) -> dict:
     g = aolab.load_gbuffer(folder / "reference.exr")
     reference = np.asarray(g.reference, np.float32)
-    ao, info = traced(folder, g, rays, seed, threads)
+    mesh = aolab.mesh_for_gbuffer(g)   # read and checked once: the trace and the outliers
+    ao, info = traced(folder, g, mesh, rays, seed, threads)
     masks = region_masks(g, reference, float(g.sidecar["ao_distance"]))
     valid = masks["all"]
     diff = ao.astype(np.float64) - reference
@@ -167,7 +169,6 @@ def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | No
     on_coincident = 0
     if len(examined):
         points = np.asarray(g.view_positions())[examined[:, 0], examined[:, 1]]
-        mesh = aolab.mesh_for_gbuffer(g)
         on_coincident = int((faces_on_points(points, mesh, g.sidecar["camera_to_world"])
                              >= 2).sum())
     rest_se = float(np.std(rest) / math.sqrt(max(rest.size, 1)))
