@@ -18,7 +18,9 @@ def make_material(name, rgb, emission_strength=0.0):
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (*rgb, 1.0)
     if emission_strength > 0.0:
-        bsdf.inputs["Emission"].default_value = (*rgb, 1.0)
+        # Blender 4.0 renamed the Principled BSDF's "Emission" input "Emission Color"
+        emission = bsdf.inputs.get("Emission Color") or bsdf.inputs["Emission"]
+        emission.default_value = (*rgb, 1.0)
         bsdf.inputs["Emission Strength"].default_value = emission_strength
     mat.diffuse_color = (*rgb, 1.0)
     return mat

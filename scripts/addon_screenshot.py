@@ -24,16 +24,19 @@ SIDEBAR_EXTRA = 200  # px added to the sidebar's width
 EDGE = 1             # px inside the sidebar's left edge: where dragging resizes it
 SPLIT = 0.62         # share of the 3D viewport's width kept by it (the rest: Image Editor)
 state = {"step": 0, "t": 0}
+#: The installed add-on's module: an extension on Blender 4.2+ (scripts/install_addon.sh).
+ADDON = ("bl_ext.user_default.aolab_blender" if bpy.app.version >= (4, 2, 0)
+         else "aolab_blender")
 
 
 def build_scene():
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     runpy.run_path(BUILD, run_name="__main__")
-    addon_utils.enable("aolab_blender", default_set=True)
+    addon_utils.enable(ADDON, default_set=True)
     from aolab.presets import preset_names
     prefs = bpy.context.preferences
-    prefs.addons["aolab_blender"].preferences.cache_dir = CACHE
+    prefs.addons[ADDON].preferences.cache_dir = CACHE
     prefs.view.show_splash = False
     scene = bpy.context.scene
     scene.aolab.preview_scale = SCALE

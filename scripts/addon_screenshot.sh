@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Screenshot of Blender's UI with the AO Lab panel and its results: docs/images/addon_panel.png.
+# Screenshot of Blender's UI with the AO Lab panel and its results: docs/images/addon_panel.png
+# (Blender 3.4; docs/images/addon_panel_blender4.png is the same on Blender 4.3).
 #
 #   scripts/addon_screenshot.sh [OUT.png] [SCENE_BUILD.py]
 #
@@ -16,7 +17,8 @@ scene="$(realpath "${2:-$root/reference_scenes/room/build.py}")"
 cache="${AOLAB_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aolab/references}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-export BLENDER_USER_CONFIG="$tmp/config" BLENDER_USER_SCRIPTS="$tmp/scripts"
+export BLENDER_USER_CONFIG="$tmp/config" BLENDER_USER_SCRIPTS="$tmp/scripts" \
+  BLENDER_USER_EXTENSIONS="$tmp/extensions"
 AOLAB_ADDON_ZIP="$tmp/aolab_addon.zip" "$root/scripts/install_addon.sh" >/dev/null
 mkdir -p "$(dirname "$out")"
 rm -f "$out"

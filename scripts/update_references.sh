@@ -11,6 +11,9 @@
 #       (~1/3 of a reference's time per scene)
 #   scripts/update_references.sh --limits [names] # only the screen-space limits (--force:
 #       recompute them all, after a change to the screen_space_limit method)
+#   scripts/update_references.sh --eevee-next [names] # on Blender 4.2+ (Debian 13): EEVEE
+#       Next's AO pass alone, into <name>/peers/eevee_next.{exr,json} beside 3.4's peers
+#       (~1 min per scene under llvmpipe)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
@@ -18,10 +21,12 @@ force=()
 names=()
 peers=0
 limits=0
+eevee_next=0
 for a in "$@"; do
   case "$a" in
     --force) force=(--force) ;;
     --peers) peers=1 ;;
+    --eevee-next) eevee_next=1; peers=1 ;;
     --limits) limits=1 ;;
     *) names+=("$a") ;;
   esac
@@ -41,6 +46,17 @@ for name in "${names[@]}"; do
   fi
   if [ "$limits" = 1 ]; then
     /usr/bin/python3 -m aolab limits "$root/reference_scenes/$name" "${force[@]}"
+    continue
+  fi
+  if [ "$eevee_next" = 1 ]; then
+    tmp="$(mktemp -d)"
+    /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --peers --ladder none \
+      --out "$tmp" "${force[@]}"
+    grep -q '"name": "eevee_next"' "$tmp/peers.json" ||
+      { echo "$name: this Blender's EEVEE is not EEVEE Next (Blender 4.2+ needed)" >&2; exit 2; }
+    cp "$tmp/eevee_next.exr" "$root/reference_scenes/$name/peers/eevee_next.exr"
+    cp "$tmp/peers.json" "$root/reference_scenes/$name/peers/eevee_next.json"
+    rm -rf "$tmp"
     continue
   fi
   if [ "$peers" = 1 ]; then

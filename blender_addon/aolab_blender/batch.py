@@ -10,9 +10,9 @@
     --resolution WxH    override the scene's resolution (percentage 100)
     --camera NAME       render from this camera instead of the scene camera
     --extra JSON        extra sidecar entries
-    --peers             render the comparison peers instead (Cycles ladder, EEVEE GTAO;
+    --peers             render the comparison peers instead (Cycles ladder, EEVEE;
                         peers.py): --out is then a folder
-    --ladder 1,4,...    the ladder's samples     --no-eevee   skip EEVEE
+    --ladder 1,4,...    the ladder's samples (none: no rung)     --no-eevee   skip EEVEE
     --frame N           render animation frame N (scene.frame_set; recorded as "frame")
     --mesh-only         export only the scene's geometry, no render (mesh_export.py): --out
                         is then the .mesh (its .mesh.json beside it); --radius, --spp and
@@ -48,6 +48,8 @@ from aolab_blender import export, mesh_export, peers  # noqa: E402
 
 
 def _ladder(text: str) -> list[int]:
+    if text == "none":  # EEVEE alone
+        return []
     sample = int_option("--ladder", 1, MAX_SAMPLES)
     try:
         return [sample(v) for v in text.split(",")]
@@ -141,6 +143,10 @@ if __name__ == "__main__":
         print(f"AOLAB_ERROR {e if str(e) else type(e).__name__}", flush=True)
         sys.exit(2)
     except Exception:
+        # The last lines of the traceback in the message: `aolab reference` shows the message
+        # alone, and the whole traceback is above it in Blender's output.
+        last = traceback.format_exc().strip().splitlines()[-3:]
         traceback.print_exc()
-        print("AOLAB_ERROR unexpected failure inside Blender (traceback above)", flush=True)
+        print("AOLAB_ERROR unexpected failure inside Blender: " + " | ".join(
+            line.strip() for line in last), flush=True)
         sys.exit(3)

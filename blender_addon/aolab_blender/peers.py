@@ -7,10 +7,11 @@ render_peers() renders, from the same camera, at the same AO distance and resolu
   1024-spp reference — each is an independent estimate, scored against it like a method;
 - the noise floor: the study derives it from the 256-spp rung (256 against 1024 spp;
   docs/comparison.md), so no second 1024-spp render is needed;
-- EEVEE's GTAO: the AO pass of Blender's rasteriser with ambient occlusion on, its distance
-  R, factor 1, bounce approximation off (it brightens AO, which the Cycles pass does not).
-  EEVEE needs an OpenGL context: under `xvfb-run` Mesa's llvmpipe renders it on the CPU, so
-  its time is not comparable with ours or with Cycles'.
+- EEVEE: the AO pass of Blender's rasteriser at distance R, with the settings of this
+  Blender's EEVEE (compat.eevee_ao_settings): GTAO on 3.4 ("eevee_gtao": factor 1, bounce
+  approximation off, as it brightens AO, which the Cycles pass does not), EEVEE Next's horizon
+  scan on 4.2+ ("eevee_next"). EEVEE needs an OpenGL context: under `xvfb-run` Mesa's
+  llvmpipe renders it on the CPU, so its time is not comparable with ours or with Cycles'.
 
 Each image is a one-channel half EXR ("Y") with background pixels set to 1 (our convention),
 listed with its render time in peers.json (docs/comparison.md). Every setting is restored.
@@ -28,12 +29,15 @@ import bpy
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
 
+from . import compat
 from .export import (BridgeError, Cancelled, _enable_only, _render, camera_record, content_hash,
                      render_session, scene_camera)
 from .state import SettingsRestorer
 
-EEVEE_SAMPLES = 16         # TAA samples; GTAO converges in a few (docs/blender_facts.md)
-EEVEE_BACKGROUND = 65504.0  # EEVEE's depth where nothing is drawn (half max)
+#: EEVEE's depth where nothing is drawn: 3.4's EEVEE writes the half float maximum, EEVEE Next
+#: the camera's clip end (measured, docs/blender_facts.md); no surface lies beyond either.
+EEVEE_BACKGROUND = 65504.0
+CLIP_END_SHARE = 1 - 1e-4
 
 
 def _ao_and_background(path: str, background_depth: float):
@@ -49,15 +53,10 @@ def _ao_and_background(path: str, background_depth: float):
 
 
 def _eevee_settings(rs: SettingsRestorer, scene, radius: float) -> dict:
-    rs.set(scene.render, "engine", "BLENDER_EEVEE")
-    e = scene.eevee
-    chosen = {"use_gtao": True, "gtao_distance": radius, "gtao_factor": 1.0,
-              "gtao_quality": e.gtao_quality, "use_gtao_bounce": False,
-              "use_gtao_bent_normals": e.use_gtao_bent_normals,
-              "taa_render_samples": EEVEE_SAMPLES, "use_bloom": False, "use_ssr": False,
-              "use_motion_blur": False}
+    rs.set(scene.render, "engine", compat.eevee_engine())
+    chosen = compat.eevee_ao_settings(scene.eevee, radius)
     for attr, value in chosen.items():
-        rs.set(e, attr, value)
+        rs.set(scene.eevee, attr, value)
     rs.set(scene.render, "filter_size", 0.01)  # pixel-centre values, like the Cycles renders
     chosen["filter_size"] = 0.01
     return chosen
@@ -72,8 +71,8 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
     if not (math.isfinite(radius) and radius > 0):
         raise BridgeError(f"radius must be a finite number > 0 (the AO distance in scene "
                           f"units), got {radius}")
-    if not ladder or any(int(s) < 1 for s in ladder):
-        raise BridgeError(f"ladder samples must be >= 1, got {list(ladder)}")
+    if any(int(s) < 1 for s in ladder) or not (ladder or eevee):
+        raise BridgeError(f"ladder samples must be >= 1 (none: EEVEE alone), got {list(ladder)}")
     cam = scene_camera(scene, camera_name)
     view_layer = bpy.context.view_layer
     os.makedirs(out_dir, exist_ok=True)
@@ -109,9 +108,11 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
             chosen = _eevee_settings(rs, scene, radius)
             path = os.path.join(tmp, "eevee.exr")
             seconds = _render(rs, scene, path)
-            exr.write_gray(os.path.join(out_dir, "eevee_gtao.exr"),
-                           _ao_and_background(path, EEVEE_BACKGROUND * 0.99))
-            entries.append({"name": "eevee_gtao", "kind": "eevee", "file": "eevee_gtao.exr",
+            name = compat.eevee_peer_name()
+            background = min(EEVEE_BACKGROUND * 0.99, cam.data.clip_end * CLIP_END_SHARE)
+            exr.write_gray(os.path.join(out_dir, name + ".exr"),
+                           _ao_and_background(path, background))
+            entries.append({"name": name, "kind": "eevee", "file": name + ".exr",
                             "render_time_s": seconds, "settings": chosen,
                             "note": "EEVEE on Mesa llvmpipe (software rasteriser under Xvfb): "
                                     "time not comparable"})

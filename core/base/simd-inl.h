@@ -74,9 +74,11 @@ HWY_INLINE hn::Vec<DF> PixelCentres(DF df, int x0) {
 }
 
 /// atan2(y, x) in (−π, π], accurate to Highway's atan (a few ulp): atan of the smaller ratio,
-/// turned into the right quadrant. atan2(0, 0) = 0.
+/// turned into the right quadrant. atan2(0, 0) = 0. Our own rather than hwy::Atan2 (Highway
+/// 1.1+; not in Debian 12's 1.0), so that the bits do not depend on the Highway release, and
+/// named apart from it, which argument-dependent lookup would otherwise find too.
 template <class DF>
-HWY_INLINE hn::Vec<DF> Atan2(DF df, hn::Vec<DF> y, hn::Vec<DF> x) {
+HWY_INLINE hn::Vec<DF> QuadrantAtan2(DF df, hn::Vec<DF> y, hn::Vec<DF> x) {
   const auto ay = hn::Abs(y), ax = hn::Abs(x);
   const auto swap = hn::Gt(ay, ax);
   const auto num = hn::IfThenElse(swap, ax, ay), den = hn::IfThenElse(swap, ay, ax);

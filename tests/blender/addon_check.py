@@ -18,13 +18,12 @@ import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import diff, run_build_script, scene_state  # noqa: E402
+from common import ADDON, addon_module, diff, run_build_script, scene_state  # noqa: E402
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-ADDON = "aolab_blender"
 args = sys.argv[sys.argv.index("--") + 1:]
 mode = args[0]
 
@@ -85,7 +84,7 @@ tiny, cache, out_dir = args[1:4]
 run_build_script(tiny)
 addon_utils.enable(ADDON, default_set=True)
 mod = sys.modules[ADDON]
-from aolab_blender import images, operators, properties  # noqa: E402
+images, operators, properties = (addon_module(n) for n in ("images", "operators", "properties"))
 
 prefs = bpy.context.preferences.addons[ADDON].preferences
 prefs.cache_dir = cache

@@ -1,5 +1,6 @@
 """Shared by the Blender-side check scripts: puts the bridge on sys.path (use_checkout),
 builds scenes, snapshots every RNA property the bridge might touch."""
+import importlib
 import os
 import sys
 
@@ -7,6 +8,17 @@ import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+
+
+#: The module name of the add-on that scripts/install_addon.sh installed: an extension in the
+#: user repository on Blender 4.2+, a legacy add-on before.
+ADDON = ("bl_ext.user_default.aolab_blender" if bpy.app.version >= (4, 2, 0)
+         else "aolab_blender")
+
+
+def addon_module(name: str):
+    """A module of the installed add-on (images, live, ...), under whichever name it has."""
+    return importlib.import_module(f"{ADDON}.{name}")
 
 
 def use_checkout():

@@ -22,19 +22,18 @@ import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import run_build_script  # noqa: E402
+from common import ADDON, addon_module, run_build_script  # noqa: E402
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-ADDON = "aolab_blender"
 args = sys.argv[sys.argv.index("--") + 1:]
 mode, scene_script, cache, out_dir = args[:4]
 
 run_build_script(scene_script)
 addon_utils.enable(ADDON, default_set=True)
-from aolab_blender import images, live, properties  # noqa: E402
+images, live, properties = (addon_module(n) for n in ("images", "live", "properties"))
 
 prefs = bpy.context.preferences.addons[ADDON].preferences
 prefs.cache_dir = cache
@@ -103,7 +102,7 @@ class Layout:
 def panel_text() -> list[str]:
     """The AO Lab panel's labels, drawn by ui.draw_panel as Blender would."""
     from types import SimpleNamespace
-    from aolab_blender import ui
+    ui = addon_module("ui")
     texts = []
     c = bpy.context
     ui.draw_panel(Layout(texts), SimpleNamespace(

@@ -6,7 +6,6 @@ metrics equal the command line's (`aolab run`) for the same inputs, and the user
 exactly as before. Skipped with a reason where Blender is absent."""
 import json
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +18,8 @@ import aolab
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
 CHECK = ROOT / "tests" / "blender" / "addon_check.py"
-BLENDER = shutil.which("blender")
+from test_bridge import BLENDER, BLENDER_VERSION  # noqa: E402
+
 pytestmark = [pytest.mark.blender,
               pytest.mark.skipif(BLENDER is None, reason="Blender is not installed "
                                  "(scripts/install-deps.sh installs it)")]
@@ -37,7 +37,8 @@ def blender_env(base: Path) -> dict:
     tuned = base / "tuned_presets.json"      # the preset menu offers the tuned presets too
     tuned.write_text(json.dumps({"methods": {"hbao": {"presets": {"tuned-100ms": TUNED}}}}))
     return dict(os.environ, BLENDER_USER_CONFIG=str(base / "config"),
-                BLENDER_USER_SCRIPTS=str(base / "scripts"), AOLAB_TUNED_PRESETS=str(tuned),
+                BLENDER_USER_SCRIPTS=str(base / "scripts"),
+                BLENDER_USER_EXTENSIONS=str(base / "extensions"), AOLAB_TUNED_PRESETS=str(tuned),
                 PYTHONPATH=os.pathsep.join([aolab_dir, os.environ.get("PYTHONPATH", "")]))
 
 
@@ -92,7 +93,10 @@ def test_installs_enables_and_unregisters_cleanly(installed):
     base, env = installed
     r = run_blender(env, "installed", factory=False)  # the saved preferences enable it
     assert r["enabled"]
-    assert r["file"].startswith(str(base / "scripts" / "addons" / "aolab_blender"))
+    # Blender 4.2+: an extension in the user repository; 3.4: a legacy add-on
+    assert r["file"].startswith(str(base / "extensions" / "user_default" / "aolab_blender")
+                                if BLENDER_VERSION >= (4, 2) else
+                                str(base / "scripts" / "addons" / "aolab_blender"))
     for name in ("AOLAB_PT_sidebar", "AOLAB_PT_view_layer", "AOLAB_OT_preview",
                  "AOLAB_OT_render_reference", "AOLAB_OT_compare",
                  "AOLAB_AddonPreferences (is_registered)",

@@ -9,7 +9,8 @@ import OpenImageIO as oiio
 import pytest
 
 import aolab
-from test_bridge import BLENDER, ROOT, TINY, aolab_reference, checkout_env, needs_blender
+from test_bridge import (BLENDER, EEVEE_PEER, ROOT, TINY, aolab_reference, checkout_env,
+                         needs_blender)
 
 needs_xvfb = pytest.mark.skipif(shutil.which("xvfb-run") is None,
                                 reason="xvfb-run is not installed (scripts/install-deps.sh)")
@@ -34,11 +35,13 @@ def test_peers_leave_the_scene_as_it_was_also_when_cancelled():
     full = r["full"]
     assert full["diff"] == [], full["diff"][:10]
     assert full["stages"] == ["prepare", "cycles 1 spp", "cycles 4 spp", "eevee", "done"]
-    assert full["files"] == ["cycles_1spp.exr", "cycles_4spp.exr", "eevee_gtao.exr", "peers.json"]
+    assert full["files"] == ["cycles_1spp.exr", "cycles_4spp.exr", EEVEE_PEER + ".exr",
+                             "peers.json"]
     kinds = [(e["name"], e["kind"]) for e in full["peers"]["entries"]]
-    assert kinds == [("cycles_1spp", "cycles"), ("cycles_4spp", "cycles"), ("eevee_gtao", "eevee")]
+    assert kinds == [("cycles_1spp", "cycles"), ("cycles_4spp", "cycles"), (EEVEE_PEER, "eevee")]
     eevee = full["peers"]["entries"][-1]
-    assert eevee["settings"]["gtao_distance"] == 0.75 and not eevee["settings"]["use_gtao_bounce"]
+    assert eevee["settings"]["gtao_distance"] == 0.75
+    assert not eevee["settings"].get("use_gtao_bounce")  # 3.4: off; EEVEE Next: no such setting
     for stage in ("prepare", "cycles 1 spp", "cycles 4 spp", "eevee"):
         c = r[f"cancel_{stage}"]
         assert c["outcome"] == "cancelled", stage
@@ -76,8 +79,20 @@ def test_ladder_converges_to_the_reference_and_eevee_is_scored_alike(tmp_path):
     # Monte Carlo error ~ 1/sqrt(spp): 4x the samples halves it; allow noise in the ratio.
     assert mae["cycles_4spp"] < 0.75 * mae["cycles_1spp"], mae
     assert mae["cycles_16spp"] < 0.75 * mae["cycles_4spp"], mae
-    eevee = read_gray(tmp_path / "peers" / "eevee_gtao.exr")
+    eevee = read_gray(tmp_path / "peers" / (EEVEE_PEER + ".exr"))
     assert np.corrcoef(eevee[mask], g.reference[mask])[0, 1] > 0.3, mae
+
+
+@needs_blender
+@needs_xvfb
+def test_eevee_alone_with_ladder_none(tmp_path):
+    """`--ladder none`: this Blender's EEVEE alone (how EEVEE Next joins 3.4's peers)."""
+    aolab_reference(str(TINY), "--peers", "--ladder", "none", "--cache", str(tmp_path / "c"),
+                    "--out", str(tmp_path / "peers"))
+    peers = json.loads((tmp_path / "peers" / "peers.json").read_text())
+    assert [e["name"] for e in peers["entries"]] == [EEVEE_PEER]
+    ao = read_gray(tmp_path / "peers" / (EEVEE_PEER + ".exr"))
+    assert np.isfinite(ao).all() and 0 <= ao.min() < 0.9 and ao.max() == 1
 
 
 @needs_blender
@@ -85,6 +100,9 @@ def test_peers_options_are_checked(tmp_path):
     res = aolab_reference(str(TINY), "--peers", "--ladder", "0,4", "--cache", str(tmp_path),
                           check=False)
     assert res.returncode != 0 and "--ladder" in res.stdout + res.stderr
+    res = aolab_reference(str(TINY), "--peers", "--ladder", "none", "--no-eevee", "--cache",
+                          str(tmp_path), check=False)
+    assert res.returncode != 0 and "nothing to render" in res.stdout + res.stderr
 
 
 SCENES = sorted(p.parent.parent.name
@@ -118,3 +136,33 @@ def test_committed_peers_match_their_reference_and_converge(scene):
     for coarse, fine in zip(mae[:4], mae[1:5]):
         assert fine < 0.75 * coarse, mae
     assert entries["eevee_gtao"]["settings"]["gtao_distance"] == g.sidecar["ao_distance"]
+
+
+NEXT_SCENES = sorted(p.parent.parent.name
+                     for p in (ROOT / "reference_scenes").glob("*/peers/eevee_next.json"))
+
+
+def test_every_scene_with_peers_has_eevee_next():
+    assert NEXT_SCENES == SCENES
+
+
+@pytest.mark.parametrize("scene", NEXT_SCENES)
+def test_committed_eevee_next_matches_its_reference(scene):
+    """EEVEE Next's committed render (scripts/update_references.sh --eevee-next, Blender 4.2+)
+    is of the same scene, camera and R as the 3.4 reference, with EEVEE Next's own settings
+    recorded, background 1, and correlated with the reference."""
+    folder = ROOT / "reference_scenes" / scene
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    peers = json.loads((folder / "peers" / "eevee_next.json").read_text())
+    assert int(peers["blender_version"].split(".")[0]) >= 4
+    assert peers["scene_hash"] == g.sidecar["scene_hash"]
+    assert peers["ao_distance"] == g.sidecar["ao_distance"]
+    (entry,) = peers["entries"]
+    assert entry["name"] == "eevee_next" and entry["kind"] == "eevee"
+    assert entry["settings"]["gtao_distance"] == g.sidecar["ao_distance"]
+    assert "use_gtao_bounce" not in entry["settings"]
+    mask = g.valid_mask()
+    ao = read_gray(folder / "peers" / entry["file"])
+    assert ao.shape == (g.height, g.width) and np.isfinite(ao).all()
+    assert (ao[~mask] != 1).sum() <= 1e-4 * (~mask).sum() + 2
+    assert np.corrcoef(ao[mask], g.reference[mask])[0, 1] > 0.3

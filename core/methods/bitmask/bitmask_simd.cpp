@@ -89,7 +89,7 @@ HWY_INLINE VF AngleFromNormal(DF df, const Slice& sl, const Pixels& p, const Off
   const VF off = side == 0 ? off_abs : hn::Neg(off_abs);
   const VF rx = hn::MulAdd(sl.cos_n, along, hn::Mul(sl.sin_n, off));
   const VF ry = hn::MulSub(sl.cos_n, off, hn::Mul(sl.sin_n, along));
-  const VF rel = Atan2(df, ry, rx);
+  const VF rel = QuadrantAtan2(df, ry, rx);
   const VF half_pi = hn::Set(df, float(std::numbers::pi / 2));
   const VF two_pi = hn::Set(df, float(2 * std::numbers::pi));
   return side == 0 ? hn::IfThenElse(hn::Lt(rel, hn::Neg(half_pi)), hn::Add(rel, two_pi), rel)

@@ -158,7 +158,7 @@ inline Slice make_slice(DF df, const Row& k, const Pixels& p, float bc, float bs
   // cos n, sin n of n = atan2(along_t, along_v) without trigonometry; the scalar code's
   // tangent cosines divide along_t by |proj n| (equal to the hypotenuse unless along_v was
   // clamped, which only rounding makes happen).
-  sl.n = Atan2(df, along_t, along_v);
+  sl.n = QuadrantAtan2(df, along_t, along_v);
   const VF h2 = hn::MulAdd(along_v, along_v, hn::Mul(along_t, along_t));
   const MF has_h = hn::Gt(h2, zero);
   const VF inv_h = RecipSqrt(df, hn::IfThenElse(has_h, h2, hn::Set(df, 1.0f)));

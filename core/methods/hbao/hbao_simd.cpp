@@ -98,8 +98,8 @@ HWY_INLINE VF TangentSinInAzimuth(DF df, const Receiver& p, VF ux, VF uy) {
 
 // hbao_cosine_band on every lane.
 HWY_INLINE VF CosineBand(DF df, VF a, VF nz, VF sin_a, VF cos_a, VF sin_t, VF cos_t) {
-  const VF diff = Atan2(df, hn::Sub(hn::Mul(sin_a, cos_t), hn::Mul(cos_a, sin_t)),
-                        hn::MulAdd(cos_a, cos_t, hn::Mul(sin_a, sin_t)));
+  const VF diff = QuadrantAtan2(df, hn::Sub(hn::Mul(sin_a, cos_t), hn::Mul(cos_a, sin_t)),
+                                hn::MulAdd(cos_a, cos_t, hn::Mul(sin_a, sin_t)));
   const VF band = hn::Add(diff, hn::Sub(hn::Mul(sin_a, cos_a), hn::Mul(sin_t, cos_t)));
   return hn::MulAdd(a, band, hn::Mul(nz, hn::Sub(hn::Mul(sin_a, sin_a), hn::Mul(sin_t, sin_t))));
 }

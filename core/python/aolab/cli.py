@@ -446,6 +446,11 @@ def cmd_rtao(args) -> int:
     return 0
 
 
+def cmd_bridge_check(args) -> int:
+    from . import bridge_check
+    return bridge_check.main(args)
+
+
 def cmd_rtao_check(args) -> int:
     from . import rtao_check
     return rtao_check.main(args)
@@ -668,6 +673,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     from .rtao_check import add_parser as add_rtao_check_parser
     add_rtao_check_parser(sub).set_defaults(func=cmd_rtao_check)
+    from .bridge_check import add_parser as add_bridge_check_parser
+    add_bridge_check_parser(sub).set_defaults(func=cmd_bridge_check)
 
     b = sub.add_parser("bench", help="median time of a method over repeated runs")
     b.add_argument("method", choices=aolab.methods())
@@ -725,9 +732,11 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--out", help="also copy reference.exr/.json here (one folder per scene "
                    "when several)")
     f.add_argument("--peers", action="store_true", help="render the comparison peers instead "
-                   "of the reference: Cycles at the --ladder samples (seed 1) and EEVEE's GTAO "
-                   "under xvfb-run, into peers.json + one EXR each")
-    f.add_argument("--ladder", help="with --peers: samples, e.g. 1,4,16,64,256 (the default)")
+                   "of the reference: Cycles at the --ladder samples (seed 1) and EEVEE (GTAO on "
+                   "Blender 3.4, EEVEE Next on 4.2+) under xvfb-run, into peers.json + one "
+                   "EXR each")
+    f.add_argument("--ladder", help="with --peers: samples, e.g. 1,4,16,64,256 (the "
+                   "default), or none (EEVEE alone)")
     f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -37,7 +37,7 @@ import numpy as np
 import aolab
 
 from . import presets as presets_mod
-from .bridge.constants import PEERS_DIR, PEERS_JSON
+from .bridge.constants import EEVEE_NEXT_JSON, PEERS_DIR, PEERS_JSON
 from .limits import LIMITS_DIR, LIMITS_JSON
 from .raytracing import RTAO_LADDER
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
@@ -228,8 +228,10 @@ def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], 
     """The peers of a scene folder and its committed screen-space limits (aolab limits, kind
     "limit"), and notes about entries that could not be used."""
     peers, notes = load_renders(folder / PEERS_DIR, PEERS_JSON, shape, crop)
-    limits, more = load_renders(folder / LIMITS_DIR, LIMITS_JSON, shape, crop)
-    return peers + limits, notes + more
+    # EEVEE Next (Blender 4.2+) beside 3.4's peers: the two EEVEEs scored side by side
+    next_, more = load_renders(folder / PEERS_DIR, EEVEE_NEXT_JSON, shape, crop)
+    limits, most = load_renders(folder / LIMITS_DIR, LIMITS_JSON, shape, crop)
+    return peers + next_ + limits, notes + more + most
 
 
 def load_renders(where: Path, json_name: str, shape: tuple[int, int],
@@ -241,9 +243,13 @@ def load_renders(where: Path, json_name: str, shape: tuple[int, int],
         return [], []
     notes = []
     try:
-        entries = json.loads(path.read_text()).get("entries", [])
+        listing = json.loads(path.read_text())
+        entries = listing.get("entries", [])
     except (OSError, ValueError) as e:
         return [], [f"{path}: unreadable ({e})"]
+    for e in entries:  # which Blender rendered it: the two EEVEEs differ by release
+        if "blender_version" in listing:
+            e.setdefault("blender_version", listing["blender_version"])
     peers = []
     for e in entries:
         try:

@@ -14,6 +14,7 @@ a batch resumes where it stopped.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import os
@@ -57,6 +58,29 @@ def find_blender() -> str:
             ": install it with `apt-get install blender` (Debian 12 ships Blender 3.4) or set "
             "AOLAB_BLENDER to its executable")
     return path
+
+
+@functools.lru_cache(maxsize=None)
+def _version_of(path: str, mtime_ns: int) -> str:
+    try:
+        out = subprocess.run([path, "-b", "--factory-startup", "-noaudio", "--version"],
+                             capture_output=True, text=True, timeout=120,
+                             stdin=subprocess.DEVNULL).stdout
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    found = re.search(r"^Blender (\d+\.\d+(?:\.\d+)?)", out, re.M)
+    return found[1] if found else "unknown"
+
+
+def blender_version(blender: str | None = None) -> str:
+    """The release of `blender` (default: the one find_blender finds), e.g. "3.4.1"; "none"
+    where there is none. Part of every cache key: Cycles' sampling differs between releases,
+    so the same scene renders to other bits (docs/blender_bridge.md)."""
+    try:
+        path = blender or find_blender()
+        return _version_of(path, os.stat(path).st_mtime_ns)
+    except (ReferenceError, OSError):
+        return "none"
 
 
 def bridge_script() -> Path:
@@ -155,7 +179,9 @@ class Plan:
     # The animation frame rendered (scene.frame_set), or None: the file's current frame.
     frame: int | None = None
 
-    def key(self) -> str:
+    def key(self, blender: str | None = None) -> str:
+        """The cache folder's name: the scene's name and a digest of everything the render
+        depends on, the release of `blender` (default: find_blender's) included."""
         material = {"bridge": BRIDGE_VERSION, "scene": self.scene.content_sha256,
                     "spp": self.spp, "radius": self.radius, "passes": self.passes,
                     "resolution": self.resolution, "camera": self.camera,
@@ -168,6 +194,7 @@ class Plan:
                         "mesh_only": True}
         if self.frame is not None:  # only then, so that still renders keep their keys
             material["frame"] = self.frame
+        material["blender"] = blender_version(blender)
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
         kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
         frame = "" if self.frame is None else f"f{self.frame:04d}-"
@@ -211,8 +238,8 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
     return Plan(scene, spp, radius, passes, resolution, camera or m.get("camera"), gbuffer_samples)
 
 
-def cached_result(cache: Path, plan: Plan) -> Path | None:
-    folder = cache / plan.key()
+def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
+    folder = cache / plan.key(blender)
     try:
         files = plan.result_files(folder)
         side = json.loads(files[-1].read_text())
@@ -245,14 +272,14 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     (Blender killed, its temporary folder removed) with Stopped."""
     cache = Path(cache) if cache else default_cache()
     if not force:
-        hit = cached_result(cache, plan)
+        hit = cached_result(cache, plan, blender)
         if hit is not None:
             return hit, True
     blender = blender or find_blender()
     cache.mkdir(parents=True, exist_ok=True)
     _remove_stale_temporaries(cache)
-    final = cache / plan.key()
-    tmp = cache / f".{plan.key()}.tmp-{os.getpid()}"
+    final = cache / plan.key(blender)
+    tmp = cache / f".{plan.key(blender)}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
     s = plan.scene
@@ -277,7 +304,7 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     if plan.frame is not None:
         cmd += ["--frame", str(plan.frame)]
     if plan.peers:
-        cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder)]
+        cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder) or "none"]
         if not plan.eevee:
             cmd.append("--no-eevee")
     if plan.mesh_only:
@@ -452,6 +479,19 @@ def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
     return out
 
 
+def parse_ladder(text: str) -> tuple[int, ...]:
+    """--ladder: comma-separated samples >= 1, or "none" (no Cycles rung: EEVEE alone)."""
+    if text.strip().lower() == "none":
+        return ()
+    try:
+        ladder = tuple(int(v) for v in text.split(","))
+    except ValueError:
+        ladder = ()
+    if not ladder or min(ladder) < 1:
+        raise ReferenceError(f"--ladder must be samples >= 1 (or none), got {text!r}")
+    return ladder
+
+
 def main(args) -> int:
     """The `aolab reference` command (arguments from cli.py)."""
     resolution = parse_resolution(args.resolution) if args.resolution else None
@@ -461,9 +501,9 @@ def main(args) -> int:
                        resolution=resolution, camera=args.camera,
                        gbuffer_samples=args.gbuffer_samples) for s in scenes]
     if args.peers:
-        ladder = tuple(int(v) for v in args.ladder.split(",")) if args.ladder else LADDER_SPP
-        if not ladder or min(ladder) < 1:
-            raise ReferenceError(f"--ladder must be samples >= 1, got {args.ladder!r}")
+        ladder = parse_ladder(args.ladder) if args.ladder is not None else LADDER_SPP
+        if not ladder and args.no_eevee:
+            raise ReferenceError("--ladder none with --no-eevee leaves nothing to render")
         for plan in plans:
             plan.peers, plan.ladder, plan.eevee = True, ladder, not args.no_eevee
     frames = args.frames

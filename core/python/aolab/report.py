@@ -709,6 +709,22 @@ def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list
     return out
 
 
+def eevee_releases(results: dict) -> list[dict]:
+    """Per scene, each EEVEE peer's scores (GTAO from Blender 3.4, EEVEE Next from 4.2+,
+    where committed): MAE, bias and occluded MAE against the same Cycles reference, and its
+    settings and Blender release: what the newer EEVEE changed."""
+    out = []
+    for name in results["meta"].get("scenes", []):
+        for r in results["rows"]:
+            if r["scene"] == name and r["kind"] == "eevee":
+                m = r["metrics"]["all"]
+                out.append({"scene": name, "peer": r["method"], "mae": _num(m.get("mae")),
+                            "bias": _num(m.get("bias")),
+                            "occluded_mae": _num(metric(r, "occluded_mae")),
+                            "blender": (r.get("settings") or {}).get("blender_version")})
+    return out
+
+
 def eevee_table(checks: list[dict], budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> str:
     head = ("<tr><th>scene</th><th>screen-space limit</th><th>EEVEE GTAO</th>"
             f"<th>best tuned ≤ {budget_ms:g} ms, held out</th><th>its method, trial, ms</th>"

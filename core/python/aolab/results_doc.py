@@ -107,7 +107,23 @@ def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
         out.append(f'| {c["scene"]} | {_f(c["limit"])} ({c["limit_label"] or "—"}) | '
                    f'{_f(c["eevee"])} | {_f(c["tuned"])} | {who} | {words[c["verdict"]]} | '
                    f'{_f(c["larger"])} ({c["larger_method"] or "—"}) |')
-    out += [""] + rtao_section(results, agg)
+    out += [""] + eevee_releases_section(results) + rtao_section(results, agg)
+    return out + [""]
+
+
+def eevee_releases_section(results: dict) -> list[str]:
+    """Each EEVEE peer against the same reference: GTAO (Blender 3.4) and EEVEE Next (4.2+)."""
+    rows = report.eevee_releases(results)
+    if not rows:
+        return []
+    out = ["### EEVEE across Blender releases", "",
+           "Blender 4.2 replaced EEVEE's GTAO by EEVEE Next, whose AO pass is a horizon scan "
+           "([blender_bridge.md](blender_bridge.md#eevee-next)). Both render the scene's AO "
+           "pass at distance R, 16 samples, against the same Cycles reference:", "",
+           "| scene | peer | Blender | MAE | bias | occluded MAE |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f'| {r["scene"]} | {r["peer"]} | {r["blender"] or "—"} | {_f(r["mae"])} | '
+                   f'{_f(r["bias"], "+.4f")} | {_f(r["occluded_mae"])} |')
     return out + [""]
 
 

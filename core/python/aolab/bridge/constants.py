@@ -10,6 +10,10 @@ RESULT_MESH = "reference.mesh"            # the `mesh` pass: scene triangles (br
 RESULT_MESH_JSON = "reference.mesh.json"
 PEERS_DIR = "peers"          # reference_scenes/<scene>/peers/
 PEERS_JSON = "peers.json"
+#: EEVEE Next's render (Blender 4.2+) beside the 3.4 peers: the peers.json of an
+#: `aolab reference --peers --ladder none` run on Blender 4.x, renamed
+#: (scripts/update_references.sh --eevee-next).
+EEVEE_NEXT_JSON = "eevee_next.json"
 #: Cycles writes 1e10 where nothing is hit: depth at or beyond this is background.
 BACKGROUND_DEPTH = 1e9
 #: The Cycles ladder of the comparison peers: samples per rung (seed LADDER_SEED).
