@@ -330,3 +330,21 @@ def test_live_unregisters_with_a_pending_timer(live):
     after = r["after_disable"]
     assert not after["timer"] and after["handlers"] == [] and after["threads"] == []
     assert not after["wm_aolab"]
+
+
+def test_manifest_and_bl_info_agree():
+    """The extension's manifest (Blender 4.2+) and the legacy bl_info (3.4) describe one
+    add-on: the same name, version and category; the manifest's id is the module name."""
+    import ast
+    import tomllib
+    folder = ROOT / "blender_addon" / "aolab_blender"
+    manifest = tomllib.loads((folder / "blender_manifest.toml").read_text())
+    tree = ast.parse((folder / "__init__.py").read_text())
+    bl_info = next(ast.literal_eval(n.value) for n in tree.body if isinstance(n, ast.Assign)
+                   and getattr(n.targets[0], "id", None) == "bl_info")
+    assert manifest["id"] == folder.name and manifest["type"] == "add-on"
+    assert manifest["name"] == bl_info["name"]
+    assert manifest["version"] == ".".join(str(v) for v in bl_info["version"])
+    assert manifest["tags"] == [bl_info["category"]]
+    assert tuple(int(v) for v in manifest["blender_version_min"].split(".")) >= (4, 2, 0)
+    assert bl_info["blender"] < (4, 2, 0)   # below it, Blender reads bl_info
