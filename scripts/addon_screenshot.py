@@ -1,21 +1,29 @@
 """Run by scripts/addon_screenshot.sh in Blender's full UI under Xvfb:
 
-    blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE OUT.png
+    blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE READY
 
 Builds a reference scene, enables the AO Lab add-on, opens the 3D viewport's sidebar on the
 AO Lab tab, with an Image Editor beside it, then clicks through Preview, Render Reference
 (64 samples, cached) and Compare with their real modal operators (INVOKE_DEFAULT, driven by
-the event loop), shows the lowest-MAE method's error map in the Image Editor, saves a
-screenshot and quits. Exits with code 1 (and no screenshot) if a step fails.
+the event loop), shows the lowest-MAE method's error map in the Image Editor, and writes the
+file READY. The shell script then captures the X screen (xwd) and writes READY + ".done",
+and this script quits. Exits with code 1 (and no READY) if a step fails.
+
+The X screen rather than bpy.ops.screen.screenshot: that operator reads back Blender's own
+frame buffer, which Blender 4.3 on Mesa's llvmpipe returns black (measured), while the X
+server holds what a user would see on both releases.
 """
+import os
 import runpy
 import sys
+import time
 import traceback
 
 import addon_utils
 import bpy
 
-BUILD, CACHE, OUT = sys.argv[sys.argv.index("--") + 1:][:3]
+BUILD, CACHE, READY = sys.argv[sys.argv.index("--") + 1:][:3]
+CAPTURE_TIMEOUT = 120  # s to wait for the shell script's capture
 SCALE = 25           # % of the scene's 1280x720: 320x180
 SAMPLES = 64         # a quick reference; the panel's default is 1024
 PRESET = "medium"    # each method's preset, where it has one
@@ -138,8 +146,17 @@ def tick():
             show_results()
             return 2.0
         elif step == 6:
-            bpy.ops.screen.screenshot(filepath=OUT)
-            print(f"addon_screenshot: wrote {OUT}; {session.message}", flush=True)
+            with open(READY, "w") as f:
+                f.write(session.message)
+            state["t"] = time.monotonic()
+            return 0.5
+        elif step >= 7:
+            if not os.path.exists(READY + ".done"):
+                if time.monotonic() - state["t"] > CAPTURE_TIMEOUT:
+                    raise RuntimeError("the screen was not captured")
+                state["step"] = 7
+                return 0.5
+            print(f"addon_screenshot: captured; {session.message}", flush=True)
             bpy.ops.wm.quit_blender()
             return None
         return 0.5

@@ -5,7 +5,8 @@
 #   scripts/addon_screenshot.sh [OUT.png] [SCENE_BUILD.py]
 #
 # Installs the add-on into temporary Blender user folders (your preferences are untouched),
-# starts Blender's full UI under Xvfb (xvfb-run; Debian packages xvfb xauth), builds the
+# starts Blender's full UI under Xvfb (xvfb-run; Debian packages xvfb xauth, and x11-apps and
+# imagemagick for the capture), builds the
 # scene (default reference_scenes/room/build.py), and runs scripts/addon_screenshot.py: the
 # real Preview / Render Reference (64 samples, 320x180, cached in $AOLAB_CACHE or
 # ~/.cache/aolab/references) / Compare operators, then the screenshot. With PYTHONPATH set
@@ -22,7 +23,21 @@ export BLENDER_USER_CONFIG="$tmp/config" BLENDER_USER_SCRIPTS="$tmp/scripts" \
 AOLAB_ADDON_ZIP="$tmp/aolab_addon.zip" "$root/scripts/install_addon.sh" >/dev/null
 mkdir -p "$(dirname "$out")"
 rm -f "$out"
-xvfb-run -a -s "-screen 0 1920x1080x24" "${AOLAB_BLENDER:-blender}" --factory-startup -noaudio \
-  --enable-event-simulate ${PYTHONPATH:+--python-use-system-env} --python-exit-code 1 --python "$root/scripts/addon_screenshot.py" -- "$scene" "$cache" "$out"
+# Blender in the background on Xvfb; once the panel shows the results it writes $tmp/ready,
+# the X screen is captured here (xwd, converted by ImageMagick), and $tmp/ready.done lets
+# Blender quit.
+export AOLAB_SHOT_OUT="$out" AOLAB_SHOT_READY="$tmp/ready" AOLAB_SHOT_BLENDER="${AOLAB_BLENDER:-blender}"
+export AOLAB_SHOT_ARGS="${PYTHONPATH:+--python-use-system-env}"
+xvfb-run -a -s "-screen 0 1920x1080x24" bash -c '
+  "$AOLAB_SHOT_BLENDER" --factory-startup -noaudio --enable-event-simulate $AOLAB_SHOT_ARGS \
+    --python-exit-code 1 --python "$0" -- "$1" "$2" "$AOLAB_SHOT_READY" &
+  pid=$!
+  while kill -0 $pid 2>/dev/null && [ ! -f "$AOLAB_SHOT_READY" ]; do sleep 0.5; done
+  if [ -f "$AOLAB_SHOT_READY" ]; then
+    sleep 1   # the last redraw
+    xwd -root -silent | convert xwd:- "$AOLAB_SHOT_OUT"
+    touch "$AOLAB_SHOT_READY.done"
+  fi
+  wait $pid' "$root/scripts/addon_screenshot.py" "$scene" "$cache"
 [ -s "$out" ] || { echo "addon_screenshot: no screenshot written" >&2; exit 1; }
 echo "addon_screenshot: $out"

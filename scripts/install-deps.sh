@@ -22,10 +22,13 @@ PACKAGES=(
   python3-distributed
   # headless browser: tests/python/test_report.py opens the comparison report in it
   chromium
-  # Blender 3.4 (its Python is the same 3.11; `import aolab` is tested inside it)
+  # Blender (3.4 on Debian 12, 4.3 on Debian 13; its Python is /usr/bin/python3 on both, and
+  # `import aolab` is tested inside it)
   blender
   # EEVEE (the comparison's GTAO peer) needs an OpenGL context: Xvfb + Mesa's llvmpipe
   xvfb xauth libgl1-mesa-dri
+  # scripts/addon_screenshot.sh captures the Xvfb screen: xwd, and ImageMagick to write PNG
+  x11-apps imagemagick
 )
 
 missing=()

@@ -37,7 +37,9 @@ if [ $extension = 1 ]; then
   trap 'rm -rf "$stage"' EXIT
   cp "$src"/*.py "$src"/blender_manifest.toml "$stage/"
   "$blender" -b --factory-startup -noaudio --command extension build --source-dir "$stage" \
-    --output-filepath "$zip.tmp.zip" >/dev/null
+    --output-filepath "$zip.tmp.zip" | { grep -v '^Blender [0-9]' || true; }
+  # `extension build` reports an invalid manifest as FATAL_ERROR but exits with status 0
+  [ -s "$zip.tmp.zip" ] || { echo "install_addon: no extension package built (see above)" >&2; exit 1; }
   mv "$zip.tmp.zip" "$zip"
 else
   /usr/bin/python3 - "$src" "$zip" <<'PY'

@@ -149,11 +149,18 @@ def test_reference_end_to_end_cached_and_scored(tmp_path):
     assert "rendered" in res.stdout
     folder = next(cache.iterdir())
     before = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
-    # Served from the cache: no render (the files are untouched). Not timed: a loaded machine
-    # can take seconds just to start Python, and speed is measured in benchmarks.
+    # Served from the cache: no render (the files are untouched), by a Blender that answers
+    # --version (the release is part of the cache key) and leaves a mark if asked for
+    # anything else. Not timed: a loaded machine can take seconds just to start Python, and
+    # speed is measured in benchmarks.
+    mark = tmp_path / "rendered-again"
+    spy = tmp_path / "blender"
+    spy.write_text(f'#!/bin/sh\ncase " $* " in *" --version "*) exec {BLENDER} "$@" ;; esac\n'
+                   f'touch {mark}\nexit 1\n')
+    spy.chmod(0o755)
     res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao",
-                          env=dict(os.environ, AOLAB_BLENDER="/nonexistent/blender"))
-    assert "cached" in res.stdout
+                          env=dict(os.environ, AOLAB_BLENDER=str(spy)))
+    assert "cached" in res.stdout and not mark.exists()
     assert {p.name: p.stat().st_mtime_ns for p in folder.iterdir()} == before
     assert not [p for p in cache.iterdir() if p.name.startswith(".")]  # no temporary leftovers
     g = aolab.load_gbuffer(folder / "reference.exr")
@@ -345,3 +352,20 @@ def test_batch_out_under_a_file_is_a_message(tmp_path):
     assert res.returncode == 2, res.stdout[-2000:] + res.stderr[-2000:]
     assert "AOLAB_ERROR" in res.stdout and "file" in res.stdout, res.stdout[-2000:]
     assert "Traceback" not in res.stdout + res.stderr
+
+
+@needs_blender
+def test_the_blender_release_is_in_the_cache_key(tmp_path):
+    """Another Blender release samples Cycles differently: a reference cached by one is not
+    handed out for another (docs/blender_bridge.md, "Across Blender releases")."""
+    from aolab.reference import blender_version, make_plan, resolve_scene
+    version = blender_version()
+    assert re.fullmatch(r"\d+\.\d+(\.\d+)?", version) and \
+        version.startswith("%d.%d" % BLENDER_VERSION)
+    other = tmp_path / "blender"
+    other.write_text("#!/bin/sh\necho 'Blender 9.9.9'\n")
+    other.chmod(0o755)
+    assert blender_version(str(other)) == "9.9.9"
+    plan = make_plan(resolve_scene(str(TINY)), spp=16, methods=["hbao"])
+    assert plan.key() == plan.key(BLENDER) != plan.key(str(other))
+    assert blender_version(str(tmp_path / "absent")) == "none"
