@@ -64,3 +64,20 @@ def eevee_ao_settings(eevee, radius: float) -> dict:
                   use_gtao_bent_normals=eevee.use_gtao_bent_normals,
                   use_bloom=False, use_ssr=False, use_motion_blur=False)
     return chosen
+
+
+#: 3.4's EEVEE writes the half float maximum where nothing is drawn.
+GTAO_BACKGROUND_DEPTH = 65504.0
+
+
+def eevee_background_depth(camera) -> float:
+    """The depth at or beyond which a pixel of an EEVEE render is background, for the camera
+    data `camera`. 3.4's EEVEE writes 65504 there (so: 99 % of it). EEVEE Next writes the far
+    plane, reconstructed from its depth buffer, whose resolution there is about
+    clip_end² / clip_start · 2^-24: measured 1000.07 for a clip end of 1000, and below 200 for
+    one of 200 (the committed scenes). So 8 times that resolution below the clip end; no
+    surface of the committed scenes lies so near it."""
+    if not is_eevee_next():
+        return GTAO_BACKGROUND_DEPTH * 0.99
+    margin = max(1e-4, 8.0 * camera.clip_end / camera.clip_start * 2.0 ** -24)
+    return camera.clip_end * (1.0 - margin)

@@ -34,10 +34,6 @@ from .export import (BridgeError, Cancelled, _enable_only, _render, camera_recor
                      render_session, scene_camera)
 from .state import SettingsRestorer
 
-#: EEVEE's depth where nothing is drawn: 3.4's EEVEE writes the half float maximum, EEVEE Next
-#: the camera's clip end (measured, docs/blender_facts.md); no surface lies beyond either.
-EEVEE_BACKGROUND = 65504.0
-CLIP_END_SHARE = 1 - 1e-4
 
 
 def _ao_and_background(path: str, background_depth: float):
@@ -109,9 +105,8 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
             path = os.path.join(tmp, "eevee.exr")
             seconds = _render(rs, scene, path)
             name = compat.eevee_peer_name()
-            background = min(EEVEE_BACKGROUND * 0.99, cam.data.clip_end * CLIP_END_SHARE)
             exr.write_gray(os.path.join(out_dir, name + ".exr"),
-                           _ao_and_background(path, background))
+                           _ao_and_background(path, compat.eevee_background_depth(cam.data)))
             entries.append({"name": name, "kind": "eevee", "file": name + ".exr",
                             "render_time_s": seconds, "settings": chosen,
                             "note": "EEVEE on Mesa llvmpipe (software rasteriser under Xvfb): "

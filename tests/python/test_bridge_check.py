@@ -70,6 +70,12 @@ def test_each_difference_is_caught():
     moved = copy.deepcopy(g)
     moved.depth = np.where(g.depth < 1e9, g.depth * (1 + 1e-3), g.depth).astype(np.float32)
     assert not bridge_check.compare(g, moved, None)["gbuffer_agrees"]
+    few = copy.deepcopy(g)                               # a few silhouette pixels: judged alike
+    few.depth[10, :5] *= 1.5
+    few.normal[11, :5] *= -1
+    r = bridge_check.compare(g, few, None)
+    assert r["gbuffer_agrees"] and r["depth_max_relative"] == pytest.approx(0.5, rel=1e-6)
+    assert r["normal_max_angle_deg"] == pytest.approx(180, abs=0.01)
     turned = copy.deepcopy(g)
     turned.normal = np.roll(g.normal, 1, axis=-1)
     assert not bridge_check.compare(g, turned, None)["gbuffer_agrees"]
