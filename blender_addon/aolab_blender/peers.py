@@ -35,7 +35,6 @@ from .export import (BridgeError, Cancelled, _enable_only, _render, camera_recor
 from .state import SettingsRestorer
 
 
-
 def _ao_and_background(path: str, background_depth: float):
     """The AO pass of a render (R of AO.RGB) with 1 where its depth says background."""
     channels = exr.read_channels(path)
