@@ -9,6 +9,7 @@ them with the tests that re-verify each:
   Next (engine BLENDER_EEVEE_NEXT in 4.2 to 4.4): its AO render pass is a horizon scan whose
   distance is still `gtao_distance`, with the fast-GI thickness and bias settings; the old
   switches are gone. `eevee_ao_settings` gives each its own settings mapped to R.
+- Renamed properties: ParticleSettings `child_nbr` (3.4) is `child_percent` (4.0+).
 - The add-on's packaging: 4.2+ installs it as an extension (blender_manifest.toml), under the
   module name `bl_ext.<repository>.aolab_blender`; 3.4 as a legacy add-on (`bl_info`) under
   `aolab_blender`. The code only ever uses `__package__`, so both names work.
@@ -18,8 +19,10 @@ from __future__ import annotations
 
 import bpy
 
-#: The first release with EEVEE Next and extensions.
-EEVEE_NEXT_VERSION = (4, 2, 0)
+#: The viewport's count of child particles per parent: `child_nbr` until Blender 4.0 renamed
+#: it `child_percent` (the render count, `rendered_child_count`, kept its name).
+PARTICLE_VIEWPORT_CHILDREN = ("child_percent" if "child_percent" in
+                              bpy.types.ParticleSettings.bl_rna.properties.keys() else "child_nbr")
 
 #: TAA samples of the EEVEE renders: GTAO (3.4) converges in a few; EEVEE Next's horizon scan
 #: is noisier per sample, and 16 keeps its residual noise below the reference's (measured,

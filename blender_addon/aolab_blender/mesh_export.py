@@ -24,6 +24,7 @@ import numpy as np
 from aolab.bridge import mesh as mesh_file
 from aolab.bridge.constants import BRIDGE_VERSION
 
+from . import compat
 from .state import SettingsRestorer
 
 #: Object types that can have faces. In Blender 3.4 the faces of curves, text, surfaces and
@@ -109,7 +110,7 @@ def _viewport_as_render(rs: SettingsRestorer, view_layer) -> None:
             rs.on_restore(lambda obj=obj: obj.hide_set(True, view_layer=view_layer))
     for part in filter(local, bpy.data.particles):
         rs.set(part, "display_percentage", 100)
-        rs.set(part, "child_nbr", part.rendered_child_count)
+        rs.set(part, compat.PARTICLE_VIEWPORT_CHILDREN, part.rendered_child_count)
     for curve in filter(local, bpy.data.curves):
         if curve.render_resolution_u > 0:    # 0: the render uses resolution_u
             rs.set(curve, "resolution_u", curve.render_resolution_u)

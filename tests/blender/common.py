@@ -136,7 +136,9 @@ def diff(a, b, path=""):
 def dress_as_user_scene(scene):
     """Gives `scene` deliberately non-default settings everywhere the bridge reaches (render,
     Cycles, EEVEE, world, passes, objects, camera, a light), like a user's own scene."""
-    scene.render.engine = "BLENDER_EEVEE"
+    engines = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
+    next_ = "BLENDER_EEVEE_NEXT" in engines       # Blender 4.2 to 4.4
+    scene.render.engine = "BLENDER_EEVEE_NEXT" if next_ else "BLENDER_EEVEE"
     scene.render.use_compositing = True
     scene.render.use_motion_blur = True
     scene.render.filepath = "//user_output_"
@@ -164,7 +166,11 @@ def dress_as_user_scene(scene):
     bpy.context.view_layer.update()
     scene.eevee.gtao_distance = 0.123
     scene.eevee.use_gtao = False
-    scene.eevee.use_gtao_bounce = True
     scene.eevee.taa_render_samples = 3
-    scene.eevee.use_bloom = True
+    if hasattr(scene.eevee, "use_gtao_bounce"):   # 3.4's EEVEE
+        scene.eevee.use_gtao_bounce = True
+        scene.eevee.use_bloom = True
+    else:                                         # EEVEE Next's horizon scan settings
+        scene.eevee.fast_gi_thickness_near = 0.77
+        scene.eevee.fast_gi_bias = 0.11
     scene.render.filter_size = 1.7

@@ -33,6 +33,19 @@ def _blender_version() -> tuple[int, int]:
 
 
 BLENDER_VERSION = _blender_version()
+
+
+def blender_spy(folder: Path) -> tuple[Path, Path]:
+    """(a Blender, a mark): the Blender answers --version as the real one does (the release is
+    part of every cache key) and, asked for anything else, leaves the mark and fails. Serving
+    a cached result with it proves that nothing was rendered."""
+    mark, spy = folder / "rendered-again", folder / "blender"
+    spy.write_text(f'#!/bin/sh\ncase " $* " in *" --version "*) exec {BLENDER} "$@" ;; esac\n'
+                   f'touch {mark}\nexit 1\n')
+    spy.chmod(0o755)
+    return spy, mark
+
+
 #: The name of this Blender's EEVEE peer: GTAO before 4.2, EEVEE Next from 4.2 on.
 EEVEE_PEER = "eevee_next" if BLENDER_VERSION >= (4, 2) else "eevee_gtao"
 needs_blender = pytest.mark.skipif(BLENDER is None, reason="Blender is not installed "
@@ -153,11 +166,7 @@ def test_reference_end_to_end_cached_and_scored(tmp_path):
     # --version (the release is part of the cache key) and leaves a mark if asked for
     # anything else. Not timed: a loaded machine can take seconds just to start Python, and
     # speed is measured in benchmarks.
-    mark = tmp_path / "rendered-again"
-    spy = tmp_path / "blender"
-    spy.write_text(f'#!/bin/sh\ncase " $* " in *" --version "*) exec {BLENDER} "$@" ;; esac\n'
-                   f'touch {mark}\nexit 1\n')
-    spy.chmod(0o755)
+    spy, mark = blender_spy(tmp_path)
     res = aolab_reference(str(TINY), "--spp", "16", "--cache", str(cache), "--methods", "hbao",
                           env=dict(os.environ, AOLAB_BLENDER=str(spy)))
     assert "cached" in res.stdout and not mark.exists()

@@ -16,7 +16,7 @@ import pytest
 import aolab
 from aolab.bridge import mesh as meshfile
 from aolab.bridge.passes import parse_passes, required_passes
-from test_bridge import ROOT, TINY, blender_check, needs_blender
+from test_bridge import ROOT, TINY, blender_check, blender_spy, needs_blender
 
 SCENES = ROOT / "reference_scenes"
 MESH_SCENE = ROOT / "tests" / "data" / "mesh_scene.py"
@@ -329,9 +329,11 @@ def test_aolab_mesh_is_cached_and_its_errors_name_the_option(tmp_path):
     assert folder.name.startswith("tiny_scene-mesh-")
     before = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
     assert sorted(before) == ["reference.mesh", "reference.mesh.json"]
+    spy, mark = blender_spy(tmp_path)
     res = aolab_cmd("mesh", "--quiet", str(TINY), "--cache", str(cache), "--resolution", "80x60",
-                    env=dict(os.environ, AOLAB_BLENDER="/nonexistent/blender"))
+                    env=dict(os.environ, AOLAB_BLENDER=str(spy)))
     assert res.returncode == 0 and "cached" in res.stdout, res.stdout + res.stderr
+    assert not mark.exists()
     assert {p.name: p.stat().st_mtime_ns for p in folder.iterdir()} == before
     m = aolab.load_mesh(tmp_path / "out" / "reference.mesh")
     assert len(m.triangles) == 36 and m.info["width"] == 80 and m.info["height"] == 60

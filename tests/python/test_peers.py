@@ -155,7 +155,14 @@ def test_committed_eevee_next_matches_its_reference(scene):
     g = aolab.load_gbuffer(folder / "reference.exr")
     peers = json.loads((folder / "peers" / "eevee_next.json").read_text())
     assert int(peers["blender_version"].split(".")[0]) >= 4
-    assert peers["scene_hash"] == g.sidecar["scene_hash"]
+    # The same camera and R. The scene hash equals the reference's but on `engine`, whose
+    # imported custom normals Blender 4.x stores apart by 0.07 degrees (docs/blender_bridge.md,
+    # "Across Blender releases"); its mesh and depths agree.
+    for key in ("width", "height", "fx", "fy", "cx", "cy", "clip_start", "clip_end"):
+        assert peers["camera"][key] == g.sidecar[key], key
+    np.testing.assert_allclose(peers["camera"]["camera_to_world"], g.sidecar["camera_to_world"],
+                               atol=1e-6)
+    assert peers["scene_hash"] == g.sidecar["scene_hash"] or scene == "engine"
     assert peers["ao_distance"] == g.sidecar["ao_distance"]
     (entry,) = peers["entries"]
     assert entry["name"] == "eevee_next" and entry["kind"] == "eevee"

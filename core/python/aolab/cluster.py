@@ -38,19 +38,23 @@ PROGRESS_S = 0.5
 
 def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -> dict:
     """One plan on a worker: reference.render, stopping when the client sets ``stop_event``."""
-    from distributed import Event
-    event = Event(stop_event)
+    from distributed import Client, Event, get_worker
     last = [0.0, False]
-
-    def should_stop() -> bool:
-        now = time.monotonic()
-        if now - last[0] >= STOP_POLL_S:
-            last[0], last[1] = now, event.is_set()
-        return last[1]
-
     t0 = time.perf_counter()
-    folder, cached = reference.render(plan, Path(cache), force=force, progress=False,
-                                      should_stop=should_stop)
+    # A client of the job's own, closed when the job ends. The worker's shared client
+    # (Event's default) is left to the worker process's exit, and when an interrupt stops
+    # the cluster, Debian 13's distributed then prints "IOLoop is closed" from its __del__.
+    with Client(get_worker().scheduler.address, set_as_default=False) as client:
+        event = Event(stop_event, client=client)
+
+        def should_stop() -> bool:
+            now = time.monotonic()
+            if now - last[0] >= STOP_POLL_S:
+                last[0], last[1] = now, event.is_set()
+            return last[1]
+
+        folder, cached = reference.render(plan, Path(cache), force=force, progress=False,
+                                          should_stop=should_stop)
     import socket
     return {"folder": str(folder), "cached": cached, "seconds": time.perf_counter() - t0,
             "worker": socket.gethostname()}
