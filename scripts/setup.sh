@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One command from a fresh Debian 12 clone to a working AO Lab:
+# One command from a fresh Debian 12 or 13 clone to a working AO Lab:
 # installs missing Debian packages, builds, makes `import aolab` work in /usr/bin/python3
 # (and in Blender) from any folder, installs the `aolab` command, and runs the main job.
 # scripts/uninstall.sh undoes the two files it puts under /usr/local.

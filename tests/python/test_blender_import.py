@@ -1,5 +1,6 @@
-"""The compiled module imports and computes inside Blender's embedded Python (Blender 3.4
-from Debian uses /usr/bin/python3.11's ABI). Skips with a reason where Blender is absent."""
+"""The compiled module imports and computes inside Blender's embedded Python (Debian's
+Blender runs on /usr/bin/python3: 3.11 with Blender 3.4 on Debian 12, 3.13 with Blender 4.3 on
+Debian 13, and the module is built for it). Skips with a reason where Blender is absent."""
 import os
 import shutil
 import subprocess
