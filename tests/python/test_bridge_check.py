@@ -121,3 +121,13 @@ def test_ladder_none_and_errors():
     for bad in ("", "0,4", "a", "1,,4"):
         with pytest.raises(ReferenceError, match="--ladder"):
             parse_ladder(bad)
+
+
+def test_command_line_errors_name_the_value():
+    import subprocess
+    import sys
+    for args, said in [(["nowhere"], "no committed reference for nowhere"),
+                       (["--spp", "0"], "--spp must be an integer in [1, 65536], got 0")]:
+        r = subprocess.run([sys.executable, "-m", "aolab", "bridge-check", *args],
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode == 2 and said in r.stderr and "Traceback" not in r.stderr, r.stderr
