@@ -236,9 +236,9 @@ def add_parser(sub):
 
 def main(args) -> int:
     from . import reference
+    items = committed_scenes(find_scenes_dir(), args.scenes)   # every error before a render
     blender = reference.find_blender()
     version = reference.blender_version(blender)
-    items = committed_scenes(find_scenes_dir(), args.scenes)
     results = []
     for label, folder, frame in items:
         r = check_scene(label, folder, frame, args.spp, Path(args.cache) if args.cache else None,
