@@ -26,7 +26,6 @@ package) first on sys.path, and before it the folder of the aolab package that s
 Blender ($AOLAB_PACKAGE_PATH, set by aolab.reference), so that Blender uses that same build.
 """
 
-import argparse
 import json
 import os
 import runpy
@@ -41,21 +40,10 @@ import bpy  # noqa: E402
 from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
 from aolab.cli import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
-                       int_option)
+                       int_list_option, int_option)
 from aolab.reference import MAX_FRAME, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
-
-
-def _ladder(text: str) -> list[int]:
-    if text == "none":  # EEVEE alone
-        return []
-    sample = int_option("--ladder", 1, MAX_SAMPLES)
-    try:
-        return [sample(v) for v in text.split(",")]
-    except argparse.ArgumentTypeError:
-        raise ValueError(f"--ladder must be comma-separated integers in [1, {MAX_SAMPLES}], "
-                         f"got {text!r}") from None
 
 
 def _extra(text: str) -> dict:
@@ -84,7 +72,7 @@ def parse(argv):
     p.add_argument("--camera")
     p.add_argument("--extra", type=checked_type(_extra, "--extra"), default="{}")
     p.add_argument("--peers", action="store_true")
-    p.add_argument("--ladder", type=checked_type(_ladder, "--ladder"),
+    p.add_argument("--ladder", type=int_list_option("--ladder", MAX_SAMPLES),
                    default=",".join(str(s) for s in LADDER_SPP))
     p.add_argument("--no-eevee", action="store_true")
     p.add_argument("--mesh-only", action="store_true")

@@ -10,7 +10,7 @@ import pytest
 
 from aolab import bridge_check
 from aolab.compare import find_scenes_dir
-from aolab.reference import ReferenceError, parse_ladder
+from aolab.cli import MAX_SAMPLES, int_list_option
 
 
 @dataclass
@@ -117,9 +117,11 @@ def test_doc_block_per_release(tmp_path):
 
 
 def test_ladder_none_and_errors():
+    import argparse
+    parse_ladder = int_list_option("--ladder", MAX_SAMPLES)   # aolab reference's and batch.py's
     assert parse_ladder("none") == () and parse_ladder("1,4") == (1, 4)
-    for bad in ("", "0,4", "a", "1,,4"):
-        with pytest.raises(ReferenceError, match="--ladder"):
+    for bad in ("", "0,4", "a", "1,,4", str(MAX_SAMPLES + 1)):
+        with pytest.raises(argparse.ArgumentTypeError, match="--ladder"):
             parse_ladder(bad)
 
 

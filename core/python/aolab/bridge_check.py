@@ -35,7 +35,7 @@ import aolab
 
 from .bridge.constants import PEERS_DIR
 from .compare import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
-from .report import atomic_write_text
+from .report import atomic_write_text, write_generated_block
 
 #: The AO pass's samples: a Cycles rung the committed peers have (their 64-spp render), so
 #: that its expected error is measured, not modelled; 1/16 of a reference's time.
@@ -115,14 +115,15 @@ def compare(committed, rendered, rung: np.ndarray | None) -> dict:
     both = ma & mb
     r["pixels"] = int(both.sum())
     r["coverage_changed"] = int((ma != mb).sum())
-    da, db = committed.depth[both].astype(np.float64), rendered.depth[both].astype(np.float64)
-    r["depth_identical"] = float(np.mean(committed.depth[both] == rendered.depth[both]))
-    rel = np.abs(da - db) / np.maximum(da, 1e-30)
+    za, zb = committed.depth[both], rendered.depth[both]
+    r["depth_identical"] = float(np.mean(za == zb))
+    da = za.astype(np.float64)
+    rel = np.abs(da - zb.astype(np.float64)) / np.maximum(da, 1e-30)
     r["depth_max_relative"] = float(rel.max(initial=0))
     r["depth_p999_relative"] = float(np.percentile(rel, JUDGED_PERCENTILE)) if rel.size else 0.0
-    na, nb = committed.normal[both].astype(np.float64), rendered.normal[both].astype(np.float64)
-    r["normal_identical"] = float(np.mean(np.all(committed.normal[both] ==
-                                                 rendered.normal[both], axis=-1)))
+    na, nb = committed.normal[both], rendered.normal[both]
+    r["normal_identical"] = float(np.mean(np.all(na == nb, axis=-1)))
+    na, nb = na.astype(np.float64), nb.astype(np.float64)
     la, lb = np.linalg.norm(na, axis=-1), np.linalg.norm(nb, axis=-1)
     cos = np.sum(na * nb, axis=-1) / np.maximum(la * lb, 1e-30)
     angle = np.degrees(np.arccos(np.clip(cos, -1, 1)))
@@ -165,9 +166,8 @@ def check_scene(label: str, folder: Path, frame: int | None, spp: int, cache: Pa
     rendered = aolab.load_gbuffer(result / "reference.exr")
     rung_path = folder / PEERS_DIR / f"cycles_{spp}spp.exr"
     rung = read_y_exr(rung_path).astype(np.float64) if rung_path.exists() else None
-    r = {"scene": label, "spp": spp, "cached": cached,
-         "seconds": time.perf_counter() - t0, **compare(committed, rendered, rung)}
-    return r
+    return {"scene": label, "spp": spp, "cached": cached,
+            "seconds": time.perf_counter() - t0, **compare(committed, rendered, rung)}
 
 
 def _yes(v) -> str:
@@ -202,14 +202,8 @@ def markdown(results: list[dict]) -> str:
 def update_doc(path: Path, version: str, body: str) -> None:
     """Replaces the block of this Blender release (major.minor) in `path`, or adds it at the
     end of the file when it has none yet."""
-    begin, end = DOC_BEGIN.format(version=version), DOC_END.format(version=version)
-    text = path.read_text()
-    if begin in text and end in text:
-        text = text[:text.index(begin) + len(begin)] + "\n\n" + body + "\n\n" + \
-            text[text.index(end):]
-    else:
-        text = text.rstrip("\n") + "\n\n" + begin + "\n\n" + body + "\n\n" + end + "\n"
-    atomic_write_text(path, text)
+    write_generated_block(path, DOC_BEGIN.format(version=version),
+                          DOC_END.format(version=version), body, append_if_missing=True)
 
 
 def add_parser(sub):

@@ -110,20 +110,20 @@ def checked_type(parse, name: str):
     return convert
 
 
-def rays_list_option(name: str):
-    """An argparse ``type=`` for a comma-separated list of rays per pixel, each in [1, 65536],
-    or 'none' (the empty tuple)."""
+def int_list_option(name: str, hi: int):
+    """An argparse ``type=`` for a comma-separated list of counts (rays or samples per pixel),
+    each in [1, hi], or 'none' (the empty tuple)."""
     def convert(text: str) -> tuple[int, ...]:
         if text.strip().lower() == "none":
             return ()
         try:
             values = tuple(int(v) for v in text.split(","))
-            if values and all(1 <= v <= 65536 for v in values):
+            if values and all(1 <= v <= hi for v in values):
                 return values
         except ValueError:
             pass
         raise argparse.ArgumentTypeError(f"{name} must be comma-separated integers in "
-                                         f"[1, 65536] or 'none', got {text!r}")
+                                         f"[1, {hi}] or 'none', got {text!r}")
     convert.__name__ = name
     return convert
 
@@ -559,7 +559,7 @@ def add_compare_parser(sub) -> None:
                    help=f"width of the report's images, 1 to {MAX_SIDE} px (default 480)")
     c.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
-    c.add_argument("--rtao-rays", type=rays_list_option("--rtao-rays"),
+    c.add_argument("--rtao-rays", type=int_list_option("--rtao-rays", 65536),
                    default=",".join(str(n) for n in RTAO_LADDER),
                    help="rtao's rays per pixel on every scene with a mesh, comma-separated "
                    "integers in [1, 65536] (default " + ",".join(str(n) for n in RTAO_LADDER)
@@ -735,8 +735,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "of the reference: Cycles at the --ladder samples (seed 1) and EEVEE (GTAO on "
                    "Blender 3.4, EEVEE Next on 4.2+) under xvfb-run, into peers.json + one "
                    "EXR each")
-    f.add_argument("--ladder", help="with --peers: samples, e.g. 1,4,16,64,256 (the "
-                   "default), or none (EEVEE alone)")
+    f.add_argument("--ladder", type=int_list_option("--ladder", MAX_SAMPLES),
+                   help="with --peers: samples, e.g. 1,4,16,64,256 (the default), or none "
+                   "(EEVEE alone)")
     f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")

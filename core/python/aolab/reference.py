@@ -278,8 +278,9 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     blender = blender or find_blender()
     cache.mkdir(parents=True, exist_ok=True)
     _remove_stale_temporaries(cache)
-    final = cache / plan.key(blender)
-    tmp = cache / f".{plan.key(blender)}.tmp-{os.getpid()}"
+    key = plan.key(blender)
+    final = cache / key
+    tmp = cache / f".{key}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
     s = plan.scene
@@ -479,19 +480,6 @@ def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
     return out
 
 
-def parse_ladder(text: str) -> tuple[int, ...]:
-    """--ladder: comma-separated samples >= 1, or "none" (no Cycles rung: EEVEE alone)."""
-    if text.strip().lower() == "none":
-        return ()
-    try:
-        ladder = tuple(int(v) for v in text.split(","))
-    except ValueError:
-        ladder = ()
-    if not ladder or min(ladder) < 1:
-        raise ReferenceError(f"--ladder must be samples >= 1 (or none), got {text!r}")
-    return ladder
-
-
 def main(args) -> int:
     """The `aolab reference` command (arguments from cli.py)."""
     resolution = parse_resolution(args.resolution) if args.resolution else None
@@ -501,7 +489,7 @@ def main(args) -> int:
                        resolution=resolution, camera=args.camera,
                        gbuffer_samples=args.gbuffer_samples) for s in scenes]
     if args.peers:
-        ladder = parse_ladder(args.ladder) if args.ladder is not None else LADDER_SPP
+        ladder = args.ladder if args.ladder is not None else LADDER_SPP
         if not ladder and args.no_eevee:
             raise ReferenceError("--ladder none with --no-eevee leaves nothing to render")
         for plan in plans:

@@ -1118,6 +1118,22 @@ def atomic_write_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def write_generated_block(path: Path, begin: str, end: str, body: str, *,
+                          append_if_missing: bool = False) -> None:
+    """Replaces what lies between the marker lines `begin` and `end` of the Markdown file
+    `path` with `body`, atomically, leaving the rest as it was. A file without the markers is
+    a ValueError naming them, or, with `append_if_missing`, gets the block at its end."""
+    text = Path(path).read_text()
+    if begin in text and end in text:
+        text = text[:text.index(begin) + len(begin)] + "\n\n" + body + "\n\n" + \
+            text[text.index(end):]
+    elif append_if_missing:
+        text = text.rstrip("\n") + "\n\n" + begin + "\n\n" + body + "\n\n" + end + "\n"
+    else:
+        raise ValueError(f"{path} has no {begin!r} ... {end!r} block to replace")
+    atomic_write_text(path, text)
+
+
 def write_report(path: Path, results: dict, images: dict) -> None:
     """Writes report.html atomically."""
     atomic_write_text(path, render_html(results, images))

@@ -27,7 +27,7 @@ import aolab
 from .compare import find_scenes_dir, load_renders, noise_floor_peer, resolve_scenes
 from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .regions import REGIONS, region_masks
-from .report import atomic_write_text
+from .report import atomic_write_text, write_generated_block
 
 #: Rays per pixel of the check: the reference's own samples.
 CHECK_RAYS = 1024
@@ -254,12 +254,7 @@ def markdown(results: list[dict]) -> str:
 
 
 def update_doc(path: Path, table: str, meta: str) -> None:
-    text = path.read_text()
-    if DOC_BEGIN not in text or DOC_END not in text:
-        raise ValueError(f"{path} has no {DOC_BEGIN!r} ... {DOC_END!r} block to replace")
-    before = text[:text.index(DOC_BEGIN) + len(DOC_BEGIN)]
-    after = text[text.index(DOC_END):]
-    atomic_write_text(path, before + "\n\n" + meta + "\n\n" + table + "\n\n" + after)
+    write_generated_block(path, DOC_BEGIN, DOC_END, meta + "\n\n" + table)
 
 
 def add_parser(sub):
