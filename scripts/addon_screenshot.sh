@@ -35,7 +35,7 @@ xvfb-run -a -s "-screen 0 1920x1080x24" bash -c '
   while kill -0 $pid 2>/dev/null && [ ! -f "$AOLAB_SHOT_READY" ]; do sleep 0.5; done
   if [ -f "$AOLAB_SHOT_READY" ]; then
     sleep 1   # the last redraw
-    xwd -root -silent | convert xwd:- "$AOLAB_SHOT_OUT"
+    xwd -root -silent | /usr/bin/convert xwd:- "$AOLAB_SHOT_OUT"   # not another convert on PATH
     touch "$AOLAB_SHOT_READY.done"
   fi
   wait $pid' "$root/scripts/addon_screenshot.py" "$scene" "$cache"
