@@ -1,25 +1,16 @@
 #include "core/io/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <system_error>
 
 #include "core/base/check.h"
-
-#ifdef _WIN32
-#include <process.h>
-#define AOLAB_GETPID _getpid
-#else
-#include <unistd.h>
-#define AOLAB_GETPID getpid
-#endif
 
 namespace aolab {
 
@@ -28,40 +19,6 @@ using OIIO::ImageInput;
 using OIIO::ImageOutput;
 using OIIO::ImageSpec;
 using OIIO::TypeDesc;
-
-void require_regular_file(const std::string& path, const std::string& what_file) {
-  std::error_code ec;
-  const fs::file_type type = fs::status(path, ec).type();
-  const char* kind = "not a regular file";
-  switch (type) {
-    case fs::file_type::regular:
-      return;
-    case fs::file_type::not_found:
-      throw FileNotFound(path, what_file);
-    case fs::file_type::none:  // status() failed for another reason (e.g. permissions)
-      throw std::invalid_argument(what_file + " " + path + " cannot be accessed: " +
-                                  (ec ? ec.message() : std::string("unknown error")));
-    case fs::file_type::directory:
-      kind = "a directory";
-      break;
-    case fs::file_type::fifo:
-      kind = "a FIFO (named pipe)";
-      break;
-    case fs::file_type::socket:
-      kind = "a socket";
-      break;
-    case fs::file_type::block:
-      kind = "a block device";
-      break;
-    case fs::file_type::character:
-      kind = "a character device";
-      break;
-    default:
-      break;
-  }
-  throw std::invalid_argument(what_file + " " + path + " is " + kind +
-                              (type == fs::file_type::unknown ? "" : ", not a regular file"));
-}
 
 namespace {
 
@@ -156,43 +113,30 @@ void world_to_view(Image& normal, const std::array<double, 16>& m) {
   throw std::runtime_error("cannot write " + path + ": " + detail);
 }
 
-// Writes `data` (float pixels with the given strides in bytes) through OpenImageIO, which
-// converts to the spec's (per-channel) formats.
-void write_with_oiio(const std::string& temporary, const std::string& path, const ImageSpec& spec,
-                     TypeDesc data_format, const void* data, OIIO::stride_t xstride,
-                     OIIO::stride_t ystride) {
-  auto out = ImageOutput::create(temporary);
+// Encodes `data` (float or byte pixels with the given strides in bytes) in the format that
+// `path`'s extension names, into memory: OpenImageIO converts to the spec's (per-channel)
+// formats. The bytes then go to disk through write_file_durably, because an encoder writing
+// to a file of its own does not report every failed write (a full disk once left an empty
+// EXR behind a successful close).
+std::string encode_with_oiio(const std::string& path, const ImageSpec& spec, TypeDesc data_format,
+                             const void* data, OIIO::stride_t xstride, OIIO::stride_t ystride) {
+  auto out = ImageOutput::create(path);
   if (!out) write_failed(path, OIIO::geterror());
-  if (!out->open(temporary, spec)) write_failed(path, out->geterror());
+  if (!out->supports("ioproxy")) write_failed(path, "its format cannot be encoded in memory");
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput proxy(buffer);
+  if (!out->set_ioproxy(&proxy)) write_failed(path, out->geterror());
+  if (!out->open(path, spec)) write_failed(path, out->geterror());
   if (!out->write_image(data_format, data, xstride, ystride)) {
     const std::string error = out->geterror();
     out->close();
     write_failed(path, error);
   }
   if (!out->close()) write_failed(path, out->geterror());
+  return std::string(buffer.begin(), buffer.end());
 }
 
 }  // namespace
-
-void write_atomically(const std::string& path,
-                      const std::function<void(const std::string& temporary_path)>& write) {
-  const fs::path target(path);
-  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw FileNotFound(dir.string(), "output directory");
-  // pid + counter: unique across processes and across threads of this one.
-  static std::atomic<unsigned long> counter{0};
-  const fs::path temporary =
-      dir / (target.stem().string() + ".tmp-" + std::to_string(long(AOLAB_GETPID())) + "-" +
-             std::to_string(counter++) + target.extension().string());
-  try {
-    write(temporary.string());
-    fs::rename(temporary, target);  // atomic replacement on POSIX file systems
-  } catch (...) {
-    fs::remove(temporary, ec);
-    throw;
-  }
-}
 
 std::vector<std::string> exr_channel_names(const std::string& path) {
   auto in = open_input(path, "image file");
@@ -346,11 +290,10 @@ void save_gbuffer(const std::string& exr_path, const GBuffer& g, ConstImageView 
     for (int x = 0; x < w; ++x)
       for (const auto& ch : channels) *dst++ = ch.source(x, y, ch.source_channel);
 
-  write_atomically(exr_path, [&](const std::string& temporary) {
-    write_with_oiio(temporary, exr_path, spec, TypeDesc::FLOAT, pixels.data(), OIIO::AutoStride,
-                    OIIO::AutoStride);
-  });
-  write_sidecar(sidecar_path, sidecar_text);
+  // The EXR and its sidecar are put in place together: a failure leaves both as they were.
+  write_files_durably({{exr_path, encode_with_oiio(exr_path, spec, TypeDesc::FLOAT, pixels.data(),
+                                                   OIIO::AutoStride, OIIO::AutoStride)},
+                       {sidecar_path, sidecar_file_text(sidecar_text, sidecar_path)}});
 }
 
 void write_image(const std::string& path, ConstImageView image) {
@@ -372,9 +315,8 @@ void write_image(const std::string& path, ConstImageView image) {
     // The view may be strided (a numpy slice): pass its strides instead of copying.
     const auto xstride = OIIO::stride_t(sizeof(float)) * nc;
     const auto ystride = OIIO::stride_t(sizeof(float)) * image.row_stride;
-    write_atomically(path, [&](const std::string& temporary) {
-      write_with_oiio(temporary, path, spec, TypeDesc::FLOAT, image.data, xstride, ystride);
-    });
+    write_file_durably(path,
+                       encode_with_oiio(path, spec, TypeDesc::FLOAT, image.data, xstride, ystride));
     return;
   }
 
@@ -391,10 +333,8 @@ void write_image(const std::string& path, ConstImageView image) {
   }
   ImageSpec spec(image.width, image.height, nc, TypeDesc::UINT8);
   if (nc == 4) spec.alpha_channel = 3;
-  write_atomically(path, [&](const std::string& temporary) {
-    write_with_oiio(temporary, path, spec, TypeDesc::UINT8, bytes.data(), OIIO::AutoStride,
-                    OIIO::AutoStride);
-  });
+  write_file_durably(path, encode_with_oiio(path, spec, TypeDesc::UINT8, bytes.data(),
+                                            OIIO::AutoStride, OIIO::AutoStride));
 }
 
 }  // namespace aolab

@@ -6,8 +6,9 @@
 // - Row 0 is the top of the image, as OpenImageIO reads it and as AO Lab's pixels count.
 // - Normals come out in view space: the sidecar's normal_space says what the file holds.
 //   They are not renormalised or flipped here; prepared_normals() does that for the methods.
-// - Every write is atomic: a temporary file in the same directory renamed over the target,
-//   so a crash or a concurrent reader never sees half a file.
+// - Every write is durable and atomic (core/io/files.h): OpenImageIO encodes into memory and
+//   write_file_durably puts the bytes in place, so a full disk, a crash or a concurrent
+//   reader never sees half a file, and a failed write never replaces a good one.
 // - Errors: aolab::FileNotFound for a missing input file or output directory;
 //   std::invalid_argument naming the path for an unreadable or corrupt file, a missing pass
 //   (listing the channels found) or a bad argument; std::runtime_error when writing fails.
@@ -15,40 +16,16 @@
 // OpenImageIO stays inside image_io.cpp: this header exposes only AO Lab types.
 #pragma once
 
-#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
+#include "core/io/files.h"
 #include "core/io/sidecar.h"
 
 namespace aolab {
-
-/// A file that was expected to exist does not (Python: FileNotFoundError).
-class FileNotFound : public std::runtime_error {
- public:
-  /// `what_file` says which file it was, e.g. "EXR file" or "camera sidecar";
-  /// what() is "<what_file> not found: <path>".
-  FileNotFound(const std::string& path, const std::string& what_file)
-      : std::runtime_error(what_file + " not found: " + path),
-        path_(path),
-        description_(what_file + " not found") {}
-  const std::string& path() const { return path_; }
-  /// what() without the path, e.g. "EXR file not found".
-  const std::string& description() const { return description_; }
-
- private:
-  std::string path_, description_;
-};
-
-/// Checks that `path` (after following symbolic links) is a regular file before it is opened:
-/// throws FileNotFound if nothing is there, std::invalid_argument "<what_file> <path> is a
-/// directory|FIFO (named pipe)|socket|block device|character device|..., not a regular file"
-/// otherwise, so that opening a FIFO never blocks and a directory never gives a reader's
-/// obscure error.
-void require_regular_file(const std::string& path, const std::string& what_file);
 
 /// Names of all channels of the image at `path` (first subimage), in file order.
 /// Throws FileNotFound, or std::invalid_argument if the file cannot be read as an image.
@@ -115,13 +92,5 @@ void write_image(const std::string& path, ConstImageView image);
 /// integer formats are normalised (8-bit PNG byte b reads as b / 255).
 /// Throws FileNotFound, or std::invalid_argument if the file cannot be read as an image.
 Image read_image(const std::string& path);
-
-/// Creates `path` atomically: calls write(temporary_path) — a fresh path in the same
-/// directory ending in the same extension, "<stem>.tmp-<pid>-<counter><ext>", so writers
-/// that choose the format by extension still work — then renames it over `path`. If write
-/// throws or the rename fails, the temporary file is removed and the error propagates.
-/// Throws FileNotFound if the directory of `path` does not exist.
-void write_atomically(const std::string& path,
-                      const std::function<void(const std::string& temporary_path)>& write);
 
 }  // namespace aolab

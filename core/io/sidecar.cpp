@@ -13,7 +13,7 @@
 #include <system_error>
 
 #include "core/base/check.h"
-#include "core/io/image_io.h"
+#include "core/io/files.h"
 
 namespace aolab {
 
@@ -280,16 +280,15 @@ CameraSidecar read_sidecar(const std::string& path) {
   return parse_sidecar(read_text(path), path);
 }
 
-void write_sidecar(const std::string& path, const std::string& json_text) {
+std::string sidecar_file_text(const std::string& json_text, const std::string& path) {
   // Refuse to write what read_sidecar would reject: the error belongs to the writer.
   parse_sidecar(json_text, path);
-  write_atomically(path, [&](const std::string& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << json_text;
-    if (json_text.empty() || json_text.back() != '\n') out << '\n';
-    out.close();
-    if (!out) throw std::runtime_error("cannot write sidecar " + path + " (via " + temporary + ")");
-  });
+  if (json_text.empty() || json_text.back() != '\n') return json_text + '\n';
+  return json_text;
+}
+
+void write_sidecar(const std::string& path, const std::string& json_text) {
+  write_file_durably(path, sidecar_file_text(json_text, path));
 }
 
 std::string sidecar_json_for(const GBuffer& g, const std::string& base_json) {

@@ -7,7 +7,7 @@
 //
 // Errors: std::invalid_argument naming the key and the file (missing required key, wrong
 // type, non-finite or out-of-range value, invalid JSON with the parser's message);
-// aolab::FileNotFound (core/io/image_io.h) when the file does not exist.
+// aolab::FileNotFound (core/io/files.h) when the file does not exist.
 #pragma once
 
 #include <array>
@@ -62,9 +62,13 @@ CameraSidecar read_sidecar(const std::string& path);
 /// (normally its path). Same errors as read_sidecar.
 CameraSidecar parse_sidecar(const std::string& json_text, const std::string& source);
 
-/// Writes `json_text` (which must be a JSON object) to `path` atomically: the text goes to a
-/// temporary file in the same directory that is then renamed over `path`, so readers see
-/// either the old file or the complete new one. Throws std::invalid_argument if the text is
+/// The bytes of a sidecar file: `json_text`, which must be a valid sidecar (parse_sidecar's
+/// checks, naming `path`), ending in a newline.
+std::string sidecar_file_text(const std::string& json_text, const std::string& path);
+
+/// Writes `json_text` (which must be a JSON object) to `path` durably and atomically
+/// (write_file_durably, core/io/files.h): readers see either the old file or the complete
+/// new one. Throws std::invalid_argument if the text is
 /// not a JSON object, aolab::FileNotFound if the directory does not exist,
 /// std::runtime_error if writing fails (the temporary file is removed).
 void write_sidecar(const std::string& path, const std::string& json_text);

@@ -6,7 +6,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <cerrno>
 #include <exception>
 #include <string>
 #include <utility>
@@ -17,14 +16,6 @@
 namespace aolab::python {
 
 namespace {
-
-// FileNotFoundError(errno, strerror-like text, filename): str() gives
-// "[Errno 2] EXR file not found: '/path/scene.exr'" and `.filename` holds the path.
-void raise_file_not_found(const FileNotFound& e) {
-  py::object error = py::reinterpret_borrow<py::object>(PyExc_FileNotFoundError)(
-      ENOENT, e.description(), e.path());
-  PyErr_SetObject(PyExc_FileNotFoundError, error.ptr());
-}
 
 // json.dumps for the sidecar dict. allow_nan=False: NaN/inf are not JSON and would make a
 // file no JSON reader accepts. numpy scalars and arrays (a camera matrix as ndarray) are
@@ -72,14 +63,6 @@ py::object array_or_none(Image&& image) {
 }  // namespace
 
 void bind_image_io(py::module_& m) {
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const FileNotFound& e) {
-      raise_file_not_found(e);
-    }
-  });
-
   m.def(
       "load_gbuffer_arrays",
       [](const std::string& path, const std::string& view_layer) {

@@ -10,6 +10,7 @@ void bind_methods(py::module_& m);
 void bind_blur(py::module_& m);
 void bind_parallel(py::module_& m);
 void bind_metrics(py::module_& m);
+void bind_files(py::module_& m);
 void bind_image_io(py::module_& m);
 void bind_analytic_scenes(py::module_& m);
 void bind_rtao(py::module_& m);
@@ -23,6 +24,7 @@ PYBIND11_MODULE(_core, m) {
   bind_parallel(m);
   bind_blur(m);
   bind_metrics(m);
+  bind_files(m);
   bind_image_io(m);
   bind_analytic_scenes(m);
   bind_rtao(m);

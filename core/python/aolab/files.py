@@ -1,0 +1,164 @@
+"""Files: the one way the ``aolab`` package reads, writes and owns files (docs/conventions.md,
+"Files").
+
+- **Reading**: :func:`regular_file` checks a path before anything opens or hashes it, so a
+  FIFO never blocks a reader and a folder never gives a reader's obscure error;
+  :func:`read_bytes` reads a file so checked.
+- **Writing**: :func:`write_bytes`, :func:`write_text`, :func:`write_together` and
+  :func:`copy_file` go through the core's durable write (core/io/files.h): a temporary file
+  beside the target, every write checked, fsync, close checked, rename, the folder synced. A
+  full disk raises OSError and leaves the earlier file and no temporary behind.
+- **Checking before work**: :func:`check_output_file` and :func:`check_output_folder` refuse an
+  output path that cannot be written before a long computation starts.
+- **Owning a folder**: :func:`output_lock` lets one run at a time write into an output folder.
+
+Nothing here imports another ``aolab`` module but the compiled core, so every layer (the
+bridge inside Blender included) can use it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import fcntl
+import os
+import stat
+from pathlib import Path
+
+from . import _core
+
+#: The lock file :func:`output_lock` keeps in an output folder (hidden; it holds the owner).
+LOCK_NAME = ".aolab.lock"
+
+
+class FolderInUse(OSError):
+    """Another run holds the output folder (:func:`output_lock`); errno EBUSY."""
+
+
+def _kind(mode: int) -> str:
+    return ("a folder" if stat.S_ISDIR(mode) else
+            "a FIFO (named pipe)" if stat.S_ISFIFO(mode) else
+            "a socket" if stat.S_ISSOCK(mode) else "a device or special file")
+
+
+def regular_file(spec, what: str) -> Path:
+    """``spec`` as a Path after checking, without opening it, that it is a regular file: a
+    missing file is FileNotFoundError naming ``what``; a folder, a FIFO, a socket or a device
+    is a ValueError saying which it is (opening a FIFO would wait forever)."""
+    try:
+        st = os.stat(spec)
+    except FileNotFoundError:
+        raise FileNotFoundError(errno.ENOENT, f"no such {what} file", str(spec)) from None
+    except NotADirectoryError:
+        raise ValueError(f"no such {what} file: {spec} (a part of the path is a file, not a "
+                         "folder)") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{what} must be a regular file, got {str(spec)!r}, which is "
+                         f"{_kind(st.st_mode)}")
+    return Path(spec)
+
+
+def read_bytes(spec, what: str) -> bytes:
+    """The bytes of the regular file ``spec`` (:func:`regular_file`'s errors)."""
+    return regular_file(spec, what).read_bytes()
+
+
+def read_text(spec, what: str) -> str:
+    """The UTF-8 text of the regular file ``spec``; a file that is not UTF-8 is a ValueError
+    naming it."""
+    try:
+        return read_bytes(spec, what).decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{what} file {spec} is not UTF-8 text ({e})") from None
+
+
+def write_bytes(path, data: bytes) -> None:
+    """Replaces ``path`` by ``data``, durably and atomically (the module's docstring); the
+    folder must exist. OSError when the write fails, the earlier file kept."""
+    _core.write_file_durably(os.fspath(path), bytes(data))
+
+
+def write_text(path, text: str) -> None:
+    """:func:`write_bytes` of ``text`` in UTF-8."""
+    write_bytes(path, text.encode("utf-8"))
+
+
+def write_together(files: list[tuple[object, bytes]]) -> None:
+    """Files that belong together ([(path, bytes), ...]): all written and synced before any is
+    renamed into place, so a failure never leaves a new file beside a stale partner."""
+    _core.write_files_durably([(os.fspath(p), bytes(d)) for p, d in files])
+
+
+def copy_file(src, dst) -> None:
+    """Copies the regular file ``src`` to ``dst`` with :func:`write_bytes`."""
+    write_bytes(dst, read_bytes(src, "source"))
+
+
+def check_output_file(path, what: str) -> Path:
+    """Checks, before any work, that ``path`` can receive a file: its folder exists and is a
+    folder we may write in, and ``path`` is not a folder or special file. Returns it as a
+    Path; a ValueError naming ``what`` otherwise."""
+    p = Path(path)
+    if p.name in ("", ".", ".."):
+        raise ValueError(f"{what} must name a file, got {str(path)!r}")
+    _check_writable_folder(p.parent if str(p.parent) else Path("."), what, str(path))
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        return p
+    except OSError as e:
+        raise ValueError(f"{what} {str(path)!r} cannot be checked: {e.strerror}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{what} must be a file, got {str(path)!r}, which is "
+                         f"{_kind(st.st_mode)}")
+    return p
+
+
+def check_output_folder(path, what: str) -> Path:
+    """Checks, before any work, that ``path`` is a folder or can be made one: nothing but a
+    folder is there, and the nearest existing ancestor is a folder we may write in. Returns
+    it as a Path; a ValueError naming ``what`` otherwise."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise ValueError(f"{what} must be a folder, got {str(path)!r}, which is "
+                         f"{_kind(os.stat(p).st_mode)}")
+    existing = p
+    while not existing.exists():
+        if existing.is_symlink():
+            raise ValueError(f"{what} {str(path)!r}: {existing} is a broken symbolic link")
+        existing = existing.parent
+    if not existing.is_dir():
+        raise ValueError(f"{what} {str(path)!r} cannot be made: {existing} is a file, not a "
+                         "folder")
+    _check_writable_folder(existing, what, str(path))
+    return p
+
+
+def _check_writable_folder(folder: Path, what: str, spec: str) -> None:
+    if not folder.is_dir():
+        raise ValueError(f"{what} {spec!r}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"{what} {spec!r}: the folder {folder} is not writable")
+
+
+@contextlib.contextmanager
+def output_lock(folder, owner: str):
+    """Holds ``folder`` (made if missing) for one run: a second run that asks for it while
+    this one holds it gets FolderInUse naming the holder, at once, instead of mixing its
+    files with this run's. The lock is the kernel's (flock on ``folder/.aolab.lock``), so it
+    ends with the process however the process ends; the file stays, empty of meaning."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    fd = os.open(folder / LOCK_NAME, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 500, 0).decode("utf-8", "replace").strip() or "another run"
+            raise FolderInUse(errno.EBUSY, f"output folder in use by {holder}: wait for it to "
+                              "finish or choose another output folder", str(folder)) from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{owner} (pid {os.getpid()})\n".encode(), 0)
+        yield folder
+    finally:
+        os.close(fd)   # releases the lock
