@@ -26,6 +26,7 @@ import time
 import bpy
 import numpy as np
 
+from aolab import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
@@ -307,11 +308,10 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
             **({"mesh_file": mesh_file} if mesh_file else {}),
             **(extra or {}),
         }
-        exr.write_multilayer(out_exr, layers, view_layer=view_layer.name)
+        # The EXR and its sidecar go into place together: a full disk leaves neither half.
         sidecar_path = os.path.splitext(out_exr)[0] + ".json"
-        tmp_json = sidecar_path + f".tmp-{os.getpid()}"
-        with open(tmp_json, "w") as f:
-            json.dump(sidecar, f, indent=1)
-        os.replace(tmp_json, sidecar_path)
+        files.write_together([
+            (out_exr, exr.encode_multilayer(out_exr, layers, view_layer=view_layer.name)),
+            (sidecar_path, json.dumps(sidecar, indent=1).encode())])
         report("done")
         return sidecar

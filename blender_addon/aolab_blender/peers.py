@@ -26,6 +26,7 @@ import platform
 
 import bpy
 
+from aolab import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
 
@@ -117,9 +118,6 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
                              "load_average_before": load_before,
                              "load_average_after": list(os.getloadavg())},
                  **(extra or {})}
-        tmp_json = os.path.join(out_dir, f".{PEERS_JSON}.tmp-{os.getpid()}")
-        with open(tmp_json, "w") as f:
-            json.dump(peers, f, indent=1)
-        os.replace(tmp_json, os.path.join(out_dir, PEERS_JSON))
+        files.write_text(os.path.join(out_dir, PEERS_JSON), json.dumps(peers, indent=1))
         report("done")
         return peers

@@ -49,8 +49,8 @@ void require_regular_file(const std::string& path, const std::string& what_file)
 }
 
 WriteFailed::WriteFailed(const std::string& path, const std::string& step, int error_number)
-    : std::runtime_error("cannot write " + path + ": " + step + " failed: " +
-                         std::strerror(error_number)),
+    : std::runtime_error("cannot write " + path + ": " + step +
+                         " failed: " + std::strerror(error_number)),
       path_(path),
       errno_(error_number) {}
 

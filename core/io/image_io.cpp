@@ -296,7 +296,7 @@ void save_gbuffer(const std::string& exr_path, const GBuffer& g, ConstImageView 
                        {sidecar_path, sidecar_file_text(sidecar_text, sidecar_path)}});
 }
 
-void write_image(const std::string& path, ConstImageView image) {
+std::string encode_image(const std::string& path, ConstImageView image) {
   const std::string ext = lower_extension(path);
   if (ext != ".exr" && ext != ".png") throw_invalid("path", "must end in .exr or .png", path);
   if (image.empty())
@@ -315,9 +315,7 @@ void write_image(const std::string& path, ConstImageView image) {
     // The view may be strided (a numpy slice): pass its strides instead of copying.
     const auto xstride = OIIO::stride_t(sizeof(float)) * nc;
     const auto ystride = OIIO::stride_t(sizeof(float)) * image.row_stride;
-    write_file_durably(path,
-                       encode_with_oiio(path, spec, TypeDesc::FLOAT, image.data, xstride, ystride));
-    return;
+    return encode_with_oiio(path, spec, TypeDesc::FLOAT, image.data, xstride, ystride);
   }
 
   // PNG: value·255 rounded, no transfer curve (see the header); NaN has no meaningful
@@ -333,8 +331,12 @@ void write_image(const std::string& path, ConstImageView image) {
   }
   ImageSpec spec(image.width, image.height, nc, TypeDesc::UINT8);
   if (nc == 4) spec.alpha_channel = 3;
-  write_file_durably(path, encode_with_oiio(path, spec, TypeDesc::UINT8, bytes.data(),
-                                            OIIO::AutoStride, OIIO::AutoStride));
+  return encode_with_oiio(path, spec, TypeDesc::UINT8, bytes.data(), OIIO::AutoStride,
+                          OIIO::AutoStride);
+}
+
+void write_image(const std::string& path, ConstImageView image) {
+  write_file_durably(path, encode_image(path, image));
 }
 
 }  // namespace aolab

@@ -88,6 +88,10 @@ void save_gbuffer(const std::string& exr_path, const GBuffer& g, ConstImageView 
 /// FileNotFound if the directory does not exist, std::runtime_error if writing fails.
 void write_image(const std::string& path, ConstImageView image);
 
+/// The bytes write_image would write to `path` (its extension chooses the format), for
+/// callers that put several files in place together (write_files_durably).
+std::string encode_image(const std::string& path, ConstImageView image);
+
 /// Reads every channel of the image at `path` (first subimage) as float, row 0 at the top;
 /// integer formats are normalised (8-bit PNG byte b reads as b / 255).
 /// Throws FileNotFound, or std::invalid_argument if the file cannot be read as an image.

@@ -131,7 +131,7 @@ def test_missing_file_and_non_regular_files(tmp_path):
     with pytest.raises(FileNotFoundError):
         aolab.load_mesh(tmp_path / "none.mesh")
     (tmp_path / "dir.mesh").mkdir()
-    with pytest.raises(ValueError, match="not a regular file"):
+    with pytest.raises(ValueError, match="must be a regular file, got .*which is a folder"):
         aolab.load_mesh(tmp_path / "dir.mesh")
 
 

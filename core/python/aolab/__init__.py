@@ -17,7 +17,7 @@ from . import _core
 
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
-    "load_gbuffer", "save_gbuffer", "write_image", "Progress", "Cancelled",
+    "load_gbuffer", "save_gbuffer", "write_image", "encode_image", "Progress", "Cancelled",
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
     "rtao", "ray_scene", "RayScene", "rtao_settings", "analytic_scene_mesh", "load_mesh",
     "mesh_for_gbuffer",
@@ -174,8 +174,15 @@ def save_gbuffer(path, gbuffer: GBuffer, *, reference: np.ndarray | None = None,
 
 def write_image(path, image: np.ndarray) -> None:
     """Writes an AO image: ``.exr`` as float32, ``.png`` as 8-bit (value·255, no transfer
-    curve), atomically."""
+    curve), durably and atomically (aolab.files): a failed write raises OSError and leaves the
+    earlier file."""
     _core.write_image(str(path), image)
+
+
+def encode_image(path, image: np.ndarray) -> bytes:
+    """The bytes :func:`write_image` would write to ``path`` (its extension picks EXR or PNG),
+    to put several files in place together with ``aolab.files.write_together``."""
+    return _core.encode_image(str(path), image)
 
 
 def load_mesh(path):

@@ -35,7 +35,8 @@ import aolab
 
 from .bridge.constants import PEERS_DIR
 from .compare import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
-from .report import atomic_write_text, write_generated_block
+from . import files
+from .report import write_generated_block
 
 #: The AO pass's samples: a Cycles rung the committed peers have (their 64-spp render), so
 #: that its expected error is measured, not modelled; 1/16 of a reference's time.
@@ -248,8 +249,8 @@ def main(args) -> int:
             f"{args.spp} spp, on {time.strftime('%Y-%m-%d')}.")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
-    atomic_write_text(out / "agreement.json", json.dumps(results, indent=1))
+    files.write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
+    files.write_text(out / "agreement.json", json.dumps(results, indent=1))
     print(meta + "\n\n" + table)
     if args.update_doc:
         update_doc(Path(args.update_doc), ".".join(version.split(".")[:2]), meta + "\n\n" + table)

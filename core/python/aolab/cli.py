@@ -42,6 +42,7 @@ import numpy as np
 
 import aolab
 
+from . import files
 from .raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
 from .raytracing import RTAO_LADDER
 from .reference import parse_frames
@@ -358,23 +359,37 @@ def cmd_analytic(args) -> int:
     return 0
 
 
-def _print_scores(g, ao, result: dict) -> None:
-    """Scores ``ao`` against the G-buffer's AO pass where it has one (into result["metrics"])
-    and prints them, or says why nothing is scored."""
+def _scores(g, ao) -> tuple[dict | None, str]:
+    """``ao``'s metrics against the G-buffer's AO pass where it has one, and the line that
+    reports them or says why nothing is scored."""
     mask = metrics_mask(g)
     if ao.ndim == 3:
-        print("  RGB result (colour bleeding): written as an image, not scored")
-    elif mask is not None:
+        return None, "  RGB result (colour bleeding): written as an image, not scored"
+    if mask is not None:
         m = aolab.metrics(ao, g.reference, mask)
-        result["metrics"] = m
-        print(f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
-              f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
-              f"bias {m['bias']:+.4f}")
-    elif getattr(g, "reference", None) is not None:
-        print("  the input's AO pass has no finite value on a geometry pixel (all NaN): "
-              "nothing to score")
-    else:
-        print("  no reference AO in the input: nothing to score")
+        return m, (f"  against the reference on {m['count']} pixels: MAE {m['mae']:.4f}  "
+                   f"SSIM {m['ssim']:.4f}  RMSE {m['rmse']:.4f}  PSNR {m['psnr']:.2f} dB  "
+                   f"bias {m['bias']:+.4f}")
+    if getattr(g, "reference", None) is not None:
+        return None, ("  the input's AO pass has no finite value on a geometry pixel (all "
+                      "NaN): nothing to score")
+    return None, "  no reference AO in the input: nothing to score"
+
+
+def _write_result(g, ao, stem: Path, result: dict, json_path: str | None, header: str) -> None:
+    """STEM.exr, STEM.png and the --json file, put in place together (files.write_together:
+    a full disk leaves the earlier ones), then the header line and the scores printed."""
+    exr, png = (stem.parent / (stem.name + suffix) for suffix in OUT_SUFFIXES)
+    metrics, line = _scores(g, ao)
+    if metrics is not None:
+        result["metrics"] = metrics
+    result["output"] = str(exr)
+    outputs = [(exr, aolab.encode_image(exr, ao)), (png, aolab.encode_image(png, ao))]
+    if json_path:
+        outputs.append((json_path, json.dumps(result, indent=2, default=float).encode()))
+    files.write_together(outputs)
+    print(f"{header} -> {exr}, {png}")
+    print(line)
 
 
 def _check_json_path(path: str | None) -> None:
@@ -388,23 +403,17 @@ def cmd_run(args) -> int:
     _check_json_path(args.json)
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
     out = _output_stem(args.out, args.method)
-    exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
     kwargs = dict(radius=radius, threads=args.threads, preset=args.preset, blur=args.blur,
                   blur_sigma=args.blur_sigma, blur_taps=args.blur_taps, **settings)
     t0 = time.perf_counter()
     ao = aolab.compute(args.method, g, **kwargs)
     elapsed = time.perf_counter() - t0
-    aolab.write_image(exr, ao)
-    aolab.write_image(png, ao)
     result = {"method": args.method, "input": args.input, "width": g.width, "height": g.height,
               "radius": radius, "preset": args.preset, "settings": settings,
-              "threads": args.threads, "seconds": elapsed, "output": str(exr)}
-    print(f"{args.method}: {g.width}x{g.height}, radius {radius:g}, {elapsed * 1000:.1f} ms "
-          f"-> {exr}, {png}")
-    _print_scores(g, ao, result)
-    if args.json:
-        from .report import atomic_write_text
-        atomic_write_text(Path(args.json), json.dumps(result, indent=2, default=float))
+              "threads": args.threads, "seconds": elapsed}
+    _write_result(g, ao, out, result, args.json,
+                  f"{args.method}: {g.width}x{g.height}, radius {radius:g}, "
+                  f"{elapsed * 1000:.1f} ms")
     return 0
 
 
@@ -424,25 +433,19 @@ def cmd_rtao(args) -> int:
     else:
         mesh = aolab.mesh_for_gbuffer(g)
     out = _output_stem(args.out, "rtao")
-    exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
     scene = aolab.ray_scene(mesh, g, threads=args.threads)
     t0 = time.perf_counter()
     ao = aolab.rtao(g, scene, radius=radius, rays=args.rays, seed=args.seed,
                     threads=args.threads)
     elapsed = time.perf_counter() - t0
-    aolab.write_image(exr, ao)
-    aolab.write_image(png, ao)
     result = {"method": "rtao", "input": args.input, "width": g.width, "height": g.height,
               "radius": radius, "rays": args.rays, "seed": args.seed, "threads": args.threads,
               "triangles": scene.triangles, "build_seconds": scene.build_seconds,
-              "seconds": elapsed, "output": str(exr)}
-    print(f"rtao: {g.width}x{g.height}, radius {radius:g}, {args.rays} rays per pixel, "
-          f"{scene.triangles} triangles: BVH {scene.build_seconds * 1000:.1f} ms, rays "
-          f"{elapsed * 1000:.1f} ms -> {exr}, {png}")
-    _print_scores(g, ao, result)
-    if args.json:
-        from .report import atomic_write_text
-        atomic_write_text(Path(args.json), json.dumps(result, indent=2, default=float))
+              "seconds": elapsed}
+    _write_result(g, ao, out, result, args.json,
+                  f"rtao: {g.width}x{g.height}, radius {radius:g}, {args.rays} rays per pixel, "
+                  f"{scene.triangles} triangles: BVH {scene.build_seconds * 1000:.1f} ms, rays "
+                  f"{elapsed * 1000:.1f} ms")
     return 0
 
 

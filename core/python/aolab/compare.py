@@ -42,7 +42,8 @@ from .limits import LIMITS_DIR, LIMITS_JSON
 from .raytracing import RTAO_LADDER
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from .regions import REGIONS, region_masks
-from .report import WEAK_FRACTION, atomic_write_text
+from . import files
+from .report import WEAK_FRACTION
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -243,7 +244,7 @@ def load_renders(where: Path, json_name: str, shape: tuple[int, int],
         return [], []
     notes = []
     try:
-        listing = json.loads(path.read_text())
+        listing = json.loads(files.read_text(path, "limits"))
         entries = listing.get("entries", [])
     except (OSError, ValueError) as e:
         return [], [f"{path}: unreadable ({e})"]
@@ -739,8 +740,8 @@ def write_results(out: Path, results: dict) -> None:
     writer.writeheader()
     for row in results["rows"]:
         writer.writerow({k: _csv_value(v) for k, v in flat(row).items()})
-    atomic_write_text(out / "results.csv", buf.getvalue())
-    atomic_write_text(out / "results.json", json.dumps(_json_safe(results), indent=1))
+    files.write_text(out / "results.csv", buf.getvalue())
+    files.write_text(out / "results.json", json.dumps(_json_safe(results), indent=1))
 
 
 # ----------------------------------------------------------------------------------------
@@ -1202,7 +1203,7 @@ def tuned_results() -> dict | None:
     without its search-space description, and where they came from; None without any."""
     path = presets_mod.tuned_file()
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(files.read_text(path, "tuned presets"))
     except (OSError, ValueError):
         return None
     methods = {m: {k: v for k, v in e.items() if k != "search_space"}
@@ -1221,7 +1222,7 @@ def tuned_results() -> dict | None:
 
 def _manifest(folder: Path) -> dict:
     try:
-        return json.loads((folder / "manifest.json").read_text())
+        return json.loads(files.read_text(folder / "manifest.json", "scene manifest"))
     except (OSError, ValueError):
         return {}
 
@@ -1247,7 +1248,15 @@ def main(args) -> int:
                    image_width=args.image_width,
                    rtao_ladder=tuple(args.rtao_rays))
     study = Study(opts)
+    # One run at a time in an output folder: a second one would remove this one's staging
+    # folder and publish a mix of both (files.output_lock).
+    check_out(opts.out)
+    with files.output_lock(opts.out, "aolab compare"):
+        return _run(study, opts)
 
+
+def _run(study: Study, opts: Options) -> int:
+    """The study, with Ctrl-C and `kill` keeping the partial results; the exit status."""
     def terminated(signum, frame):  # `kill` keeps the partial results like Ctrl-C
         raise KeyboardInterrupt
 

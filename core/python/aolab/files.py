@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import json
 import os
 import stat
 from pathlib import Path
@@ -70,6 +71,19 @@ def read_text(spec, what: str) -> str:
         return read_bytes(spec, what).decode("utf-8-sig")
     except UnicodeDecodeError as e:
         raise ValueError(f"{what} file {spec} is not UTF-8 text ({e})") from None
+
+
+def read_json_object(spec, what: str) -> dict:
+    """The JSON object in the regular file ``spec``; anything else is a ValueError naming the
+    file."""
+    try:
+        value = json.loads(read_text(spec, what))
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{what} file {spec} is not valid JSON ({e})") from None
+    if not isinstance(value, dict):
+        raise ValueError(f"{what} file {spec} must hold a JSON object, got "
+                         f"{type(value).__name__}")
+    return value
 
 
 def write_bytes(path, data: bytes) -> None:
@@ -146,19 +160,41 @@ def output_lock(folder, owner: str):
     """Holds ``folder`` (made if missing) for one run: a second run that asks for it while
     this one holds it gets FolderInUse naming the holder, at once, instead of mixing its
     files with this run's. The lock is the kernel's (flock on ``folder/.aolab.lock``), so it
-    ends with the process however the process ends; the file stays, empty of meaning."""
+    ends with the process however the process ends; the lock file is removed when the run
+    ends, and so is a folder this call made that the run left empty."""
     folder = Path(folder)
+    made = not folder.exists()
     folder.mkdir(parents=True, exist_ok=True)
-    fd = os.open(folder / LOCK_NAME, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    lock = folder / LOCK_NAME
+    fd = _locked(lock, owner)
     try:
+        yield folder
+    finally:
+        lock.unlink(missing_ok=True)   # while still held: see _locked
+        os.close(fd)
+        if made and not any(folder.iterdir()):
+            folder.rmdir()
+
+
+def _locked(lock: Path, owner: str) -> int:
+    """An open descriptor of ``lock`` holding its flock, with ``owner`` written in it. A
+    holder unlinks the file before it lets go, so a lock taken on a file that is no longer
+    at ``lock`` is stale and taken again on the new one."""
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             holder = os.pread(fd, 500, 0).decode("utf-8", "replace").strip() or "another run"
+            os.close(fd)
             raise FolderInUse(errno.EBUSY, f"output folder in use by {holder}: wait for it to "
-                              "finish or choose another output folder", str(folder)) from None
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, f"{owner} (pid {os.getpid()})\n".encode(), 0)
-        yield folder
-    finally:
-        os.close(fd)   # releases the lock
+                              "finish or choose another output folder", str(lock.parent)) from None
+        try:
+            same = os.stat(lock).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{owner} (pid {os.getpid()})\n".encode(), 0)
+            return fd
+        os.close(fd)

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import aolab
 
+from . import files
 from . import presets as presets_module
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
@@ -234,7 +235,7 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     out = subprocess.run(["perf", "report", "-i", str(data), "--stdio", "--no-children",
                           "--sort", "symbol", "--percent-limit", "0.5"],
                          capture_output=True, text=True, check=True).stdout
-    report.write_text(out)
+    files.write_text(report, out)
     lines = [line.rstrip() for line in out.splitlines()
              if line.strip() and not line.lstrip().startswith("#")]
     return lines[:top]
@@ -256,8 +257,7 @@ def main(args) -> int:
     rows = table(args.methods or None, preset=args.preset, repeat=args.repeat,
                  scaling=args.scaling, radii=args.radii, size=size)
     if args.json:
-        from .report import atomic_write_text
-        atomic_write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
+        files.write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
     if args.profile:
         for row in rows:
             if row["method"] == BLUR_ROW:

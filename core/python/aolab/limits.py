@@ -33,7 +33,7 @@ import numpy as np
 
 import aolab
 
-from .report import atomic_write_text
+from . import files
 
 LIMITS_DIR = "limits"          # reference_scenes/<scene>/limits/
 LIMITS_JSON = "limits.json"
@@ -82,7 +82,7 @@ def read_entries(folder: Path) -> list[dict]:
     path = folder / LIMITS_DIR / LIMITS_JSON
     if not path.exists():
         return []
-    return json.loads(path.read_text()).get("entries", [])
+    return json.loads(files.read_text(path, "limits")).get("entries", [])
 
 
 def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
@@ -134,7 +134,7 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
     order = [entry_name(t) for t in THICKNESS_R]
     ordered = sorted(entries.values(), key=lambda e: (
         order.index(e["name"]) if e["name"] in order else len(order), e["name"]))
-    atomic_write_text(out_dir / LIMITS_JSON, json.dumps({"entries": ordered}, indent=1) + "\n")
+    files.write_text(out_dir / LIMITS_JSON, json.dumps({"entries": ordered}, indent=1) + "\n")
     log(f"{folder.name}: {', '.join(together)} in {seconds:.1f} s (one pass)")
     return read_entries(folder)
 

@@ -25,8 +25,8 @@ and ``radius_study.svg`` (time and MAE against the scale, the paper's Fig. 8) in
 
 from __future__ import annotations
 
+import io
 import json
-import os
 import statistics
 import sys
 import time
@@ -35,6 +35,8 @@ from pathlib import Path
 import numpy as np
 
 import aolab
+
+from . import files
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
 DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
@@ -183,16 +185,10 @@ def plot(rows: list[dict], path: Path) -> None:
     axes[0].legend(fontsize=6)
     axes[1].legend(fontsize=5, ncol=2)
     fig.tight_layout()
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    fig.savefig(tmp, format="svg", metadata={"Date": None})
+    svg = io.BytesIO()
+    fig.savefig(svg, format="svg", metadata={"Date": None})
     plt.close(fig)
-    os.replace(tmp, path)
-
-
-def write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    files.write_bytes(path, svg.getvalue())
 
 
 def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -> list:
@@ -242,8 +238,8 @@ def main(args) -> int:
               "machine": machine_info(args.threads), "resolution": list(resolution),
               "spp": args.spp, "repeat": args.repeat, "warmup": args.warmup,
               "seconds": round(time.time() - started, 1), "rows": rows}
-    write_atomic(out / "radius_study.json", json.dumps(result, indent=1) + "\n")
-    write_atomic(out / "radius_study.md", table(rows))
+    files.write_text(out / "radius_study.json", json.dumps(result, indent=1) + "\n")
+    files.write_text(out / "radius_study.md", table(rows))
     plot(rows, out / "radius_study.svg")
     print(table(rows))
     return 0

@@ -27,6 +27,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import files
 from .bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
                                RESULT_MESH, RESULT_MESH_JSON)
 from .bridge.passes import parse_passes, required_passes
@@ -44,6 +45,10 @@ MAX_RESOLUTION = 16384
 #: and resolution_y have a hard minimum of 4 in Blender 3.4 and 4.x). Blender raises a
 #: smaller value to 4 without a word, so a 1x1 request would come back as a 4x4 reference.
 MIN_RESOLUTION = 4
+
+
+def _sha256_of(path: Path, what: str) -> str:
+    return hashlib.sha256(files.read_bytes(path, what)).hexdigest()
 
 
 class ReferenceError(Exception):
@@ -139,23 +144,26 @@ def resolve_scene(spec: str) -> Scene:
         raise ReferenceError(f"no such scene: {spec} (give a .blend, a build script .py or a "
                              "reference_scenes/<name> folder)")
     manifest = {}
+    # Every file is checked to be a regular file before it is hashed: reading a FIFO would
+    # wait forever for a writer (files.read_bytes).
     if p.is_dir():
         mpath = p / "manifest.json"
         if not mpath.exists():
             raise ReferenceError(f"{spec} is a folder without manifest.json")
-        manifest = json.loads(mpath.read_text())
+        manifest_bytes = files.read_bytes(mpath, "scene manifest")
+        manifest = files.read_json_object(mpath, "scene manifest")
         script = p / manifest.get("build", "build.py")
         if not script.exists():
             raise ReferenceError(f"{mpath} names the build script {script.name}, which is missing")
-        h = hashlib.sha256(script.read_bytes() + mpath.read_bytes())
+        h = hashlib.sha256(files.read_bytes(script, "build script") + manifest_bytes)
         kit = p.resolve().parent / SCENE_KIT  # the helpers every reference scene imports
         if kit.exists():
-            h.update(kit.read_bytes())
+            h.update(files.read_bytes(kit, "scene kit"))
         return Scene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
     if p.suffix == ".blend":
-        return Scene(p.stem, "blend", p, {}, hashlib.sha256(p.read_bytes()).hexdigest())
+        return Scene(p.stem, "blend", p, {}, _sha256_of(p, "scene .blend"))
     if p.suffix == ".py":
-        return Scene(p.stem, "script", p, {}, hashlib.sha256(p.read_bytes()).hexdigest())
+        return Scene(p.stem, "script", p, {}, _sha256_of(p, "scene build script"))
     raise ReferenceError(f"{spec}: a scene is a .blend, a .py build script or a folder with "
                          "manifest.json")
 
@@ -241,9 +249,10 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
 def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
     folder = cache / plan.key(blender)
     try:
-        files = plan.result_files(folder)
-        side = json.loads(files[-1].read_text())
-        if all(f.stat().st_size > 0 for f in files[:-1]) and "scene_hash" in side:
+        paths = plan.result_files(folder)
+        side = json.loads(files.read_text(paths[-1], "cached sidecar"))
+        if all(files.regular_file(f, "cached result").stat().st_size > 0
+               for f in paths[:-1]) and "scene_hash" in side:
             return folder
     except (OSError, ValueError):
         pass
@@ -384,12 +393,11 @@ def _remove_stale_temporaries(cache: Path) -> None:
 
 
 def copy_result(plan: Plan, folder: Path, out: Path) -> None:
-    """Copies the render's files to `out` (a folder), each atomically, the JSON last."""
+    """Copies the render's files to `out` (a folder), all put in place together
+    (files.write_together): a full disk leaves the earlier files and no temporary."""
     out.mkdir(parents=True, exist_ok=True)
-    for src in plan.result_files(folder):
-        tmp = out / f".{src.name}.tmp-{os.getpid()}"
-        shutil.copyfile(src, tmp)
-        os.replace(tmp, out / src.name)
+    files.write_together([(out / src.name, files.read_bytes(src, "cached result"))
+                          for src in plan.result_files(folder)])
 
 
 def check_resolution(resolution, name: str = "resolution") -> tuple[int, int]:

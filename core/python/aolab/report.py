@@ -13,13 +13,13 @@ from __future__ import annotations
 import base64
 import html
 import math
-import os
 import struct
 import zlib
 from pathlib import Path
 
 import numpy as np
 
+from . import files
 from .regions import REGIONS
 from .scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
 
@@ -1109,21 +1109,12 @@ def render_html(results: dict, images: dict) -> str:
             + "\n".join(body) + "</body></html>\n")
 
 
-def atomic_write_text(path: Path, text: str) -> None:
-    """Writes ``text`` to a temporary file beside ``path`` and renames it into place, so a
-    reader (or an interrupted run) never sees a half-written file."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-
-
 def write_generated_block(path: Path, begin: str, end: str, body: str, *,
                           append_if_missing: bool = False) -> None:
     """Replaces what lies between the marker lines `begin` and `end` of the Markdown file
     `path` with `body`, atomically, leaving the rest as it was. A file without the markers is
     a ValueError naming them, or, with `append_if_missing`, gets the block at its end."""
-    text = Path(path).read_text()
+    text = files.read_text(path, "Markdown")
     if begin in text and end in text:
         text = text[:text.index(begin) + len(begin)] + "\n\n" + body + "\n\n" + \
             text[text.index(end):]
@@ -1131,9 +1122,9 @@ def write_generated_block(path: Path, begin: str, end: str, body: str, *,
         text = text.rstrip("\n") + "\n\n" + begin + "\n\n" + body + "\n\n" + end + "\n"
     else:
         raise ValueError(f"{path} has no {begin!r} ... {end!r} block to replace")
-    atomic_write_text(path, text)
+    files.write_text(path, text)
 
 
 def write_report(path: Path, results: dict, images: dict) -> None:
     """Writes report.html atomically."""
-    atomic_write_text(path, render_html(results, images))
+    files.write_text(path, render_html(results, images))

@@ -27,7 +27,8 @@ import aolab
 from .compare import find_scenes_dir, load_renders, noise_floor_peer, resolve_scenes
 from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .regions import REGIONS, region_masks
-from .report import atomic_write_text, write_generated_block
+from . import files
+from .report import write_generated_block
 
 #: Rays per pixel of the check: the reference's own samples.
 CHECK_RAYS = 1024
@@ -93,7 +94,7 @@ def traced(folder: Path, g, mesh, rays: int, seed: int,
     side = where.with_suffix(".json")
     if where.exists() and side.exists():
         from .compare import read_y_exr
-        return read_y_exr(where), json.loads(side.read_text())
+        return read_y_exr(where), json.loads(files.read_text(side, "rtao cache sidecar"))
     scene = aolab.ray_scene(mesh, g, threads=threads)
     t0 = time.perf_counter()
     ao = aolab.rtao(g, scene, radius=radius, rays=rays, seed=seed, threads=threads)
@@ -101,13 +102,13 @@ def traced(folder: Path, g, mesh, rays: int, seed: int,
             "trace_seconds": time.perf_counter() - t0, "rays": rays, "seed": seed,
             "radius": radius, "threads": threads or os.cpu_count()}
     where.parent.mkdir(parents=True, exist_ok=True)
-    aolab.write_image(where, ao)        # atomic
-    atomic_write_text(side, json.dumps(info, indent=1))
+    files.write_together([(where, aolab.encode_image(where, ao)),
+                          (side, json.dumps(info, indent=1).encode())])
     return ao, info
 
 
 def _sha256(path: Path) -> str:
-    return _sha256_bytes(path.read_bytes())
+    return _sha256_bytes(files.read_bytes(path, "input"))
 
 
 def _sha256_bytes(b: bytes) -> str:
@@ -298,8 +299,8 @@ def main(args) -> int:
     info = results[0]["rtao"] if results else {}
     meta = (f"`aolab rtao-check` at {args.rays} rays per pixel, seed {args.seed}, "
             f"{info.get('threads', '?')} threads, on {time.strftime('%Y-%m-%d')}.")
-    atomic_write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
-    atomic_write_text(out / "agreement.json", json.dumps(results, indent=1))
+    files.write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
+    files.write_text(out / "agreement.json", json.dumps(results, indent=1))
     print(table)
     if args.update_doc:
         update_doc(Path(args.update_doc), table, meta)

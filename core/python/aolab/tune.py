@@ -37,6 +37,7 @@ import numpy as np
 
 import aolab
 
+from . import files
 from . import presets as presets_mod
 from .settings import described
 
@@ -801,7 +802,6 @@ def method_entry(opts: Options, result: dict, scenes: list[TuneScene], meta: dic
 
 def write_presets(path: Path, entries: dict) -> None:
     """Merges the methods' entries into the tuned-presets JSON at ``path`` (others kept)."""
-    from .report import atomic_write_text
     data = {}
     if path.exists():
         data = json.loads(path.read_text())
@@ -812,7 +812,7 @@ def write_presets(path: Path, entries: dict) -> None:
     data.setdefault("methods", {}).update(entries)
     data["methods"] = dict(sorted(data["methods"].items()))
     path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(path, json.dumps(data, indent=1, sort_keys=False) + "\n")
+    files.write_text(path, json.dumps(data, indent=1, sort_keys=False) + "\n")
 
 
 def summary(method: str, sel: dict, n_trials: int) -> str:

@@ -30,8 +30,7 @@ void raise_file_not_found(const FileNotFound& e) {
 // OSError(errno, message): str() is "[Errno 28] cannot write ...: write failed: No space
 // left on device"; the errno picks the subclass (PermissionError for EACCES).
 void raise_write_failed(const WriteFailed& e) {
-  py::object error =
-      py::reinterpret_borrow<py::object>(PyExc_OSError)(e.error_number(), e.what());
+  py::object error = py::reinterpret_borrow<py::object>(PyExc_OSError)(e.error_number(), e.what());
   PyErr_SetObject(PyExc_OSError, error.ptr());
 }
 

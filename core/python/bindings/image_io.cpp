@@ -55,6 +55,13 @@ py::object sidecar_dict(const std::string& text, const std::string& path) {
   }
 }
 
+// An (H, W), (H, W, 1) or (H, W, 3|4) float array as an image view.
+ConstImageView image_view_of(const FloatArray& image) {
+  if (image.ndim() == 2) return view_of(image, "image", 0);
+  if (image.ndim() == 3 && image.shape(2) == 1) return view_of(image, "image", 1);
+  return view_of(image, "image", 3, 4);
+}
+
 py::object array_or_none(Image&& image) {
   if (image.pixels().empty()) return py::none();
   return to_numpy(std::move(image));
@@ -114,19 +121,27 @@ void bind_image_io(py::module_& m) {
   m.def(
       "write_image",
       [](const std::string& path, const FloatArray& image) {
-        ConstImageView view;
-        if (image.ndim() == 2)
-          view = view_of(image, "image", 0);
-        else if (image.ndim() == 3 && image.shape(2) == 1)
-          view = view_of(image, "image", 1);
-        else
-          view = view_of(image, "image", 3, 4);
+        const ConstImageView view = image_view_of(image);
         py::gil_scoped_release release;
         write_image(path, view);
       },
       py::arg("path"), py::arg("image"),
-      "Writes an (H, W) or (H, W, 3|4) image atomically: .exr as float32, .png as 8-bit\n"
-      "round(clamp(v, 0, 1) * 255) with no transfer curve (NaN -> 0).");
+      "Writes an (H, W) or (H, W, 3|4) image durably and atomically: .exr as float32, .png as\n"
+      "8-bit round(clamp(v, 0, 1) * 255) with no transfer curve (NaN -> 0).");
+
+  m.def(
+      "encode_image",
+      [](const std::string& path, const FloatArray& image) {
+        const ConstImageView view = image_view_of(image);
+        std::string bytes;
+        {
+          py::gil_scoped_release release;
+          bytes = encode_image(path, view);
+        }
+        return py::bytes(bytes);
+      },
+      py::arg("path"), py::arg("image"),
+      "The bytes write_image would write to `path` (its extension picks EXR or PNG).");
 
   m.def(
       "exr_channels",

@@ -78,8 +78,8 @@ class FullDisk : public testing::TempDirTest {
     mount_ = dir_ / "small";
     fs::create_directory(mount_);
     if (::mount("tmpfs", mount_.c_str(), "tmpfs", 0, "size=64k") != 0)
-      GTEST_SKIP() << "cannot mount a small tmpfs for the full-disk test ("
-                   << std::strerror(errno) << "; needs root)";
+      GTEST_SKIP() << "cannot mount a small tmpfs for the full-disk test (" << std::strerror(errno)
+                   << "; needs root)";
     mounted_ = true;
   }
   void TearDown() override {

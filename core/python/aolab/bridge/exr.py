@@ -12,6 +12,8 @@ import os
 import numpy as np
 import OpenImageIO as oiio
 
+from .. import files
+
 
 def read_channels(path: str) -> dict[str, np.ndarray]:
     """All channels of an EXR by full name, as float32 (H, W) arrays, row 0 at the top."""
@@ -46,7 +48,13 @@ def find_pass(channels: dict[str, np.ndarray], pass_name: str, components) -> np
 def write_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
                      view_layer: str = "ViewLayer") -> None:
     """Writes (pass name, (H, W, C) array, "float"|"half") layers with channel names
-    `<view_layer>.<pass>.<component>` atomically (temporary file + rename)."""
+    `<view_layer>.<pass>.<component>`, durably and atomically (files.write_bytes)."""
+    files.write_bytes(path, encode_multilayer(path, layers, view_layer))
+
+
+def encode_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
+                      view_layer: str = "ViewLayer") -> bytes:
+    """The bytes write_multilayer writes to `path`, for files put in place together."""
     names, formats, planes = [], [], []
     components = {"Depth": "Z", "Normal": "XYZ", "AO": "RGB", "DiffCol": "RGB", "Emit": "RGB"}
     for pass_name, data, fmt in layers:
@@ -56,37 +64,48 @@ def write_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
             names.append(f"{view_layer}.{pass_name}.{c}")
             formats.append(oiio.TypeFloat if fmt == "float" else oiio.TypeHalf)
             planes.append(data[..., i])
-    _write(path, names, formats, planes)
+    return _encode(path, names, formats, planes)
 
 
 def write_gray(path: str, image: np.ndarray) -> None:
     """Writes an (H, W) image as a one-channel ("Y") half-float EXR, atomically: the format
     of the comparison peers (docs/comparison.md)."""
-    _write(path, ["Y"], [oiio.TypeHalf], [np.asarray(image, dtype=np.float32)])
+    files.write_bytes(path, _encode(path, ["Y"], [oiio.TypeHalf],
+                                    [np.asarray(image, dtype=np.float32)]))
 
 
-def _write(path: str, names: list[str], formats: list, planes: list[np.ndarray]) -> None:
-    """Zip-compressed EXR with the given channels, via a temporary file and a rename."""
+def _encode(path: str, names: list[str], formats: list, planes: list[np.ndarray]) -> bytes:
+    """The bytes of a zip-compressed EXR with the given channels, to be written to `path`.
+    OpenImageIO's Python module can only write to a file, and its EXR writer does not report
+    every failed write (a full disk can leave a short file behind a successful close), so the
+    file it writes beside `path` is read back in full and removed, and its bytes go into
+    place through the one durable write (files.write_bytes)."""
     pixels = np.ascontiguousarray(np.stack(planes, -1), dtype=np.float32)
     h, w, n = pixels.shape
     spec = oiio.ImageSpec(w, h, n, oiio.TypeFloat)
     spec.channelnames = tuple(names)
     spec.channelformats = tuple(formats)
     spec.attribute("compression", "zip")
-    tmp = f"{path}.tmp-{os.getpid()}.exr"
-    out = oiio.ImageOutput.create(tmp)
-    if out is None:
-        raise RuntimeError(f"cannot create {path}: {oiio.geterror()}")
+    tmp = os.path.join(os.path.dirname(path) or ".",
+                       f".{os.path.basename(path)}.encode-{os.getpid()}.exr")
     try:
-        if not out.open(tmp, spec) or not out.write_image(pixels):
-            raise RuntimeError(f"cannot write {path}: {out.geterror()}")
-        out.close()
-        os.replace(tmp, path)
-    except BaseException:
-        out.close()
+        out = oiio.ImageOutput.create(tmp)
+        if out is None:
+            raise RuntimeError(f"cannot create {path}: {oiio.geterror()}")
+        ok = out.open(tmp, spec) and out.write_image(pixels)
+        error = out.geterror()
+        if not out.close() or not ok:
+            raise RuntimeError(f"cannot write {path}: {error or out.geterror()}")
+        back = read_channels(tmp)
+        if sorted(back) != sorted(names) or back[names[0]].shape != (h, w):
+            raise RuntimeError(f"cannot write {path}: the encoded file does not read back")
+        with open(tmp, "rb") as f:
+            return f.read()
+    except RuntimeError as e:
+        raise OSError(f"{e} (is the disk full?)") from None
+    finally:
         if os.path.exists(tmp):
             os.remove(tmp)
-        raise
 
 
 def world_to_view_normals(normals: np.ndarray, camera_to_world) -> np.ndarray:

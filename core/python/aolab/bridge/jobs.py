@@ -27,6 +27,7 @@ from pathlib import Path
 
 import aolab
 
+from .. import files
 from ..scoring import error_map, metrics_mask
 from .constants import RESULT_EXR, RESULT_JSON
 
@@ -149,7 +150,7 @@ def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
         return None
     for side_path in cache.glob(f"[!.]*/{RESULT_JSON}"):
         try:
-            side = json.loads(side_path.read_text())
+            side = json.loads(files.read_text(side_path, "cached sidecar"))
             if not side_path.with_name(RESULT_EXR).exists():
                 continue
         except (OSError, ValueError):

@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import stat
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from .. import files
 
 MAGIC = b"AOLABMSH"
 VERSION = 1
@@ -41,17 +41,6 @@ def json_path(path) -> Path:
     """``scene.mesh`` -> ``scene.mesh.json``."""
     p = Path(path)
     return p.with_name(p.name + ".json")
-
-
-def _atomic_write(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
 
 
 def encode(vertices, triangles) -> bytes:
@@ -91,20 +80,8 @@ def write_mesh(path, vertices, triangles, info: dict | None = None) -> dict:
               "triangles": n_triangles}
     record.update({k: v for k, v in (info or {}).items() if k not in record})
     text = json.dumps(record, indent=1, allow_nan=False)
-    _atomic_write(path, data)
-    _atomic_write(json_path(path), text.encode())
+    files.write_together([(path, data), (json_path(path), text.encode())])
     return record
-
-
-def _read_regular(path: Path, what: str) -> bytes:
-    """The bytes of a regular file (a FIFO is never opened, so a read cannot block)."""
-    try:
-        mode = os.stat(path).st_mode
-    except FileNotFoundError:
-        raise FileNotFoundError(2, f"no {what} {path}", str(path)) from None
-    if not stat.S_ISREG(mode):
-        raise ValueError(f"{what} {path} is not a regular file")
-    return path.read_bytes()
 
 
 def read_mesh(path) -> Mesh:
@@ -112,7 +89,7 @@ def read_mesh(path) -> Mesh:
     wrong (magic, version, size, an index >= V, a non-finite vertex, a JSON that does not
     describe these bytes) is a ValueError naming the file and what is wrong."""
     path = Path(path)
-    data = _read_regular(path, "mesh file")
+    data = files.read_bytes(path, "mesh")
     if len(data) < HEADER.size:
         raise ValueError(f"{path}: {len(data)} bytes, shorter than the {HEADER.size}-byte "
                          "header: not an AO Lab mesh, or truncated")
@@ -149,7 +126,7 @@ def read_mesh(path) -> Mesh:
 
 def _check_info(side: Path, data: bytes, n_vertices: int, n_triangles: int) -> dict:
     try:
-        info = json.loads(_read_regular(side, "mesh JSON").decode("utf-8-sig"))
+        info = json.loads(files.read_bytes(side, "mesh JSON").decode("utf-8-sig"))
     except (UnicodeDecodeError, ValueError) as e:
         raise ValueError(f"{side}: not valid UTF-8 JSON ({e})") from None
     if not isinstance(info, dict) or info.get("format") != FORMAT:
