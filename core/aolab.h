@@ -9,7 +9,8 @@
 // - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
 //                   rotation-aware Poisson-disk sets (poisson_disk.h).
 // - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
-//                   sidecar JSON (sidecar.h).
+//                   sidecar JSON (sidecar.h), durable writes and regular-file checks
+//                   (files.h).
 // - core/scoring/   MAE, RMSE, PSNR, bias and SSIM against a reference (metrics.h, ssim.h).
 // - core/filters/   the separable Gaussian applied after a method (blur.h).
 // - core/scenes/    analytic scenes with closed-form Cycles AO (analytic_scenes.h).
@@ -54,6 +55,7 @@
 #include "core/sampling/random.h"
 
 // core/io
+#include "core/io/files.h"
 #include "core/io/image_io.h"
 #include "core/io/sidecar.h"
 

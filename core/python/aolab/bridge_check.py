@@ -230,6 +230,14 @@ def add_parser(sub):
 
 
 def main(args) -> int:
+    """The ``aolab bridge-check`` command (arguments from cli.py).
+    One run at a time writes into the output folder (files.output_lock): a second one is
+    refused naming the first instead of mixing their files."""
+    with files.output_lock(args.out, "aolab bridge-check"):
+        return _main(args)
+
+
+def _main(args) -> int:
     from . import reference
     items = committed_scenes(find_scenes_dir(), args.scenes)   # every error before a render
     blender = reference.find_blender()
@@ -249,8 +257,8 @@ def main(args) -> int:
             f"{args.spp} spp, on {time.strftime('%Y-%m-%d')}.")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    files.write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
-    files.write_text(out / "agreement.json", json.dumps(results, indent=1))
+    files.write_together([(out / "agreement.md", (meta + "\n\n" + table + "\n").encode()),
+                          (out / "agreement.json", json.dumps(results, indent=1).encode())])
     print(meta + "\n\n" + table)
     if args.update_doc:
         update_doc(Path(args.update_doc), ".".join(version.split(".")[:2]), meta + "\n\n" + table)

@@ -145,7 +145,9 @@ def main(args) -> int:
     thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
     scenes_dir = Path(args.scenes_dir) if args.scenes_dir else find_scenes_dir()
     for folder in resolve_scenes(args.scenes, scenes_dir):
-        compute_scene(folder, thickness, args.rays, args.threads, args.force)
+        # One run at a time per scene: two would each rewrite limits.json from what they read.
+        with files.output_lock(folder / LIMITS_DIR, "aolab limits"):
+            compute_scene(folder, thickness, args.rays, args.threads, args.force)
     return 0
 
 

@@ -214,7 +214,14 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -
 
 
 def main(args) -> int:
-    """The ``aolab radius-study`` command (arguments from add_parser)."""
+    """The ``aolab radius-study`` command (arguments from add_parser).
+    One run at a time writes into the output folder (files.output_lock): a second one is
+    refused naming the first instead of mixing their files."""
+    with files.output_lock(args.out, "aolab radius-study"):
+        return _main(args)
+
+
+def _main(args) -> int:
     from . import reference
     from .compare import machine_info
     resolution = reference.parse_resolution(args.resolution)
@@ -238,8 +245,9 @@ def main(args) -> int:
               "machine": machine_info(args.threads), "resolution": list(resolution),
               "spp": args.spp, "repeat": args.repeat, "warmup": args.warmup,
               "seconds": round(time.time() - started, 1), "rows": rows}
-    files.write_text(out / "radius_study.json", json.dumps(result, indent=1) + "\n")
-    files.write_text(out / "radius_study.md", table(rows))
+    files.write_together([
+        (out / "radius_study.json", (json.dumps(result, indent=1) + "\n").encode()),
+        (out / "radius_study.md", table(rows).encode())])
     plot(rows, out / "radius_study.svg")
     print(table(rows))
     return 0

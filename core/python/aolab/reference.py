@@ -13,6 +13,7 @@ a batch resumes where it stopped.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -506,10 +507,11 @@ def main(args) -> int:
     if isinstance(frames, str):
         frames = parse_frames(frames)
     plans = per_frame(plans, frames)
-    if getattr(args, "scheduler", None) or getattr(args, "workers", 1) > 1:
-        from . import cluster
-        return cluster.run_plans(plans, args)
-    return run_plans(plans, args)
+    with _holding(args.out, "aolab reference"):
+        if getattr(args, "scheduler", None) or getattr(args, "workers", 1) > 1:
+            from . import cluster
+            return cluster.run_plans(plans, args)
+        return run_plans(plans, args)
 
 
 def mesh_main(args) -> int:
@@ -522,7 +524,14 @@ def mesh_main(args) -> int:
              for s in scenes]
     for plan in plans:
         plan.mesh_only = True
-    return run_plans(plans, args)
+    with _holding(args.out, "aolab mesh"):
+        return run_plans(plans, args)
+
+
+def _holding(out, owner: str):
+    """The --out folder held for this run (files.output_lock), so that two runs never
+    interleave their copies of a result; nothing to hold without --out."""
+    return files.output_lock(out, owner) if out else contextlib.nullcontext()
 
 
 def run_plans(plans: list[Plan], args) -> int:

@@ -281,6 +281,14 @@ def add_parser(sub):
 
 
 def main(args) -> int:
+    """The ``aolab rtao-check`` command (arguments from cli.py).
+    One run at a time writes into the output folder (files.output_lock): a second one is
+    refused naming the first instead of mixing their files."""
+    with files.output_lock(args.out, "aolab rtao-check"):
+        return _main(args)
+
+
+def _main(args) -> int:
     scenes_dir = find_scenes_dir()
     folders = resolve_scenes(args.scenes, scenes_dir)
     if not args.scenes:
@@ -299,8 +307,8 @@ def main(args) -> int:
     info = results[0]["rtao"] if results else {}
     meta = (f"`aolab rtao-check` at {args.rays} rays per pixel, seed {args.seed}, "
             f"{info.get('threads', '?')} threads, on {time.strftime('%Y-%m-%d')}.")
-    files.write_text(out / "agreement.md", meta + "\n\n" + table + "\n")
-    files.write_text(out / "agreement.json", json.dumps(results, indent=1))
+    files.write_together([(out / "agreement.md", (meta + "\n\n" + table + "\n").encode()),
+                          (out / "agreement.json", json.dumps(results, indent=1).encode())])
     print(table)
     if args.update_doc:
         update_doc(Path(args.update_doc), table, meta)
