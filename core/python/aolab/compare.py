@@ -198,7 +198,7 @@ def resolve_scenes(specs: list[str], scenes_dir: Path | None) -> list[Path]:
 def read_y_exr(path: Path) -> np.ndarray:
     """A one-channel AO EXR (channel "Y", or the only channel) as float32 (H, W)."""
     import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(str(path))
+    inp = oiio.ImageInput.open(str(files.regular_file(path, "AO image")))
     if inp is None:
         raise ValueError(f"cannot open {path}: {oiio.geterror()}")
     try:

@@ -972,7 +972,10 @@ def main(args) -> int:
     previous = {sig: signal.signal(sig, _ask_to_stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     t0 = time.perf_counter()
     try:
-        out = run(opts)
+        # One run at a time in an output folder: two would each rewrite the presets file
+        # from what they read (files.output_lock).
+        with files.output_lock(opts.out, "aolab tune"):
+            out = run(opts)
     except KeyboardInterrupt:
         print(f"\naolab tune: interrupted. Every finished trial is kept in "
               f"{opts.out / DB_NAME}; run the same command again to resume.", file=sys.stderr)

@@ -1,5 +1,5 @@
 // Bindings of core/io/files.h: the one durable, atomic file write, which the Python side uses
-// for every file it writes (aolab.files), and the regular-file check before a read. A missing
+// for every file it writes (aolab.files). A missing
 // file becomes FileNotFoundError and a failed write OSError with its errno, so Python callers
 // catch them as they would catch their own I/O errors.
 #include "core/io/files.h"
@@ -70,15 +70,6 @@ void bind_files(py::module_& m) {
       py::arg("files"),
       "Writes [(path, data), ...] that belong together: every temporary written and synced\n"
       "first, then all renamed into place.");
-
-  m.def(
-      "require_regular_file",
-      [](const std::string& path, const std::string& what_file) {
-        require_regular_file(path, what_file);
-      },
-      py::arg("path"), py::arg("what_file"),
-      "FileNotFoundError if nothing is at `path`, ValueError if it is not a regular file\n"
-      "(a directory, a FIFO, a device), before anything opens it.");
 }
 
 }  // namespace aolab::python

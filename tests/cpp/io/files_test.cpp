@@ -126,5 +126,26 @@ TEST_F(FullDisk, ImagesAndGBuffersAreNotReplacedByEmptyFiles) {
   EXPECT_EQ(std::distance(fs::directory_iterator(mount_), fs::directory_iterator()), 3);
 }
 
+TEST_F(FullDisk, AGBufferAndItsSidecarStayAPair) {
+  Image depth(32, 32, 1);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) depth(x, y) = 1.0f + 0.01f * float(x + y);
+  GBuffer g;
+  g.depth = depth.view();
+  g.camera = CameraIntrinsics{30.0f, 30.0f, 16.0f, 16.0f};
+  save_gbuffer(in("g.exr"), g, {}, R"({"ao_distance": 0.5})");
+  const std::string exr = contents(in("g.exr")), json = contents(in("g.json"));
+  fill();
+  // The new sidecar alone would fit; the pair does not: neither may change.
+  Image big_depth(256, 256, 1);
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x) big_depth(x, y) = 1.0f + 0.001f * float((x * 37 + y) % 101);
+  g.depth = big_depth.view();
+  g.camera = CameraIntrinsics{300.0f, 300.0f, 128.0f, 128.0f};
+  EXPECT_THROW(save_gbuffer(in("g.exr"), g, {}, R"({"ao_distance": 2})"), WriteFailed);
+  EXPECT_EQ(contents(in("g.exr")), exr);
+  EXPECT_EQ(contents(in("g.json")), json);
+}
+
 }  // namespace
 }  // namespace aolab

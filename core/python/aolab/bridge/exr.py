@@ -17,7 +17,7 @@ from .. import files
 
 def read_channels(path: str) -> dict[str, np.ndarray]:
     """All channels of an EXR by full name, as float32 (H, W) arrays, row 0 at the top."""
-    inp = oiio.ImageInput.open(path)
+    inp = oiio.ImageInput.open(str(files.regular_file(path, "EXR")))
     if inp is None:
         raise RuntimeError(f"cannot open {path}: {oiio.geterror()}")
     try:
