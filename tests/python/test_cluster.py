@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import reference
+from aolab import cli, reference
 
 from test_bridge import ROOT, needs_blender
 
@@ -153,3 +153,62 @@ def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_pa
     again = subprocess.run(args[:args.index("--spp") + 1] + ["64"] + args[args.index("--spp") + 2:],
                            capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stderr[-2000:]
+
+
+# --- many frames, without Blender ------------------------------------------------------
+MANY = "1-20000"
+
+
+def write_entry(cache: Path, plan) -> Path:
+    """A complete cache entry for ``plan``, put in place as render does (renamed)."""
+    tmp = cache / f".{plan.key()}.tmp-{os.getpid()}"
+    tmp.mkdir(parents=True)
+    *images, sidecar = plan.result_files(tmp)
+    for f in images:
+        f.write_bytes(b"fake")
+    sidecar.write_text('{"scene_hash": "fake"}')
+    os.replace(tmp, cache / plan.key())
+    return cache / plan.key()
+
+
+def test_an_interrupted_sequence_counts_the_frames_in_the_cache(monkeypatch, tmp_path, capsys):
+    """Without --workers, frames render one after another: frames 1-3 are printed, frame 4 is
+    interrupted once its entry is in place but before its line, and frames 19991-20000 were
+    rendered by an earlier run: 3 done, 14 in the cache."""
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    scene = reference.resolve_scene(str(ANIMATION))
+    for plan in reference.per_frame([reference.make_plan(scene, spp=1)], range(19991, 20001)):
+        write_entry(cache, plan)
+
+    def render(plan, cache, *, force=False, progress=True, blender=None, should_stop=None):
+        folder = write_entry(Path(cache), plan)
+        if plan.frame == 4:
+            raise KeyboardInterrupt
+        return folder, False
+
+    monkeypatch.setattr(reference, "render", render)
+    assert cli.main(["reference", str(ANIMATION), "--frames", MANY, "--spp", "1",
+                     "--cache", str(cache), "--quiet"]) == 130
+    out, err = capsys.readouterr()
+    assert [line.split(":")[0] for line in out.splitlines()] == \
+        [f"tiny_animation frame {f}" for f in (1, 2, 3)]
+    assert "interrupted after 3 of 20000 frames (14 in the cache); run the same command " \
+        "again to resume" in err
+
+
+def test_too_many_references_are_refused_before_any_is_planned(tmp_path):
+    """--frames takes at most MAX_FRAMES frames, and so does one command in all: two scenes
+    of MAX_FRAMES frames each are refused in one line, with nothing rendered."""
+    top = reference.MAX_FRAMES
+    assert len(reference.parse_frames(f"1-{top}")) == top
+    with pytest.raises(ValueError, match="--frames"):
+        reference.parse_frames(f"1-{top + 1}")
+    copy = tmp_path / "other.py"
+    copy.write_text(ANIMATION.read_text())
+    r = subprocess.run([sys.executable, "-m", "aolab", "reference", str(ANIMATION), str(copy),
+                        "--frames", f"1-{top}", "--cache", str(tmp_path / "cache"), "--workers",
+                        "2"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and f"more than {top} references" in r.stderr, r.stderr
+    assert not (tmp_path / "cache").exists()
