@@ -2,6 +2,7 @@
 and animation frames (--frames). Blender and Dask run for real: a local cluster of 2 workers
 on the loopback interface; one worker process is killed during a render, and every frame
 must still arrive, bit for bit the sequential render's, with nothing partial in the cache."""
+import dataclasses
 import functools
 import io
 import os
@@ -327,3 +328,16 @@ def test_the_interrupt_counts_the_frames_in_the_cache(monkeypatch, tmp_path, cap
         == [1, 2, 3, 4, 5]
     assert reference.count_cached(cache, plans) == 15
     assert not [p.name for p in cache.iterdir() if p.name.startswith(".")]
+
+
+def test_a_cached_job_returns_at_once_from_its_worker(tmp_path):
+    """A job whose entry is in the cache answers without a client of the scheduler (here: it
+    runs outside any worker, where making one would fail), so a resume costs no connection
+    per frame."""
+    scene = reference.resolve_scene(str(ANIMATION))
+    plan = reference.per_frame([reference.make_plan(scene, spp=1)], [7])[0]
+    write_entry(tmp_path, plan)
+    result = cluster.render_job(plan, str(tmp_path), False, "aolab-stop-unused")
+    assert result["cached"] is True and result["folder"] == str(tmp_path / plan.key())
+    with pytest.raises(ValueError, match="[Nn]o worker"):   # not cached: it needs a worker
+        cluster.render_job(dataclasses.replace(plan, frame=8), str(tmp_path), False, "unused")

@@ -50,8 +50,13 @@ THREADS_POLL_S = 5.0
 def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -> dict:
     """One plan on a worker: reference.render, stopping when the client sets ``stop_event``."""
     from distributed import Client, Event, get_worker
-    last = [0.0, False]
+    import socket
     t0 = time.perf_counter()
+    hit = None if force else reference.cached_result(Path(cache), plan)
+    if hit is not None:   # at once: no client, no connection to the scheduler for a resume
+        return {"folder": str(hit), "cached": True, "seconds": time.perf_counter() - t0,
+                "worker": socket.gethostname()}
+    last = [0.0, False]
     # A client of the job's own, closed when the job ends. The worker's shared client
     # (Event's default) is left to the worker process's exit, and when an interrupt stops
     # the cluster, Debian 13's distributed then prints "IOLoop is closed" from its __del__.
@@ -66,7 +71,6 @@ def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -
 
         folder, cached = reference.render(plan, Path(cache), force=force, progress=False,
                                           should_stop=should_stop)
-    import socket
     return {"folder": str(folder), "cached": cached, "seconds": time.perf_counter() - t0,
             "worker": socket.gethostname()}
 
