@@ -12,6 +12,8 @@ machines).
   another worker (Dask's own retry of tasks whose worker died); the lost Blender dies with its
   worker (`setpriv --pdeathsig`), and its temporary folder, never visible as an entry, is
   removed by the next render's clean-up on that machine.
+- **Submission** is a window of jobs (a few per worker thread), topped up as jobs finish, so
+  results and progress start at once and the client's memory stays flat however many frames.
 - **Progress** counts jobs done / running / queued.
 - **Ctrl-C** (or SIGTERM) sets a cluster-wide event that every running job polls at each line
   Blender prints, so their renders stop and clean up; queued jobs are cancelled. Finished
@@ -34,13 +36,27 @@ from . import reference
 STOP_POLL_S = 1.0
 #: How often the progress line is redrawn (s).
 PROGRESS_S = 0.5
+#: Jobs submitted and not yet collected per worker thread of the cluster: enough that a worker
+#: finishing a job finds the next one queued, and that cache hits, which return at once, do not
+#: leave the workers waiting for the client; few enough that the client holds a bounded
+#: number, whatever the number of frames.
+WINDOW_PER_THREAD = 4
+#: The smallest window: jobs queue for a remote cluster's workers before they have joined.
+MIN_WINDOW = 8
+#: How often the window follows the cluster's number of worker threads (s).
+THREADS_POLL_S = 5.0
 
 
 def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -> dict:
     """One plan on a worker: reference.render, stopping when the client sets ``stop_event``."""
     from distributed import Client, Event, get_worker
-    last = [0.0, False]
+    import socket
     t0 = time.perf_counter()
+    hit = None if force else reference.cached_result(Path(cache), plan)
+    if hit is not None:   # at once: no client, no connection to the scheduler for a resume
+        return {"folder": str(hit), "cached": True, "seconds": time.perf_counter() - t0,
+                "worker": socket.gethostname()}
+    last = [0.0, False]
     # A client of the job's own, closed when the job ends. The worker's shared client
     # (Event's default) is left to the worker process's exit, and when an interrupt stops
     # the cluster, Debian 13's distributed then prints "IOLoop is closed" from its __del__.
@@ -55,7 +71,6 @@ def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -
 
         folder, cached = reference.render(plan, Path(cache), force=force, progress=False,
                                           should_stop=should_stop)
-    import socket
     return {"folder": str(folder), "cached": cached, "seconds": time.perf_counter() - t0,
             "worker": socket.gethostname()}
 
@@ -86,15 +101,36 @@ def connect(scheduler: str | None, workers: int):
     return Client(cluster), cluster
 
 
+def window(threads: int) -> int:
+    """How many jobs are submitted and not yet collected at most, for a cluster of ``threads``
+    worker threads in all."""
+    return max(MIN_WINDOW, WINDOW_PER_THREAD * threads)
+
+
 def run_plans(plans: list[reference.Plan], args) -> int:
-    """The plans as jobs on the cluster; their files copied to --out as they finish."""
-    from distributed import Event
+    """The plans as jobs on the cluster, a window of them at a time (``window``); their files
+    copied to --out as they finish."""
+    from distributed import Event, as_completed
     cache = Path(args.cache).resolve() if args.cache else reference.default_cache()
     cache.mkdir(parents=True, exist_ok=True)
     several = len({p.scene.name for p in plans}) > 1
     client, cluster = connect(getattr(args, "scheduler", None), args.workers)
     stop = Event(f"aolab-stop-{uuid.uuid4().hex}", client=client)
-    futures = {}
+    # Jobs are submitted as earlier ones are collected, never all at once: submitting costs
+    # the client a few milliseconds and its memory per job, so 100000 frames submitted up
+    # front meant minutes of silence before the first result and a client that only grew.
+    todo = iter(plans)
+    in_flight = {}   # future -> plan: submitted, not yet collected
+    finished = as_completed(loop=client.loop)
+
+    def top_up(size: int) -> None:
+        while len(in_flight) < size and (plan := next(todo, None)) is not None:
+            # pure=False: a key per submission, so that a second run re-submits; the cache
+            # makes a finished job return at once.
+            f = client.submit(render_job, plan, str(cache), args.force, stop.name, pure=False,
+                              key=f"aolab-reference-{plan.key()}-{uuid.uuid4().hex[:8]}")
+            in_flight[f] = plan
+            finished.add(f)
 
     def terminated(signum, frame):  # `kill` stops the jobs like Ctrl-C
         raise KeyboardInterrupt
@@ -102,47 +138,52 @@ def run_plans(plans: list[reference.Plan], args) -> int:
     old = signal.signal(signal.SIGTERM, terminated)
     done = 0
     try:
-        for plan in plans:
-            # pure=False: a key per submission, so that a second run re-submits; the cache
-            # makes a finished job return at once.
-            f = client.submit(render_job, plan, str(cache), args.force, stop.name, pure=False,
-                              key=f"aolab-reference-{plan.key()}-{uuid.uuid4().hex[:8]}")
-            futures[f] = plan
-        pending = dict(futures)
         quiet = args.quiet or not sys.stderr.isatty()
-        last = 0.0
-        while pending:
-            finished = [f for f in pending if f.done()]
-            for f in finished:
-                plan = pending.pop(f)
+        last = sized = -float("inf")
+        size = MIN_WINDOW
+        while True:
+            now = time.monotonic()
+            if now - sized >= THREADS_POLL_S:   # workers join and leave a remote cluster
+                size, sized = window(_threads(client)), now
+            top_up(size)
+            if not in_flight:
+                break
+            for f in finished.next_batch(block=False):
+                plan = in_flight[f]
                 result = f.result()   # a job's error (a ReferenceError) is the command's
                 folder = Path(result["folder"])
                 if args.out:
                     reference.copy_result(plan, folder,
                                           reference.output_folder(args.out, plan, several))
+                # Done once copied, before its line: a job interrupted earlier is still in
+                # flight, and counted there if it finished.
+                del in_flight[f]
+                done += 1
                 what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
                 how = "cached" if result["cached"] else \
                     f"rendered in {result['seconds']:.1f} s on {result['worker']}"
                 print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
                       + (f" (copied to {args.out})" if args.out else ""), flush=True)
-                done += 1
             now = time.monotonic()
             if not quiet and now - last >= PROGRESS_S:
-                running = _running(client, pending)
-                print(f"\r  jobs: {done} done, {running} running, "
-                      f"{len(pending) - running} queued ", end="", file=sys.stderr, flush=True)
+                running = _running(client, in_flight)
+                print(f"\r  {reference.unit(plans)}: {done} of {len(plans)} done, {running} "
+                      f"running, {len(plans) - done - running} queued ", end="",
+                      file=sys.stderr, flush=True)
                 last = now
-            if pending:
-                time.sleep(0.1)
+            if not finished.has_ready():
+                time.sleep(0.05)
         if not quiet:
             print(file=sys.stderr)
     except KeyboardInterrupt:
         stop.set()
-        client.cancel(list(futures))
-        print(f"\ninterrupted after {done} of {len(plans)} jobs; the running renders are "
-              "stopped; run the same command again to resume (finished jobs come from the "
-              "cache)", file=sys.stderr)
-        _wait_for_stops(client, futures)
+        # Jobs that finished but were not collected yet are done all the same.
+        done += sum(1 for f in in_flight if f.status == "finished")
+        client.cancel(list(in_flight))
+        _wait_for_stops(client, in_flight)
+        print(f"\ninterrupted after {done} of {len(plans)} {reference.unit(plans)} "
+              f"({reference.count_cached(cache, plans)} in the cache); the running renders "
+              "are stopped; run the same command again to resume", file=sys.stderr)
         return 130
     finally:
         signal.signal(signal.SIGTERM, old)
@@ -151,6 +192,14 @@ def run_plans(plans: list[reference.Plan], args) -> int:
             cluster.close()
         reference._remove_stale_temporaries(cache)
     return 0
+
+
+def _threads(client) -> int:
+    """The cluster's worker threads in all (0 when none has joined or the scheduler is busy)."""
+    try:
+        return sum(client.nthreads().values())
+    except Exception:   # only sizes the window
+        return 0
 
 
 def _running(client, pending: dict) -> int:

@@ -48,6 +48,10 @@ MAX_RESOLUTION = 16384
 MIN_RESOLUTION = 4
 
 
+#: The hexadecimal digits of the digest that ends a cache key (Plan.key).
+KEY_DIGEST_CHARS = 16
+
+
 def _sha256_of(path: Path, what: str) -> str:
     return hashlib.sha256(files.read_bytes(path, what)).hexdigest()
 
@@ -205,9 +209,14 @@ class Plan:
             material["frame"] = self.frame
         material["blender"] = blender_version(blender)
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
+        return f"{self.key_prefix()}{digest[:KEY_DIGEST_CHARS]}"
+
+    def key_prefix(self) -> str:
+        """The cache folder's name without its digest: the scene's name, the kind and the
+        frame. Cheap, where key() hashes, so that count_cached looks at most keys by name."""
         kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
         frame = "" if self.frame is None else f"f{self.frame:04d}-"
-        return f"{self.scene.name}-{kind}{frame}{digest[:16]}"
+        return f"{self.scene.name}-{kind}{frame}"
 
     def result_files(self, folder: Path) -> list[Path]:
         """The files a finished render leaves in its folder (the JSON last)."""
@@ -433,6 +442,11 @@ def parse_resolution(text: str, name: str = "--resolution") -> tuple[int, int]:
 
 #: Blender's frame range (scene.frame_current's hard limits in 3.4 and 4.x).
 MAX_FRAME = 1048574
+#: The most frames one --frames names, and the most references one command renders (every
+#: scene's frames together). A reference costs at least Blender's start-up, a second or more,
+#: so 100000 of them are days of a machine's time already: a larger request is a mistyped
+#: range, refused before anything is planned or submitted.
+MAX_FRAMES = 100000
 
 
 def parse_frames(text: str, name: str = "--frames") -> list[int]:
@@ -445,11 +459,11 @@ def parse_frames(text: str, name: str = "--frames") -> list[int]:
         end = int(m.group(2)) if m.group(2) is not None else start
         step = int(m.group(3)) if m.group(3) is not None else 1
         if (step >= 1 and start <= end and -MAX_FRAME <= start and end <= MAX_FRAME
-                and (end - start) // step < 100000):
+                and (end - start) // step < MAX_FRAMES):
             return list(range(start, end + 1, step))
     raise ValueError(f"{name} must be N, START-END or START-END:STEP with START <= END, STEP "
-                     f">= 1, frames in [-{MAX_FRAME}, {MAX_FRAME}] and at most 100000 of them, "
-                     f"got {text!r}")
+                     f">= 1, frames in [-{MAX_FRAME}, {MAX_FRAME}] and at most {MAX_FRAMES} of "
+                     f"them, got {text!r}")
 
 
 def manifest_frames(scene: Scene) -> list[int] | None:
@@ -467,15 +481,50 @@ def manifest_frames(scene: Scene) -> list[int] | None:
 
 def per_frame(plans: list[Plan], frames: list[int] | None) -> list[Plan]:
     """One plan per frame of ``frames``, or of each scene's manifest frames when None; a still
-    scene without frames keeps its one plan."""
-    out = []
+    scene without frames keeps its one plan. More than MAX_FRAMES plans in all is a
+    ReferenceError, raised before any is made."""
+    each, total = [], 0
     for plan in plans:
         mine = frames if frames is not None else manifest_frames(plan.scene)
+        each.append(mine)
+        total += 1 if mine is None else len(mine)
+        if total > MAX_FRAMES:
+            raise ReferenceError(
+                f"{len(plans)} scenes and their frames make more than {MAX_FRAMES} references, "
+                "the most one `aolab reference` renders: split them over several commands "
+                "(they share the cache)")
+    out = []
+    for plan, mine in zip(plans, each):
         if mine is None:
             out.append(plan)
         else:
             out += [dataclasses.replace(plan, frame=f) for f in mine]
     return out
+
+
+def unit(plans: list[Plan]) -> str:
+    """What the plans are, for a count: frames, scenes or references (a mix)."""
+    framed = {p.frame is not None for p in plans}
+    return "frames" if framed == {True} else "scenes" if framed == {False} else "references"
+
+
+def count_cached(cache: Path, plans: list[Plan]) -> int:
+    """How many of ``plans`` have a complete entry in ``cache`` (what a resume takes from it),
+    whoever rendered them and whenever. One listing of the cache; a plan's key, a hash, is
+    computed only when an entry bears its name and frame, so that counting 100000 frames of
+    which few are rendered takes no time. The keys are this machine's: entries rendered by
+    workers with another release of Blender are not counted."""
+    try:
+        names = [e.name for e in os.scandir(cache) if not e.name.startswith(".")]
+    except OSError:
+        return 0
+    prefixes = {n[:-KEY_DIGEST_CHARS] for n in names}
+    try:
+        blender = find_blender()  # once, not once per key
+    except ReferenceError:
+        blender = None
+    return sum(1 for p in plans
+               if p.key_prefix() in prefixes and cached_result(cache, p, blender) is not None)
 
 
 def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
@@ -538,26 +587,32 @@ def run_plans(plans: list[Plan], args) -> int:
     """Renders (or takes from the cache) each plan in turn, copying its files to --out."""
     done = 0
     several = len({p.scene.name for p in plans}) > 1
+    cache = Path(args.cache) if args.cache else default_cache()
 
     def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
         raise KeyboardInterrupt
 
-    signal.signal(signal.SIGTERM, terminated)
+    old = signal.signal(signal.SIGTERM, terminated)
     try:
         for plan in plans:
             t0 = time.perf_counter()
-            folder, was_cached = render(plan, args.cache, force=args.force,
+            folder, was_cached = render(plan, cache, force=args.force,
                                         progress=not args.quiet and sys.stderr.isatty())
             if args.out:
                 copy_result(plan, folder, output_folder(args.out, plan, several))
+            done += 1   # before its line: an interrupt while it prints has it done all the same
             verb = "exported" if plan.mesh_only else "rendered"
             how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
             what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
             print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
                   + (f" (copied to {args.out})" if args.out else ""))
-            done += 1
     except KeyboardInterrupt:
-        print(f"interrupted after {done} of {len(plans)} scenes; run the same command again to "
-              "resume (finished scenes come from the cache)", file=sys.stderr)
+        # The cache's count as well as this run's: a render can finish between the last line
+        # printed and the interrupt, and frames of an earlier run are not rendered again.
+        print(f"interrupted after {done} of {len(plans)} {unit(plans)} "
+              f"({count_cached(cache, plans)} in the cache); run the same command again to "
+              "resume", file=sys.stderr)
         return 130
+    finally:
+        signal.signal(signal.SIGTERM, old)
     return 0
