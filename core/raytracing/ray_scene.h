@@ -27,6 +27,13 @@ inline Matrix4 row_major(const glm::dmat4& m) {
   return out;
 }
 
+/// The largest magnitude of a coordinate the ray tracer represents: Embree's FLT_LARGE
+/// (1.844e18, about √FLT_MAX / 10, so that the product of two coordinates stays finite).
+/// Embree silently drops a triangle with a vertex coordinate at or beyond it, and a ray whose
+/// origin has one fails Embree's assertion, which ends the process: RayScene refuses such
+/// vertices and rtao such ray origins (docs/conventions.md, "Ranges").
+constexpr float kMaxRayCoordinate = 1.844e18f;
+
 /// The triangles of a mesh in view space, in an Embree BVH. Immutable once built: queries
 /// from any number of threads at once.
 class RayScene {
@@ -35,9 +42,9 @@ class RayScene {
   /// transform: rotation and translation, no scale, as the sidecar stores it; in double, then
   /// rounded to float once) and builds the BVH on `threads` threads (0 = all cores).
   /// Throws std::invalid_argument naming the parameter for a malformed mesh (a vertex count
-  /// not a multiple of 3, an index out of range, a non-finite vertex), a camera_to_world that
-  /// is not finite or not rigid, or a negative thread count; std::runtime_error if Embree
-  /// fails (out of memory).
+  /// not a multiple of 3, an index out of range, a non-finite vertex, a vertex whose view-space
+  /// coordinates reach kMaxRayCoordinate), a camera_to_world that is not finite or not rigid,
+  /// or a negative thread count; std::runtime_error if Embree fails (out of memory).
   RayScene(const TriangleMesh& world_mesh, const Matrix4& camera_to_world, int threads = 0);
   ~RayScene();
   RayScene(RayScene&&) noexcept;

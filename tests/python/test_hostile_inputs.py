@@ -264,3 +264,72 @@ def test_float_just_past_a_bound_keeps_its_digits():
         aolab.compute("hbao", plane(), radius=value)
     message = str(e.value)
     assert message.endswith(f"got {value!r}"), message
+
+
+# --- 7. rtao: coordinates the ray tracer cannot represent (docs/conventions.md, "Ranges") ----
+# Embree takes coordinates below 1.844e18 (its FLT_LARGE) in magnitude: it silently drops a
+# triangle with a vertex beyond that, and a ray whose origin lies beyond it fails an assertion
+# that ends the process (Blender with it, inside the add-on).
+
+SCENE_HASH = "5ce1e" * 12 + "0000"
+
+
+def saved_scene(folder, name="wall", width=32, height=18, scene_hash=SCENE_HASH):
+    """An analytic scene saved as a G-buffer whose sidecar names ``scene_hash`` (as the bridge
+    writes one), and its planes as world-space triangles (50 m squares)."""
+    g = aolab.analytic_scene(name, width, height)
+    path = folder / "reference.exr"
+    aolab.save_gbuffer(path, g, reference=g.reference,
+                       sidecar=dict(g.sidecar, scene_hash=scene_hash))
+    v, t = aolab.analytic_scene_mesh(name, 50.0)
+    return path, v, t
+
+
+def write_scene_mesh(path, vertices, triangles, scene_hash=SCENE_HASH):
+    from aolab.bridge import mesh as meshfile
+    meshfile.write_mesh(path, vertices, triangles, {"space": "world", "scene_hash": scene_hash})
+    return path
+
+
+def with_triangle(vertices, triangles, corner, size=1.0):
+    """The mesh plus one triangle of side ``size`` at ``corner``."""
+    corner = np.asarray(corner, np.float64)
+    extra = corner + np.array([[0, 0, 0], [size, 0, 0], [0, size, 0]])
+    n = len(vertices)
+    return (np.vstack([vertices, extra]).astype(np.float32),
+            np.vstack([triangles, [[n, n + 1, n + 2]]]))
+
+
+def run_aolab(*args):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "aolab", *map(str, args)],
+                          capture_output=True, text=True, timeout=300)
+
+
+@pytest.mark.parametrize("far", [1.9e18, 1e25, 3e38])
+def test_a_vertex_beyond_the_ray_tracers_range_is_refused_naming_it(far):
+    v = np.array([[0, 0, -2], [1, 0, -2], [0, 1, -2], [far, 0, -2]], np.float32)
+    with pytest.raises(ValueError, match=r"^vertices must .*1\.844e\+18.*1 of 4 vertices.*"
+                       r"vertex 3.*got "):
+        aolab.RayScene(v, [[0, 1, 2], [1, 2, 3]], np.eye(4))
+
+
+def test_a_camera_beyond_the_ray_tracers_range_moves_every_vertex_beyond_it():
+    c2w = np.eye(4)
+    c2w[0, 3] = 1e19
+    v = np.array([[0, 0, -2], [1, 0, -2], [0, 1, -2]], np.float32)
+    with pytest.raises(ValueError, match=r"^vertices must .*3 of 3 vertices.*vertex 0"):
+        aolab.RayScene(v, [[0, 1, 2]], c2w)
+
+
+def test_rtao_with_a_mesh_beyond_the_range_exits_2_with_one_line(tmp_path):
+    """Was: Embree's assertion `ray.valid()`, exit 134 (the ray offset scaled with the far
+    vertex and pushed every ray origin out of Embree's range)."""
+    exr, v, t = saved_scene(tmp_path)
+    big = write_scene_mesh(tmp_path / "big.mesh", *with_triangle(v, t, (1e25, 0, 0)))
+    r = run_aolab("rtao", exr, "--mesh", big, "--rays", "1", "--out", tmp_path / "ao")
+    assert r.returncode == 2, (r.returncode, r.stderr[-800:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("aolab: vertices must"), r.stderr
+    assert "1.844e+18" in lines[0] and f"vertex {len(v)} " in lines[0]

@@ -203,6 +203,13 @@ TEST(RayScene, MalformedMeshesAndCamerasAreNamed) {
   m.vertices[4] = std::numeric_limits<float>::infinity();
   EXPECT_NE(invalid_argument_message([&] { RayScene(m, identity); }).find("vertices"),
             std::string::npos);
+  // Beyond Embree's range (its FLT_LARGE), where it would drop the triangle without a word.
+  m.vertices[4] = 1e25f;
+  const std::string far = invalid_argument_message([&] { RayScene(m, identity); });
+  EXPECT_NE(far.find("vertices must have view-space coordinates below 1.844e+18"),
+            std::string::npos)
+      << far;
+  EXPECT_NE(far.find("the first vertex 1 at world (1, 1e+25, -1)"), std::string::npos) << far;
   m.vertices[4] = 0;
   Matrix4 scaled = identity;
   scaled[0] = 2;
