@@ -209,6 +209,14 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
                   "the view-space coordinate " + detail::exact_number(first_beyond_value));
   }
   coordinate_scale_ = std::sqrt(scale2);
+  camera_distance_ = std::sqrt(m[3] * m[3] + m[7] * m[7] + m[11] * m[11]);
+  for (std::size_t k = 0; k < mesh.triangles.size(); k += 3)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const float* a = &view[3 * std::size_t(mesh.triangles[k + e])];
+      const float* b = &view[3 * std::size_t(mesh.triangles[k + (e + 1) % 3])];
+      const double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
+      longest_edge_ = std::max(longest_edge_, std::sqrt(dx * dx + dy * dy + dz * dz));
+    }
   const int n_threads = resolve_threads(threads);
 
   const std::string config = "threads=" + std::to_string(n_threads);

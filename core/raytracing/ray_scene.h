@@ -66,16 +66,20 @@ class RayScene {
   /// Wall-clock seconds the BVH build took (Embree's rtcCommitScene), for the study's
   /// "BVH build timed apart".
   double build_seconds() const { return build_seconds_; }
-  /// L: the largest distance of a vertex from the world origin or from the camera (the
-  /// scale of the float32 rounding of every triangle: rtao.h, kRtaoOffsetRounding).
+  /// The scales of the float32 rounding of the triangles (rtao.h, kRtaoOffsetRounding):
+  /// L, the largest distance of a vertex from the world origin or from the camera; |c|, the
+  /// camera's distance from the world origin; D, the longest edge of a triangle (0 without
+  /// triangles).
   double coordinate_scale() const { return coordinate_scale_; }
+  double camera_distance() const { return camera_distance_; }
+  double longest_edge() const { return longest_edge_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::size_t triangles_ = 0;
   double build_seconds_ = 0;
-  double coordinate_scale_ = 0;
+  double coordinate_scale_ = 0, camera_distance_ = 0, longest_edge_ = 0;
 };
 
 }  // namespace aolab

@@ -333,3 +333,83 @@ def test_rtao_with_a_mesh_beyond_the_range_exits_2_with_one_line(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("aolab: vertices must"), r.stderr
     assert "1.844e+18" in lines[0] and f"vertex {len(v)} " in lines[0]
+
+
+# --- 8. rtao: the ray offset against R (docs/conventions.md, "Ranges") ----------------------
+
+def wall_scene(width=48, height=27):
+    g = aolab.analytic_scene("wall", width, height)
+    v, t = aolab.analytic_scene_mesh("wall", 50.0)
+    return g, v, t
+
+
+def scene_in(g, vertices, triangles, shift=(0.0, 0.0, 0.0)):
+    """The triangles in ``g``'s view space, the world moved by ``shift``: the camera with it,
+    so only the world coordinates (and their float32 rounding) change."""
+    c2w = np.array(g.sidecar["camera_to_world"], np.float64)
+    c2w[:3, 3] += shift
+    moved = (np.asarray(vertices, np.float64) + shift).astype(np.float32)
+    return aolab.RayScene(moved, triangles, c2w)
+
+
+@pytest.mark.parametrize("corner", [(1e7, 1e7, 0.0), (1e17, 0.0, 0.0)])
+def test_a_small_triangle_far_away_changes_nothing(corner):
+    """Was: the offset scaled with the farthest vertex, so one triangle 1e7 away lifted every
+    ray by 5 m and R = 0.5 found no occluder (AO 1 everywhere)."""
+    g, v, t = wall_scene()
+    near = aolab.rtao(g, scene_in(g, v, t), radius=0.5, rays=16)
+    far = aolab.rtao(g, scene_in(g, *with_triangle(v, t, corner)), radius=0.5, rays=16)
+    assert near[g.valid_mask()].mean() < 0.99
+    np.testing.assert_array_equal(far, near)
+
+
+def test_a_scene_far_from_the_world_origin_is_refused_with_the_numbers():
+    g, v, t = wall_scene()
+    scene = scene_in(g, v, t, shift=(1e7, 0.0, 0.0))
+    with pytest.raises(ValueError, match=r"^radius must exceed the ray offset ε") as e:
+        aolab.rtao(g, scene, radius=0.5, rays=4)
+    message = str(e.value)
+    assert f"ε ≥ R on {int(g.valid_mask().sum())} of {int(g.valid_mask().sum())} pixels" \
+        in message, message
+    assert "camera from the world origin |c| = 1e+07" in message and "got 0.5" in message
+    assert "move the scene and its camera nearer the world origin" in message
+    assert aolab.rtao_range(g, scene, radius=0.5)["refusal"] == message
+
+
+def test_a_triangle_as_long_as_the_range_is_refused_not_asserted():
+    """A vertex just inside Embree's range on a triangle of the scene: its rounding reaches
+    everywhere near it, so the offset is far beyond R; refused before any ray is traced."""
+    g, v, t = wall_scene()
+    n = len(v)
+    v = np.vstack([v, [[1.8e18, 0, 0]]]).astype(np.float32)
+    t = np.vstack([t, [[0, 1, n]]])
+    with pytest.raises(ValueError, match=r"longest triangle edge D = 1\.8e\+18"):
+        aolab.rtao(g, scene_in(g, v, t), radius=0.5, rays=4)
+
+
+def test_an_offset_above_one_percent_of_r_warns_and_is_queryable():
+    g, v, t = wall_scene()
+    scene = scene_in(g, v, t, shift=(3e4, 0.0, 0.0))
+    with pytest.warns(aolab.RtaoRangeWarning, match=r"^rtao: the ray offset ε exceeds 1 % of "
+                      r"R = 0\.5 on \d+ of \d+ pixels"):
+        ao = aolab.rtao(g, scene, radius=0.5, rays=4)
+    assert ao[g.valid_mask()].mean() < 1.0
+    r = aolab.rtao_range(g, scene, radius=0.5)
+    assert r["pixels"] == g.valid_mask().sum() and r["warned"] > 0 and r["refused"] == 0
+    assert 0.01 < r["largest_share_of_radius"] < 1 and r["refusal"] is None
+    assert r["camera_distance"] == pytest.approx(np.linalg.norm(
+        np.array(g.sidecar["camera_to_world"])[:3, 3] + (3e4, 0, 0)))
+    quiet = aolab.rtao_range(g, scene_in(g, v, t), radius=0.5)
+    assert quiet["warned"] == 0 and quiet["warning"] is None
+
+
+def test_rtao_cli_refuses_an_offset_reaching_r_in_one_line_and_warns_in_one_line(tmp_path):
+    r = run_aolab("rtao", "analytic:wall", "--radius", "1e-4", "--width", "16", "--height", "9",
+                  "--rays", "1", "--out", tmp_path / "a")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert r.stderr.startswith("aolab: radius must exceed the ray offset ε"), r.stderr
+    r = run_aolab("rtao", "analytic:wall", "--radius", "0.05", "--width", "16", "--height", "9",
+                  "--rays", "1", "--out", tmp_path / "b")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.startswith("aolab: warning: rtao: the ray offset ε exceeds 1 % of R")
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr

@@ -35,6 +35,7 @@ import stat
 import statistics
 import sys
 import time
+import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -221,6 +222,18 @@ def _report(message: str) -> None:
         pass
     sys.stderr.write(line)
     sys.stderr.flush()
+
+
+def _one_line_warnings(show):
+    """A ``warnings.showwarning`` that prints an aolab warning (RtaoRangeWarning) as one line
+    ``aolab: warning: <message>``, like the command's errors, and passes any other to
+    ``show``."""
+    def show_warning(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, aolab.RtaoRangeWarning):
+            _report("warning: " + " ".join(str(message).split()))
+        else:
+            show(message, category, filename, lineno, file, line)
+    return show_warning
 
 
 def _key_values(pairs: list[str] | None, method: str | None = None) -> dict:
@@ -800,7 +813,9 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as e:   # a bad option value (2), --help (0): argparse printed why
         return e.code if isinstance(e.code, int) else 2
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(warnings.showwarning)
+            return args.func(args)
     except KeyboardInterrupt:
         if args.debug:
             raise

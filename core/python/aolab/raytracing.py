@@ -4,6 +4,8 @@ pass (`aolab mesh`, or `aolab reference --passes ...,mesh`; docs/blender_bridge.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from . import _core
@@ -14,6 +16,11 @@ DEFAULT_RAYS = next(s["default"] for s in _core.rtao_settings() if s["name"] == 
 #: rtao's rays per pixel in the study (`aolab compare --rtao-rays`): the CPU ray tracer's
 #: ladder, timed on the same cores as the methods (docs/methods/rtao.md).
 RTAO_LADDER = (1, 2, 4, 8, 16, 64)
+
+
+class RtaoRangeWarning(UserWarning):
+    """rtao traced, but its ray offset exceeds 1 % of R on some pixels, where occluders
+    nearer than the offset to a surface are lost (docs/conventions.md, "Ranges")."""
 
 
 def rtao_settings() -> list[dict]:
@@ -51,11 +58,33 @@ def rtao(gbuffer, scene, *, radius: float, rays: int = DEFAULT_RAYS, seed: int =
 
     ``scene`` is a :class:`RayScene` (built once, e.g. by :func:`ray_scene`) or a mesh (then
     built here, for this call only). The same inputs give the same bits for any ``threads``.
-    The GIL is released while rays are traced."""
+    The GIL is released while rays are traced.
+
+    Each ray starts a small offset ε off the surface (docs/methods/rtao.md): a G-buffer on
+    which ε ≥ ``radius`` at some pixel is a ValueError saying what to change, and where ε
+    exceeds 1 % of ``radius`` an :class:`RtaoRangeWarning` says on how many pixels
+    (:func:`rtao_range` gives the same numbers without tracing)."""
     if not isinstance(scene, RayScene):
         scene = ray_scene(scene, gbuffer, threads=threads)
-    return _core.rtao(gbuffer, scene, {"radius": radius, "rays": rays, "seed": seed},
-                      threads=threads, progress=progress)
+    ao, offsets = _core.rtao(gbuffer, scene, {"radius": radius, "rays": rays, "seed": seed},
+                             threads=threads, progress=progress)
+    if offsets["warning"]:
+        warnings.warn(offsets["warning"], RtaoRangeWarning, stacklevel=2)
+    return ao
+
+
+def rtao_range(gbuffer, scene, *, radius: float, threads: int = 0) -> dict:
+    """How rtao's ray offset ε compares with ``radius`` over the pixels of ``gbuffer`` it
+    traces from, without tracing (docs/conventions.md, "Ranges"): ``pixels``, how many of
+    them have ε above 1 % of R (``warned``) or ε ≥ R (``refused``), or a point beyond the ray
+    tracer's range (``beyond``); the ``largest`` offset with its parts (pixel ``x``, ``y``,
+    ``depth``, ``epsilon``, ``footprint``, ``scale``, ``point_distance``) and
+    ``largest_share_of_radius``; the scene's ``camera_distance`` and ``longest_edge``; and
+    the texts of rtao's ``refusal`` and ``warning`` (None when there is none). ``scene`` is a
+    :class:`RayScene` or a mesh, as for :func:`rtao`."""
+    if not isinstance(scene, RayScene):
+        scene = ray_scene(scene, gbuffer, threads=threads)
+    return _core.rtao_range(gbuffer, scene, radius, threads=threads)
 
 
 def analytic_scene_mesh(name: str, extent: float = 1000.0, **params):
