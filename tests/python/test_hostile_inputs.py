@@ -413,3 +413,99 @@ def test_rtao_cli_refuses_an_offset_reaching_r_in_one_line_and_warns_in_one_line
     assert r.returncode == 0, r.stderr
     assert r.stderr.startswith("aolab: warning: rtao: the ray offset ε exceeds 1 % of R")
     assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+# --- 9. A mesh and a G-buffer of different scenes (docs/file_formats.md, "Scene geometry") --
+# Every path that traces a mesh for a G-buffer pairs them by one rule
+# (aolab.bridge.mesh.check_pairing): the two scene hashes must agree; a mesh read from a file
+# whose scene cannot be checked needs allow_unknown_scene; a mesh made in memory is the
+# caller's own pairing.
+
+OTHER_HASH = "07e5" * 15 + "1111"
+
+
+def test_rtao_refuses_a_mesh_of_another_scene_naming_both(tmp_path):
+    """Was: only the mesh found beside the G-buffer was checked; aolab.rtao(g, mesh) traced
+    any mesh."""
+    exr, v, t = saved_scene(tmp_path)
+    other = write_scene_mesh(tmp_path / "other.mesh", v, t, OTHER_HASH)
+    g, mesh = aolab.load_gbuffer(exr), aolab.load_mesh(other)
+    built = aolab.ray_scene(mesh, camera_to_world=np.array(g.sidecar["camera_to_world"]))
+    for call in (lambda: aolab.rtao(g, mesh, radius=1.0, rays=1),
+                 lambda: aolab.rtao(g, built, radius=1.0, rays=1),
+                 lambda: aolab.ray_scene(mesh, g),
+                 lambda: aolab.rtao_range(g, mesh, radius=1.0),
+                 lambda: aolab.rtao(g, mesh, radius=1.0, rays=1, allow_unknown_scene=True)):
+        with pytest.raises(ValueError, match="is not the geometry of") as e:
+            call()
+        for part in (str(other), str(exr), repr(SCENE_HASH), repr(OTHER_HASH)):
+            assert part in str(e.value), (part, str(e.value))
+    same = aolab.load_mesh(write_scene_mesh(tmp_path / "same.mesh", v, t))
+    assert aolab.rtao(g, same, radius=1.0, rays=1).shape == g.depth.shape
+
+
+def test_rtao_command_refuses_a_mesh_of_another_scene(tmp_path):
+    exr, v, t = saved_scene(tmp_path)
+    other = write_scene_mesh(tmp_path / "other.mesh", v, t, OTHER_HASH)
+    for extra in ([], ["--allow-unknown-scene"]):
+        r = run_aolab("rtao", exr, "--mesh", other, "--rays", "1", "--out", tmp_path / "ao",
+                      *extra)
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert OTHER_HASH in r.stderr and SCENE_HASH in r.stderr and str(exr) in r.stderr
+    same = write_scene_mesh(tmp_path / "same.mesh", v, t)
+    r = run_aolab("rtao", exr, "--mesh", same, "--rays", "1", "--out", tmp_path / "ao")
+    assert r.returncode == 0, r.stderr
+
+
+def test_a_mesh_file_for_an_analytic_scene_needs_allow_unknown_scene(tmp_path):
+    """Was: `aolab rtao analytic:wall --mesh some.mesh` traced it."""
+    from types import SimpleNamespace
+    _, v, t = saved_scene(tmp_path)
+    some = write_scene_mesh(tmp_path / "some.mesh", v, t)
+    args = ("rtao", "analytic:wall", "--mesh", some, "--width", "16", "--height", "9",
+            "--rays", "1", "--out", tmp_path / "ao")
+    r = run_aolab(*args)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "cannot be checked to be the geometry of analytic:wall" in r.stderr
+    assert "the G-buffer carries no scene_hash" in r.stderr
+    assert "--allow-unknown-scene" in r.stderr
+    assert run_aolab(*args, "--allow-unknown-scene").returncode == 0
+    g = aolab.analytic_scene("wall", 16, 9)
+    with pytest.raises(ValueError, match="the G-buffer carries no scene_hash"):
+        aolab.rtao(g, aolab.load_mesh(some), radius=1.0, rays=1)
+    aolab.rtao(g, aolab.load_mesh(some), radius=1.0, rays=1, allow_unknown_scene=True)
+    # arrays made in memory: the caller pairs them, nothing to check
+    aolab.rtao(g, SimpleNamespace(vertices=v, triangles=t, info={}), radius=1.0, rays=1)
+
+
+def test_a_mesh_file_without_its_json_needs_allow_unknown_scene(tmp_path):
+    exr, v, t = saved_scene(tmp_path)
+    bare = write_scene_mesh(tmp_path / "bare.mesh", v, t)
+    (tmp_path / "bare.mesh.json").unlink()
+    g, mesh = aolab.load_gbuffer(exr), aolab.load_mesh(bare)
+    with pytest.raises(ValueError, match=r"the mesh carries no scene_hash \(the mesh's "
+                       r"scene_hash None"):
+        aolab.rtao(g, mesh, radius=1.0, rays=1)
+    aolab.rtao(g, mesh, radius=1.0, rays=1, allow_unknown_scene=True)
+
+
+def test_compare_names_a_mesh_of_another_scene_where_rtao_did_not_run(tmp_path):
+    """Was: "no scene has a mesh beside its reference", while room had one, of another
+    scene."""
+    import os
+    from compare_support import SCENES
+    from test_compare import run_compare
+    room = tmp_path / "scenes" / "room"
+    room.mkdir(parents=True)
+    for name in ("reference.exr", "reference.json", "manifest.json"):
+        os.symlink(SCENES / "room" / name, room / name)
+    for name in ("reference.mesh", "reference.mesh.json"):   # colored_room's geometry
+        os.symlink(SCENES / "colored_room" / name, room / name)
+    out = tmp_path / "out"
+    assert run_compare(tmp_path / "scenes", out, "--methods", "crytek_ssao", "--sweep",
+                       "quick", "--rtao-rays", "1") == 0
+    report = (out / "report.html").read_text(encoding="utf-8")
+    assert "no scene has a mesh beside its reference" not in report
+    assert "rtao not run on room:" in report and "is not the geometry of" in report
+    results = __import__("json").loads((out / "results.json").read_text())
+    assert "is not the geometry of" in results["scenes"]["room"]["rtao_not_run"]

@@ -187,12 +187,13 @@ def load_mesh(path):
     return read_mesh(path)
 
 
-def mesh_for_gbuffer(g):
+def mesh_for_gbuffer(g, *, allow_unknown_scene: bool = False):
     """The ``Mesh`` exported with G-buffer ``g`` (from ``load_gbuffer``): ``<stem>.mesh``
-    beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's),
-    else a ValueError saying how to export one."""
+    beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's;
+    one without a scene_hash only with ``allow_unknown_scene``), else a ValueError saying how
+    to export one."""
     from .bridge.mesh import mesh_for_gbuffer as find
-    return find(g)
+    return find(g, allow_unknown_scene=allow_unknown_scene)
 
 
 def analytic_scene_names() -> list[str]:

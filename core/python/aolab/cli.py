@@ -428,20 +428,21 @@ def cmd_rtao(args) -> int:
     if not spec.startswith("analytic:") and Path(spec).is_dir():
         spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
     g, radius = _load_input(spec, args.radius, args.width, args.height)
+    unknown = args.allow_unknown_scene
     if args.mesh:
         mesh = aolab.load_mesh(_regular_file(args.mesh, "mesh"))
-    elif spec.startswith("analytic:"):
+    elif spec.startswith("analytic:"):   # the scene's own planes, made here
         name = spec.split(":", 1)[1]
         mesh = SimpleNamespace(info={})
         mesh.vertices, mesh.triangles = aolab.analytic_scene_mesh(name)
     else:
-        mesh = aolab.mesh_for_gbuffer(g)
+        mesh = aolab.mesh_for_gbuffer(g, allow_unknown_scene=unknown)
     out = _output_stem(args.out, "rtao")
     exr, png = (out.parent / (out.name + suffix) for suffix in OUT_SUFFIXES)
-    scene = aolab.ray_scene(mesh, g, threads=args.threads)
+    scene = aolab.ray_scene(mesh, g, threads=args.threads, allow_unknown_scene=unknown)
     t0 = time.perf_counter()
     ao = aolab.rtao(g, scene, radius=radius, rays=args.rays, seed=args.seed,
-                    threads=args.threads)
+                    threads=args.threads, allow_unknown_scene=unknown)
     elapsed = time.perf_counter() - t0
     aolab.write_image(exr, ao)
     aolab.write_image(png, ao)
@@ -673,7 +674,11 @@ def build_parser() -> argparse.ArgumentParser:
                     "folder, or analytic:NAME (its planes as triangles)")
     input_options(rt, settings=False)
     rt.add_argument("--mesh", help="the scene's .mesh file (default: <stem>.mesh beside the "
-                    "G-buffer, checked against its scene hash)")
+                    "G-buffer); its scene hash must equal the G-buffer's")
+    rt.add_argument("--allow-unknown-scene", action="store_true",
+                    help="trace a mesh whose scene cannot be checked: the mesh or the "
+                    "G-buffer carries no scene hash (an analytic scene, a .mesh without its "
+                    ".mesh.json); a hash that differs is refused all the same")
     rt.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RTAO_DEFAULT_RAYS,
                     help=f"rays per pixel, 1 to 65536 (default {RTAO_DEFAULT_RAYS}, the "
                     "reference's samples)")

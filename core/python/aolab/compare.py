@@ -1116,6 +1116,7 @@ class Study:
             rays_scene = aolab.ray_scene(mesh, scene.g, threads=threads)
         except (ValueError, OSError) as e:
             self.notes.append(f"{scene.name}: rtao not run ({e})")
+            self.scene_info[scene.name]["rtao_not_run"] = str(e)
             if bar is not None:
                 bar.update(len(ladder))
             return

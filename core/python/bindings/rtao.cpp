@@ -88,13 +88,15 @@ py::dict range_dict(const RtaoRange& r) {
 }  // namespace
 
 void bind_rtao(py::module_& m) {
-  py::class_<RayScene>(m, "RayScene", R"doc(
+  py::class_<RayScene>(m, "RayScene", py::dynamic_attr(), R"doc(
 The scene's triangles in a G-buffer's view space, in an Embree BVH (built once, shared by
 every rtao call on that camera).
 
 RayScene(vertices, triangles, camera_to_world, threads=0): vertices (V, 3) world-space
 positions, triangles (T, 3) vertex indices, camera_to_world the sidecar's 4x4 row-major
 camera matrix (rotation and translation). Malformed input is a ValueError naming it.
+aolab.ray_scene also records where the mesh came from (mesh_source: its .mesh.json and
+path), so that aolab.rtao checks it against the G-buffer it traces.
 )doc")
       .def(py::init([](const py::object& vertices, const py::object& triangles,
                        const py::object& camera_to_world, int threads) {
