@@ -130,17 +130,7 @@ struct RayScene::Impl {
   }
 };
 
-RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
-    : impl_(std::make_unique<Impl>()) {
-  if (mesh.vertices.size() % 3 != 0)
-    throw_invalid("vertices", "must hold 3 floats per vertex",
-                  std::to_string(mesh.vertices.size()) + " floats");
-  if (mesh.triangles.size() % 3 != 0)
-    throw_invalid("triangles", "must hold 3 indices per triangle",
-                  std::to_string(mesh.triangles.size()) + " indices");
-  const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
-  if (nv > std::numeric_limits<std::uint32_t>::max())
-    throw_invalid("vertices", "must be at most 2^32 - 1", std::to_string(nv));
+void check_camera_to_world(const Matrix4& m) {
   for (double v : m)
     if (!std::isfinite(v)) throw_invalid("camera_to_world", "must be finite", v);
   // Columns 0..2 of the rotation must be orthonormal and the last row (0, 0, 0, 1).
@@ -157,6 +147,20 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
     throw_invalid("camera_to_world", "must have the last row (0, 0, 0, 1)",
                   detail::exact_number(m[12]) + ", " + detail::exact_number(m[13]) + ", " +
                       detail::exact_number(m[14]) + ", " + detail::exact_number(m[15]));
+}
+
+RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  if (mesh.vertices.size() % 3 != 0)
+    throw_invalid("vertices", "must hold 3 floats per vertex",
+                  std::to_string(mesh.vertices.size()) + " floats");
+  if (mesh.triangles.size() % 3 != 0)
+    throw_invalid("triangles", "must hold 3 indices per triangle",
+                  std::to_string(mesh.triangles.size()) + " indices");
+  const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
+  if (nv > std::numeric_limits<std::uint32_t>::max())
+    throw_invalid("vertices", "must be at most 2^32 - 1", std::to_string(nv));
+  check_camera_to_world(m);
   for (std::size_t k = 0; k < mesh.vertices.size(); ++k)
     if (!std::isfinite(mesh.vertices[k]))
       throw_invalid("vertices", "must be finite (vertex " + std::to_string(k / 3) + ")",

@@ -34,6 +34,14 @@ inline Matrix4 row_major(const glm::dmat4& m) {
 /// vertices and rtao such ray origins (docs/conventions.md, "Ranges").
 constexpr float kMaxRayCoordinate = 1.844e18f;
 
+/// Throws std::invalid_argument naming camera_to_world unless `m` is finite, its upper 3×3 a
+/// rotation (columns orthonormal to within a tolerance that admits the rounding of the
+/// sidecar's scale-removed matrix, nothing more) and its last row (0, 0, 0, 1): the camera
+/// matrices AO Lab can move triangles and normals with. A camera under a parent scaled
+/// unevenly and rotated is sheared, and fails. The one rule of RayScene and of the Blender
+/// bridge, which checks a camera with it before rendering.
+void check_camera_to_world(const Matrix4& m);
+
 /// The triangles of a mesh in view space, in an Embree BVH. Immutable once built: queries
 /// from any number of threads at once.
 class RayScene {

@@ -140,6 +140,15 @@ path), so that aolab.rtao checks it against the G-buffer it traces.
       py::arg("threads") = 0, py::arg("progress") = nullptr);
 
   m.def(
+      "check_camera_to_world",
+      [](const py::object& camera_to_world) {
+        check_camera_to_world(matrix_from(camera_to_world));
+      },
+      py::arg("camera_to_world"),
+      "ValueError unless the 4x4 row-major matrix is a rotation and a translation: the rule "
+      "of RayScene and of the Blender bridge (core/raytracing/ray_scene.h)");
+
+  m.def(
       "rtao_range",
       [](const PyGBuffer& g, const RayScene& scene, float radius, int threads) {
         RtaoRange range;
