@@ -509,3 +509,25 @@ def test_compare_names_a_mesh_of_another_scene_where_rtao_did_not_run(tmp_path):
     assert "rtao not run on room:" in report and "is not the geometry of" in report
     results = __import__("json").loads((out / "results.json").read_text())
     assert "is not the geometry of" in results["scenes"]["room"]["rtao_not_run"]
+
+
+def test_compare_notes_a_scene_rtao_refuses_and_goes_on(tmp_path):
+    """The study's rtao rungs on a scene whose R is below the ray offset (room's sidecar with
+    ao_distance 1e-5): noted, and the study goes on. Was: the ValueError ended the study."""
+    import json
+    import os
+    from compare_support import SCENES
+    from test_compare import run_compare
+    room = tmp_path / "scenes" / "room"
+    room.mkdir(parents=True)
+    for name in ("reference.exr", "manifest.json", "reference.mesh", "reference.mesh.json"):
+        os.symlink(SCENES / "room" / name, room / name)
+    side = json.loads((SCENES / "room" / "reference.json").read_text())
+    (room / "reference.json").write_text(json.dumps(dict(side, ao_distance=1e-5)))
+    out = tmp_path / "out"
+    assert run_compare(tmp_path / "scenes", out, "--methods", "crytek_ssao", "--sweep",
+                       "quick", "--rtao-rays", "1") == 0
+    results = json.loads((out / "results.json").read_text())
+    assert results["scenes"]["room"]["rtao_not_run"].startswith(
+        "radius must exceed the ray offset ε")
+    assert not [r for r in results["rows"] if r["kind"] == "rtao"]
