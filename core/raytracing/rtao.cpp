@@ -84,7 +84,7 @@ std::string RtaoRange::refusal() const {
            detail::exact_number(kMaxRayCoordinate) +
            " in magnitude, Embree's FLT_LARGE): " + of_pixels(beyond, pixels) +
            " are beyond it, the first at " + pixel_name(first_beyond) + ", got " +
-           detail::exact_number(first_beyond.depth);
+           detail::exact_number(float(first_beyond.depth));
   if (refused > 0)
     return "radius must exceed the ray offset ε on every pixel rays are traced from, as "
            "occluders nearer than ε to a surface are lost (docs/conventions.md, \"Ranges\"), but "

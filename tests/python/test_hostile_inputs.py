@@ -323,6 +323,23 @@ def test_a_camera_beyond_the_ray_tracers_range_moves_every_vertex_beyond_it():
         aolab.RayScene(v, [[0, 1, 2]], c2w)
 
 
+def test_a_point_beyond_the_ray_tracers_range_is_refused_not_traced():
+    """A depth of 1e19, geometry once background_depth is raised to infinity: its rays would
+    start beyond Embree's range (an assertion, the process ended); ε stays below R = 1e30."""
+    depth = np.full((2, 3), 2.0, np.float32)
+    depth[1, 2] = 1e19
+    normal = np.zeros((2, 3, 3), np.float32)
+    normal[..., 2] = 1
+    g = aolab.GBuffer(depth, normal, fx=3.0, fy=3.0, cx=1.5, cy=1.0,
+                      background_depth=float("inf"))
+    scene = aolab.RayScene(np.array([[0, 0, -3], [1, 0, -3], [0, 1, -3]], np.float32),
+                           [[0, 1, 2]], np.eye(4))
+    with pytest.raises(ValueError, match=r"^depth must put every point rays are traced from "
+                       r"inside the ray tracer's range .*1\.844e\+18.*1 of 6 pixels are "
+                       r"beyond it, the first at pixel \(2, 1\), got 1e\+19"):
+        aolab.rtao(g, scene, radius=1e30, rays=1)
+
+
 def test_rtao_with_a_mesh_beyond_the_range_exits_2_with_one_line(tmp_path):
     """Was: Embree's assertion `ray.valid()`, exit 134 (the ray offset scaled with the far
     vertex and pushed every ray origin out of Embree's range)."""
