@@ -29,7 +29,8 @@ import numpy as np
 from aolab import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
-from aolab.bridge.intrinsics import SUPPORTED_CAMERA_TYPES, image_size, intrinsics
+from aolab.bridge.intrinsics import (SUPPORTED_CAMERA_TYPES, check_camera_to_world,
+                                     image_size, intrinsics)
 from aolab.bridge.passes import GEOMETRY_PASSES, PASSES
 
 from .state import SettingsRestorer
@@ -64,13 +65,22 @@ def scene_camera(scene, camera_name: str | None = None):
         kind = CAMERA_TYPE_NAMES.get(cam.data.type, cam.data.type)
         raise BridgeError(f"camera {cam.name!r} is {kind}; AO Lab supports perspective cameras "
                           "only (its methods reconstruct positions with a pinhole model)")
+    camera_to_world(cam)   # refuses a sheared camera before anything is rendered
     return cam
 
 
 def camera_to_world(cam) -> list[list[float]]:
-    """The camera's world matrix, row-major, scale removed (renders ignore camera scale)."""
+    """The camera's world matrix, row-major, scale removed (renders ignore camera scale);
+    BridgeError when what is left is no rotation: a camera sheared by a parent's uneven scale
+    under a rotation, which neither the pinhole intrinsics nor rtao can follow."""
     m = np.array(cam.matrix_world, dtype=np.float64)
     m[:3, :3] /= np.linalg.norm(m[:3, :3], axis=0, keepdims=True)
+    try:
+        check_camera_to_world(m)
+    except ValueError as e:
+        raise BridgeError(f"camera {cam.name!r} cannot be rendered from: {e} (a parent "
+                          "scaled unevenly and rotated shears a camera: scale the parent "
+                          "evenly, or apply its scale)") from None
     return m.tolist()
 
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
@@ -129,17 +130,7 @@ struct RayScene::Impl {
   }
 };
 
-RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
-    : impl_(std::make_unique<Impl>()) {
-  if (mesh.vertices.size() % 3 != 0)
-    throw_invalid("vertices", "must hold 3 floats per vertex",
-                  std::to_string(mesh.vertices.size()) + " floats");
-  if (mesh.triangles.size() % 3 != 0)
-    throw_invalid("triangles", "must hold 3 indices per triangle",
-                  std::to_string(mesh.triangles.size()) + " indices");
-  const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
-  if (nv > std::numeric_limits<std::uint32_t>::max())
-    throw_invalid("vertices", "must be at most 2^32 - 1", std::to_string(nv));
+void check_camera_to_world(const Matrix4& m) {
   for (double v : m)
     if (!std::isfinite(v)) throw_invalid("camera_to_world", "must be finite", v);
   // Columns 0..2 of the rotation must be orthonormal and the last row (0, 0, 0, 1).
@@ -156,6 +147,20 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
     throw_invalid("camera_to_world", "must have the last row (0, 0, 0, 1)",
                   detail::exact_number(m[12]) + ", " + detail::exact_number(m[13]) + ", " +
                       detail::exact_number(m[14]) + ", " + detail::exact_number(m[15]));
+}
+
+RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  if (mesh.vertices.size() % 3 != 0)
+    throw_invalid("vertices", "must hold 3 floats per vertex",
+                  std::to_string(mesh.vertices.size()) + " floats");
+  if (mesh.triangles.size() % 3 != 0)
+    throw_invalid("triangles", "must hold 3 indices per triangle",
+                  std::to_string(mesh.triangles.size()) + " indices");
+  const std::size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
+  if (nv > std::numeric_limits<std::uint32_t>::max())
+    throw_invalid("vertices", "must be at most 2^32 - 1", std::to_string(nv));
+  check_camera_to_world(m);
   for (std::size_t k = 0; k < mesh.vertices.size(); ++k)
     if (!std::isfinite(mesh.vertices[k]))
       throw_invalid("vertices", "must be finite (vertex " + std::to_string(k / 3) + ")",
@@ -166,6 +171,56 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
                     "must index vertices below " + std::to_string(nv) + " (triangle " +
                         std::to_string(k / 3) + ")",
                     mesh.triangles[k]);
+  // view = Rᵀ (world − t), with R the rotation and t the translation of camera_to_world, in
+  // double and rounded to float once; checked against the ray tracer's range first, as Embree
+  // would drop a triangle beyond it without a word.
+  std::vector<float> view(mesh.vertices.size());
+  std::size_t beyond = 0, first_beyond = 0;
+  double first_beyond_value = 0, scale2 = 0;
+  for (std::size_t i = 0; i < nv; ++i) {
+    double world2 = 0, view2 = 0, w[3];
+    for (int c = 0; c < 3; ++c) {
+      const double v = mesh.vertices[3 * i + std::size_t(c)];
+      world2 += v * v;
+      w[c] = v - m[std::size_t(4 * c + 3)];
+    }
+    bool outside = false;
+    for (int c = 0; c < 3; ++c) {
+      const double v =
+          m[std::size_t(c)] * w[0] + m[std::size_t(4 + c)] * w[1] + m[std::size_t(8 + c)] * w[2];
+      if (!(std::abs(v) < double(kMaxRayCoordinate))) {
+        if (!outside && beyond == 0) first_beyond = i, first_beyond_value = v;
+        outside = true;
+      }
+      const float rounded = float(v);
+      view[3 * i + std::size_t(c)] = rounded;
+      view2 += double(rounded) * rounded;
+    }
+    beyond += outside;
+    scale2 = std::max({scale2, world2, view2});
+  }
+  if (beyond > 0) {
+    const float* p = &mesh.vertices[3 * first_beyond];
+    throw_invalid("vertices",
+                  "must have view-space coordinates below " +
+                      detail::exact_number(kMaxRayCoordinate) +
+                      " in magnitude (the ray tracer's range, Embree's FLT_LARGE: move the "
+                      "scene or the camera nearer the world origin); " +
+                      std::to_string(beyond) + " of " + std::to_string(nv) +
+                      " vertices are beyond it, the first vertex " + std::to_string(first_beyond) +
+                      " at world (" + detail::exact_number(p[0]) + ", " +
+                      detail::exact_number(p[1]) + ", " + detail::exact_number(p[2]) + ")",
+                  "the view-space coordinate " + detail::exact_number(first_beyond_value));
+  }
+  coordinate_scale_ = std::sqrt(scale2);
+  camera_distance_ = std::sqrt(m[3] * m[3] + m[7] * m[7] + m[11] * m[11]);
+  for (std::size_t k = 0; k < mesh.triangles.size(); k += 3)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const float* a = &view[3 * std::size_t(mesh.triangles[k + e])];
+      const float* b = &view[3 * std::size_t(mesh.triangles[k + (e + 1) % 3])];
+      const double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
+      longest_edge_ = std::max(longest_edge_, std::sqrt(dx * dx + dy * dy + dz * dz));
+    }
   const int n_threads = resolve_threads(threads);
 
   const std::string config = "threads=" + std::to_string(n_threads);
@@ -190,24 +245,7 @@ RayScene::RayScene(const TriangleMesh& mesh, const Matrix4& m, int threads)
       check_embree(impl_->device, "allocate the mesh");
       throw std::runtime_error("Embree could not allocate the mesh");
     }
-    // view = Rᵀ (world − t), with R the rotation and t the translation of camera_to_world.
-    double scale2 = 0;
-    for (std::size_t i = 0; i < nv; ++i) {
-      double world2 = 0, view2 = 0, w[3];
-      for (int c = 0; c < 3; ++c) {
-        const double v = mesh.vertices[3 * i + std::size_t(c)];
-        world2 += v * v;
-        w[c] = v - m[std::size_t(4 * c + 3)];
-      }
-      for (int c = 0; c < 3; ++c) {
-        const float v = float(m[std::size_t(c)] * w[0] + m[std::size_t(4 + c)] * w[1] +
-                              m[std::size_t(8 + c)] * w[2]);
-        vb[3 * i + std::size_t(c)] = v;
-        view2 += double(v) * v;
-      }
-      scale2 = std::max({scale2, world2, view2});
-    }
-    coordinate_scale_ = std::sqrt(scale2);
+    std::copy(view.begin(), view.end(), vb);
     std::copy(mesh.triangles.begin(), mesh.triangles.end(), ib);
     rtcCommitGeometry(geom);
     rtcAttachGeometry(impl_->scene, geom);

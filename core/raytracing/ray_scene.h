@@ -27,6 +27,21 @@ inline Matrix4 row_major(const glm::dmat4& m) {
   return out;
 }
 
+/// The largest magnitude of a coordinate the ray tracer represents: Embree's FLT_LARGE
+/// (1.844e18, about √FLT_MAX / 10, so that the product of two coordinates stays finite).
+/// Embree silently drops a triangle with a vertex coordinate at or beyond it, and a ray whose
+/// origin has one fails Embree's assertion, which ends the process: RayScene refuses such
+/// vertices and rtao such ray origins (docs/conventions.md, "Ranges").
+constexpr float kMaxRayCoordinate = 1.844e18f;
+
+/// Throws std::invalid_argument naming camera_to_world unless `m` is finite, its upper 3×3 a
+/// rotation (columns orthonormal to within a tolerance that admits the rounding of the
+/// sidecar's scale-removed matrix, nothing more) and its last row (0, 0, 0, 1): the camera
+/// matrices AO Lab can move triangles and normals with. A camera under a parent scaled
+/// unevenly and rotated is sheared, and fails. The one rule of RayScene and of the Blender
+/// bridge, which checks a camera with it before rendering.
+void check_camera_to_world(const Matrix4& m);
+
 /// The triangles of a mesh in view space, in an Embree BVH. Immutable once built: queries
 /// from any number of threads at once.
 class RayScene {
@@ -35,9 +50,9 @@ class RayScene {
   /// transform: rotation and translation, no scale, as the sidecar stores it; in double, then
   /// rounded to float once) and builds the BVH on `threads` threads (0 = all cores).
   /// Throws std::invalid_argument naming the parameter for a malformed mesh (a vertex count
-  /// not a multiple of 3, an index out of range, a non-finite vertex), a camera_to_world that
-  /// is not finite or not rigid, or a negative thread count; std::runtime_error if Embree
-  /// fails (out of memory).
+  /// not a multiple of 3, an index out of range, a non-finite vertex, a vertex whose view-space
+  /// coordinates reach kMaxRayCoordinate), a camera_to_world that is not finite or not rigid,
+  /// or a negative thread count; std::runtime_error if Embree fails (out of memory).
   RayScene(const TriangleMesh& world_mesh, const Matrix4& camera_to_world, int threads = 0);
   ~RayScene();
   RayScene(RayScene&&) noexcept;
@@ -59,16 +74,20 @@ class RayScene {
   /// Wall-clock seconds the BVH build took (Embree's rtcCommitScene), for the study's
   /// "BVH build timed apart".
   double build_seconds() const { return build_seconds_; }
-  /// L: the largest distance of a vertex from the world origin or from the camera (the
-  /// scale of the float32 rounding of every triangle: rtao.h, kRtaoOffsetRounding).
+  /// The scales of the float32 rounding of the triangles (rtao.h, kRtaoOffsetRounding):
+  /// L, the largest distance of a vertex from the world origin or from the camera; |c|, the
+  /// camera's distance from the world origin; D, the longest edge of a triangle (0 without
+  /// triangles).
   double coordinate_scale() const { return coordinate_scale_; }
+  double camera_distance() const { return camera_distance_; }
+  double longest_edge() const { return longest_edge_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::size_t triangles_ = 0;
   double build_seconds_ = 0;
-  double coordinate_scale_ = 0;
+  double coordinate_scale_ = 0, camera_distance_ = 0, longest_edge_ = 0;
 };
 
 }  // namespace aolab

@@ -231,6 +231,58 @@ def test_unsupported_cameras_are_clear_errors(tmp_path, camera_setup, message):
         assert "perspective cameras only" in res.stderr
 
 
+#: A camera under a parent scaled unevenly and rotated: its world matrix, scale removed, is
+#: sheared. Left for the bridge to evaluate (no view_layer.update() here): refused all the same.
+SHEARED_CAMERA = """
+rig = bpy.data.objects.new("Rig", None)
+scene.collection.objects.link(rig)
+rig.rotation_euler = (0.3, 0.0, 0.5)
+rig.scale = (1.0, 3.0, 1.0)
+cam.parent = rig
+"""
+
+
+def euler_xz(rx: float, rz: float) -> np.ndarray:
+    """Blender's XYZ Euler rotation (rx, 0, rz) as a 4x4 matrix."""
+    from math import cos, sin
+    x = np.array([[1, 0, 0], [0, cos(rx), -sin(rx)], [0, sin(rx), cos(rx)]])
+    z = np.array([[cos(rz), -sin(rz), 0], [sin(rz), cos(rz), 0], [0, 0, 1]])
+    m = np.eye(4)
+    m[:3, :3] = z @ x
+    return m
+
+
+def test_a_sheared_camera_is_refused_by_the_bridge_as_by_the_ray_tracer():
+    """One rule, one tolerance: the bridge's check is RayScene's. The tiny scene's camera
+    under SHEARED_CAMERA's rig, its scale removed as the bridge records it."""
+    from aolab.bridge.intrinsics import check_camera_to_world
+    cam = euler_xz(1.15, 0.65)
+    check_camera_to_world(cam)
+    m = euler_xz(0.3, 0.5) @ np.diag([1.0, 3.0, 1.0, 1.0]) @ cam
+    m[:3, :3] /= np.linalg.norm(m[:3, :3], axis=0, keepdims=True)
+    with pytest.raises(ValueError) as bridge:
+        check_camera_to_world(m)
+    with pytest.raises(ValueError) as tracer:
+        aolab.RayScene(np.zeros((3, 3), np.float32), [[0, 1, 2]], m)
+    assert str(bridge.value) == str(tracer.value)
+    assert str(bridge.value).startswith("camera_to_world must be a rotation and a translation")
+
+
+@needs_blender
+def test_a_sheared_camera_is_refused_before_rendering(tmp_path):
+    """Was: rendered and cached, its sidecar then refused by `aolab rtao`."""
+    script = tmp_path / "scene.py"
+    script.write_text(TINY.read_text() + SHEARED_CAMERA)
+    res = aolab_reference(str(script), "--spp", "1", "--cache", str(tmp_path / "c"),
+                          check=False)
+    assert res.returncode == 2, res.stdout + res.stderr
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert "camera 'Camera' cannot be rendered from: camera_to_world must be a rotation" \
+        in lines[0] and "scale the parent evenly" in lines[0], lines[0]
+    assert not list((tmp_path / "c").rglob("*.exr"))
+
+
 def test_missing_blender_and_missing_file_are_clear_errors(tmp_path):
     env = dict(os.environ, AOLAB_BLENDER=str(tmp_path / "no-blender"))
     res = aolab_reference(str(TINY), "--cache", str(tmp_path / "c"), env=env, check=False)

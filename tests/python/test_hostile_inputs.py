@@ -264,3 +264,287 @@ def test_float_just_past_a_bound_keeps_its_digits():
         aolab.compute("hbao", plane(), radius=value)
     message = str(e.value)
     assert message.endswith(f"got {value!r}"), message
+
+
+# --- 7. rtao: coordinates the ray tracer cannot represent (docs/conventions.md, "Ranges") ----
+# Embree takes coordinates below 1.844e18 (its FLT_LARGE) in magnitude: it silently drops a
+# triangle with a vertex beyond that, and a ray whose origin lies beyond it fails an assertion
+# that ends the process (Blender with it, inside the add-on).
+
+SCENE_HASH = "5ce1e" * 12 + "0000"
+
+
+def saved_scene(folder, name="wall", width=32, height=18, scene_hash=SCENE_HASH):
+    """An analytic scene saved as a G-buffer whose sidecar names ``scene_hash`` (as the bridge
+    writes one), and its planes as world-space triangles (50 m squares)."""
+    g = aolab.analytic_scene(name, width, height)
+    path = folder / "reference.exr"
+    aolab.save_gbuffer(path, g, reference=g.reference,
+                       sidecar=dict(g.sidecar, scene_hash=scene_hash))
+    v, t = aolab.analytic_scene_mesh(name, 50.0)
+    return path, v, t
+
+
+def write_scene_mesh(path, vertices, triangles, scene_hash=SCENE_HASH):
+    from aolab.bridge import mesh as meshfile
+    meshfile.write_mesh(path, vertices, triangles, {"space": "world", "scene_hash": scene_hash})
+    return path
+
+
+def with_triangle(vertices, triangles, corner, size=1.0):
+    """The mesh plus one triangle of side ``size`` at ``corner``."""
+    corner = np.asarray(corner, np.float64)
+    extra = corner + np.array([[0, 0, 0], [size, 0, 0], [0, size, 0]])
+    n = len(vertices)
+    return (np.vstack([vertices, extra]).astype(np.float32),
+            np.vstack([triangles, [[n, n + 1, n + 2]]]))
+
+
+def run_aolab(*args):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "aolab", *map(str, args)],
+                          capture_output=True, text=True, timeout=300)
+
+
+@pytest.mark.parametrize("far", [1.9e18, 1e25, 3e38])
+def test_a_vertex_beyond_the_ray_tracers_range_is_refused_naming_it(far):
+    v = np.array([[0, 0, -2], [1, 0, -2], [0, 1, -2], [far, 0, -2]], np.float32)
+    with pytest.raises(ValueError, match=r"^vertices must .*1\.844e\+18.*1 of 4 vertices.*"
+                       r"vertex 3.*got "):
+        aolab.RayScene(v, [[0, 1, 2], [1, 2, 3]], np.eye(4))
+
+
+def test_a_camera_beyond_the_ray_tracers_range_moves_every_vertex_beyond_it():
+    c2w = np.eye(4)
+    c2w[0, 3] = 1e19
+    v = np.array([[0, 0, -2], [1, 0, -2], [0, 1, -2]], np.float32)
+    with pytest.raises(ValueError, match=r"^vertices must .*3 of 3 vertices.*vertex 0"):
+        aolab.RayScene(v, [[0, 1, 2]], c2w)
+
+
+def test_a_point_beyond_the_ray_tracers_range_is_refused_not_traced():
+    """A depth of 1e19, geometry once background_depth is raised to infinity: its rays would
+    start beyond Embree's range (an assertion, the process ended); ε stays below R = 1e30."""
+    depth = np.full((2, 3), 2.0, np.float32)
+    depth[1, 2] = 1e19
+    normal = np.zeros((2, 3, 3), np.float32)
+    normal[..., 2] = 1
+    g = aolab.GBuffer(depth, normal, fx=3.0, fy=3.0, cx=1.5, cy=1.0,
+                      background_depth=float("inf"))
+    scene = aolab.RayScene(np.array([[0, 0, -3], [1, 0, -3], [0, 1, -3]], np.float32),
+                           [[0, 1, 2]], np.eye(4))
+    with pytest.raises(ValueError, match=r"^depth must put every point rays are traced from "
+                       r"inside the ray tracer's range .*1\.844e\+18.*1 of 6 pixels are "
+                       r"beyond it, the first at pixel \(2, 1\), got 1e\+19"):
+        aolab.rtao(g, scene, radius=1e30, rays=1)
+
+
+def test_rtao_with_a_mesh_beyond_the_range_exits_2_with_one_line(tmp_path):
+    """Was: Embree's assertion `ray.valid()`, exit 134 (the ray offset scaled with the far
+    vertex and pushed every ray origin out of Embree's range)."""
+    exr, v, t = saved_scene(tmp_path)
+    big = write_scene_mesh(tmp_path / "big.mesh", *with_triangle(v, t, (1e25, 0, 0)))
+    r = run_aolab("rtao", exr, "--mesh", big, "--rays", "1", "--out", tmp_path / "ao")
+    assert r.returncode == 2, (r.returncode, r.stderr[-800:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("aolab: vertices must"), r.stderr
+    assert "1.844e+18" in lines[0] and f"vertex {len(v)} " in lines[0]
+
+
+# --- 8. rtao: the ray offset against R (docs/conventions.md, "Ranges") ----------------------
+
+def wall_scene(width=48, height=27):
+    g = aolab.analytic_scene("wall", width, height)
+    v, t = aolab.analytic_scene_mesh("wall", 50.0)
+    return g, v, t
+
+
+def scene_in(g, vertices, triangles, shift=(0.0, 0.0, 0.0)):
+    """The triangles in ``g``'s view space, the world moved by ``shift``: the camera with it,
+    so only the world coordinates (and their float32 rounding) change."""
+    c2w = np.array(g.sidecar["camera_to_world"], np.float64)
+    c2w[:3, 3] += shift
+    moved = (np.asarray(vertices, np.float64) + shift).astype(np.float32)
+    return aolab.RayScene(moved, triangles, c2w)
+
+
+@pytest.mark.parametrize("corner", [(1e7, 1e7, 0.0), (1e17, 0.0, 0.0)])
+def test_a_small_triangle_far_away_changes_nothing(corner):
+    """Was: the offset scaled with the farthest vertex, so one triangle 1e7 away lifted every
+    ray by 5 m and R = 0.5 found no occluder (AO 1 everywhere)."""
+    g, v, t = wall_scene()
+    near = aolab.rtao(g, scene_in(g, v, t), radius=0.5, rays=16)
+    far = aolab.rtao(g, scene_in(g, *with_triangle(v, t, corner)), radius=0.5, rays=16)
+    assert near[g.valid_mask()].mean() < 0.99
+    np.testing.assert_array_equal(far, near)
+
+
+def test_a_scene_far_from_the_world_origin_is_refused_with_the_numbers():
+    g, v, t = wall_scene()
+    scene = scene_in(g, v, t, shift=(1e7, 0.0, 0.0))
+    with pytest.raises(ValueError, match=r"^radius must exceed the ray offset ε") as e:
+        aolab.rtao(g, scene, radius=0.5, rays=4)
+    message = str(e.value)
+    assert f"ε ≥ R on {int(g.valid_mask().sum())} of {int(g.valid_mask().sum())} pixels" \
+        in message, message
+    assert "camera from the world origin |c| = 1e+07" in message and "got 0.5" in message
+    assert "move the scene and its camera nearer the world origin" in message
+    assert aolab.rtao_range(g, scene, radius=0.5)["refusal"] == message
+
+
+def test_a_triangle_as_long_as_the_range_is_refused_not_asserted():
+    """A vertex just inside Embree's range on a triangle of the scene: its rounding reaches
+    everywhere near it, so the offset is far beyond R; refused before any ray is traced."""
+    g, v, t = wall_scene()
+    n = len(v)
+    v = np.vstack([v, [[1.8e18, 0, 0]]]).astype(np.float32)
+    t = np.vstack([t, [[0, 1, n]]])
+    with pytest.raises(ValueError, match=r"longest triangle edge D = 1\.8e\+18"):
+        aolab.rtao(g, scene_in(g, v, t), radius=0.5, rays=4)
+
+
+def test_an_offset_above_one_percent_of_r_warns_and_is_queryable():
+    g, v, t = wall_scene()
+    scene = scene_in(g, v, t, shift=(3e4, 0.0, 0.0))
+    with pytest.warns(aolab.RtaoRangeWarning, match=r"^rtao: the ray offset ε exceeds 1 % of "
+                      r"R = 0\.5 on \d+ of \d+ pixels"):
+        ao = aolab.rtao(g, scene, radius=0.5, rays=4)
+    assert ao[g.valid_mask()].mean() < 1.0
+    r = aolab.rtao_range(g, scene, radius=0.5)
+    assert r["pixels"] == g.valid_mask().sum() and r["warned"] > 0 and r["refused"] == 0
+    assert 0.01 < r["largest_share_of_radius"] < 1 and r["refusal"] is None
+    assert r["camera_distance"] == pytest.approx(np.linalg.norm(
+        np.array(g.sidecar["camera_to_world"])[:3, 3] + (3e4, 0, 0)))
+    quiet = aolab.rtao_range(g, scene_in(g, v, t), radius=0.5)
+    assert quiet["warned"] == 0 and quiet["warning"] is None
+
+
+def test_rtao_cli_refuses_an_offset_reaching_r_in_one_line_and_warns_in_one_line(tmp_path):
+    r = run_aolab("rtao", "analytic:wall", "--radius", "1e-4", "--width", "16", "--height", "9",
+                  "--rays", "1", "--out", tmp_path / "a")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert r.stderr.startswith("aolab: radius must exceed the ray offset ε"), r.stderr
+    r = run_aolab("rtao", "analytic:wall", "--radius", "0.05", "--width", "16", "--height", "9",
+                  "--rays", "1", "--out", tmp_path / "b")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.startswith("aolab: warning: rtao: the ray offset ε exceeds 1 % of R")
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+# --- 9. A mesh and a G-buffer of different scenes (docs/file_formats.md, "Scene geometry") --
+# Every path that traces a mesh for a G-buffer pairs them by one rule
+# (aolab.bridge.mesh.check_pairing): the two scene hashes must agree; a mesh read from a file
+# whose scene cannot be checked needs allow_unknown_scene; a mesh made in memory is the
+# caller's own pairing.
+
+OTHER_HASH = "07e5" * 15 + "1111"
+
+
+def test_rtao_refuses_a_mesh_of_another_scene_naming_both(tmp_path):
+    """Was: only the mesh found beside the G-buffer was checked; aolab.rtao(g, mesh) traced
+    any mesh."""
+    exr, v, t = saved_scene(tmp_path)
+    other = write_scene_mesh(tmp_path / "other.mesh", v, t, OTHER_HASH)
+    g, mesh = aolab.load_gbuffer(exr), aolab.load_mesh(other)
+    built = aolab.ray_scene(mesh, camera_to_world=np.array(g.sidecar["camera_to_world"]))
+    for call in (lambda: aolab.rtao(g, mesh, radius=1.0, rays=1),
+                 lambda: aolab.rtao(g, built, radius=1.0, rays=1),
+                 lambda: aolab.ray_scene(mesh, g),
+                 lambda: aolab.rtao_range(g, mesh, radius=1.0),
+                 lambda: aolab.rtao(g, mesh, radius=1.0, rays=1, allow_unknown_scene=True)):
+        with pytest.raises(ValueError, match="is not the geometry of") as e:
+            call()
+        for part in (str(other), str(exr), repr(SCENE_HASH), repr(OTHER_HASH)):
+            assert part in str(e.value), (part, str(e.value))
+    same = aolab.load_mesh(write_scene_mesh(tmp_path / "same.mesh", v, t))
+    assert aolab.rtao(g, same, radius=1.0, rays=1).shape == g.depth.shape
+
+
+def test_rtao_command_refuses_a_mesh_of_another_scene(tmp_path):
+    exr, v, t = saved_scene(tmp_path)
+    other = write_scene_mesh(tmp_path / "other.mesh", v, t, OTHER_HASH)
+    for extra in ([], ["--allow-unknown-scene"]):
+        r = run_aolab("rtao", exr, "--mesh", other, "--rays", "1", "--out", tmp_path / "ao",
+                      *extra)
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert OTHER_HASH in r.stderr and SCENE_HASH in r.stderr and str(exr) in r.stderr
+    same = write_scene_mesh(tmp_path / "same.mesh", v, t)
+    r = run_aolab("rtao", exr, "--mesh", same, "--rays", "1", "--out", tmp_path / "ao")
+    assert r.returncode == 0, r.stderr
+
+
+def test_a_mesh_file_for_an_analytic_scene_needs_allow_unknown_scene(tmp_path):
+    """Was: `aolab rtao analytic:wall --mesh some.mesh` traced it."""
+    from types import SimpleNamespace
+    _, v, t = saved_scene(tmp_path)
+    some = write_scene_mesh(tmp_path / "some.mesh", v, t)
+    args = ("rtao", "analytic:wall", "--mesh", some, "--width", "16", "--height", "9",
+            "--rays", "1", "--out", tmp_path / "ao")
+    r = run_aolab(*args)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "cannot be checked to be the geometry of analytic:wall" in r.stderr
+    assert "the G-buffer carries no scene_hash" in r.stderr
+    assert "--allow-unknown-scene" in r.stderr
+    assert run_aolab(*args, "--allow-unknown-scene").returncode == 0
+    g = aolab.analytic_scene("wall", 16, 9)
+    with pytest.raises(ValueError, match="the G-buffer carries no scene_hash"):
+        aolab.rtao(g, aolab.load_mesh(some), radius=1.0, rays=1)
+    aolab.rtao(g, aolab.load_mesh(some), radius=1.0, rays=1, allow_unknown_scene=True)
+    # arrays made in memory: the caller pairs them, nothing to check
+    aolab.rtao(g, SimpleNamespace(vertices=v, triangles=t, info={}), radius=1.0, rays=1)
+
+
+def test_a_mesh_file_without_its_json_needs_allow_unknown_scene(tmp_path):
+    exr, v, t = saved_scene(tmp_path)
+    bare = write_scene_mesh(tmp_path / "bare.mesh", v, t)
+    (tmp_path / "bare.mesh.json").unlink()
+    g, mesh = aolab.load_gbuffer(exr), aolab.load_mesh(bare)
+    with pytest.raises(ValueError, match=r"the mesh carries no scene_hash \(the mesh's "
+                       r"scene_hash None"):
+        aolab.rtao(g, mesh, radius=1.0, rays=1)
+    aolab.rtao(g, mesh, radius=1.0, rays=1, allow_unknown_scene=True)
+
+
+def test_compare_names_a_mesh_of_another_scene_where_rtao_did_not_run(tmp_path):
+    """Was: "no scene has a mesh beside its reference", while room had one, of another
+    scene."""
+    import os
+    from compare_support import SCENES
+    from test_compare import run_compare
+    room = tmp_path / "scenes" / "room"
+    room.mkdir(parents=True)
+    for name in ("reference.exr", "reference.json", "manifest.json"):
+        os.symlink(SCENES / "room" / name, room / name)
+    for name in ("reference.mesh", "reference.mesh.json"):   # colored_room's geometry
+        os.symlink(SCENES / "colored_room" / name, room / name)
+    out = tmp_path / "out"
+    assert run_compare(tmp_path / "scenes", out, "--methods", "crytek_ssao", "--sweep",
+                       "quick", "--rtao-rays", "1") == 0
+    report = (out / "report.html").read_text(encoding="utf-8")
+    assert "no scene has a mesh beside its reference" not in report
+    assert "rtao not run on room:" in report and "is not the geometry of" in report
+    results = __import__("json").loads((out / "results.json").read_text())
+    assert "is not the geometry of" in results["scenes"]["room"]["rtao_not_run"]
+
+
+def test_compare_notes_a_scene_rtao_refuses_and_goes_on(tmp_path):
+    """The study's rtao rungs on a scene whose R is below the ray offset (room's sidecar with
+    ao_distance 1e-5): noted, and the study goes on. Was: the ValueError ended the study."""
+    import json
+    import os
+    from compare_support import SCENES
+    from test_compare import run_compare
+    room = tmp_path / "scenes" / "room"
+    room.mkdir(parents=True)
+    for name in ("reference.exr", "manifest.json", "reference.mesh", "reference.mesh.json"):
+        os.symlink(SCENES / "room" / name, room / name)
+    side = json.loads((SCENES / "room" / "reference.json").read_text())
+    (room / "reference.json").write_text(json.dumps(dict(side, ao_distance=1e-5)))
+    out = tmp_path / "out"
+    assert run_compare(tmp_path / "scenes", out, "--methods", "crytek_ssao", "--sweep",
+                       "quick", "--rtao-rays", "1") == 0
+    results = json.loads((out / "results.json").read_text())
+    assert results["scenes"]["room"]["rtao_not_run"].startswith(
+        "radius must exceed the ray offset ε")
+    assert not [r for r in results["rows"] if r["kind"] == "rtao"]

@@ -1,9 +1,10 @@
 """rtao through the Python API and the command line: the closed forms of the analytic scenes
 traced against their planes, exactly 1 on an open plane, the same bits on any thread count,
 the GIL released while rays are traced, bad meshes and settings as ValueErrors naming them,
-random G-buffers and meshes giving finite AO in [0, 1] (hypothesis). The C++ known answers
-are tests/cpp/raytracing/rtao_test.cpp's; the check against the Cycles references is
-test_rtao_check.py's."""
+random G-buffers and meshes giving finite AO in [0, 1] or the offset rule's refusal
+(hypothesis). The C++ known answers are tests/cpp/raytracing/rtao_test.cpp's; the check
+against the Cycles references is test_rtao_check.py's; the ranges (docs/conventions.md) are
+test_hostile_inputs.py's."""
 import subprocess
 import sys
 import threading
@@ -126,6 +127,7 @@ def test_settings_are_described():
 
 
 @settings(max_examples=40, deadline=None)
+@pytest.mark.filterwarnings("ignore::aolab.RtaoRangeWarning")
 @given(seed=st.integers(0, 2**31 - 1), size=st.tuples(st.integers(1, 9), st.integers(1, 9)),
        triangles=st.integers(0, 12), radius=st.floats(1e-4, 1e4), data=st.data())
 def test_random_gbuffers_and_meshes_give_finite_ao_in_unit_range(seed, size, triangles,
@@ -149,7 +151,14 @@ def test_random_gbuffers_and_meshes_give_finite_ao_in_unit_range(seed, size, tri
     c2w[:3, :3] = q * np.sign(np.linalg.det(q))
     c2w[:3, 3] = rng.uniform(-10, 10, 3)
     scene = aolab.RayScene(v, t.reshape(-1, 3), c2w)
-    ao = aolab.rtao(g, scene, radius=radius, rays=int(rng.integers(1, 9)), seed=seed % 1000)
+    rays = int(rng.integers(1, 9))
+    refusal = aolab.rtao_range(g, scene, radius=radius)["refusal"]
+    if refusal:   # the ray offset reaches R somewhere (docs/conventions.md, "Ranges")
+        with pytest.raises(ValueError) as e:
+            aolab.rtao(g, scene, radius=radius, rays=rays, seed=seed % 1000)
+        assert str(e.value) == refusal
+        return
+    ao = aolab.rtao(g, scene, radius=radius, rays=rays, seed=seed % 1000)
     assert ao.shape == (h, w) and np.all(np.isfinite(ao))
     assert np.all((ao >= 0) & (ao <= 1))
     assert np.all(ao[~np.asarray(g.valid_mask(), bool)] == 1.0)

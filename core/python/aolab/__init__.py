@@ -19,8 +19,8 @@ __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
     "load_gbuffer", "save_gbuffer", "write_image", "encode_image", "Progress", "Cancelled",
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
-    "rtao", "ray_scene", "RayScene", "rtao_settings", "analytic_scene_mesh", "load_mesh",
-    "mesh_for_gbuffer",
+    "rtao", "ray_scene", "RayScene", "rtao_settings", "rtao_range", "RtaoRangeWarning",
+    "analytic_scene_mesh", "load_mesh", "mesh_for_gbuffer",
 ]
 
 GBuffer = _core.GBuffer
@@ -194,12 +194,13 @@ def load_mesh(path):
     return read_mesh(path)
 
 
-def mesh_for_gbuffer(g):
+def mesh_for_gbuffer(g, *, allow_unknown_scene: bool = False):
     """The ``Mesh`` exported with G-buffer ``g`` (from ``load_gbuffer``): ``<stem>.mesh``
-    beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's),
-    else a ValueError saying how to export one."""
+    beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's;
+    one without a scene_hash only with ``allow_unknown_scene``), else a ValueError saying how
+    to export one."""
     from .bridge.mesh import mesh_for_gbuffer as find
-    return find(g)
+    return find(g, allow_unknown_scene=allow_unknown_scene)
 
 
 def analytic_scene_names() -> list[str]:
@@ -224,8 +225,8 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
 
 
 # The ray-traced peer (raytracing.py): Embree against the scene's triangles.
-from .raytracing import (RayScene, analytic_scene_mesh, ray_scene, rtao,  # noqa: E402,F401
-                         rtao_settings)
+from .raytracing import (RayScene, RtaoRangeWarning, analytic_scene_mesh,  # noqa: E402,F401
+                         ray_scene, rtao, rtao_range, rtao_settings)
 
 # The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
 # presets.py).

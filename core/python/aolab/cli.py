@@ -35,6 +35,7 @@ import stat
 import statistics
 import sys
 import time
+import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -222,6 +223,18 @@ def _report(message: str) -> None:
         pass
     sys.stderr.write(line)
     sys.stderr.flush()
+
+
+def _one_line_warnings(show):
+    """A ``warnings.showwarning`` that prints an aolab warning (RtaoRangeWarning) as one line
+    ``aolab: warning: <message>``, like the command's errors, and passes any other to
+    ``show``."""
+    def show_warning(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, aolab.RtaoRangeWarning):
+            _report("warning: " + " ".join(str(message).split()))
+        else:
+            show(message, category, filename, lineno, file, line)
+    return show_warning
 
 
 def _key_values(pairs: list[str] | None, method: str | None = None) -> dict:
@@ -424,19 +437,20 @@ def cmd_rtao(args) -> int:
     if not spec.startswith("analytic:") and Path(spec).is_dir():
         spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
     g, radius = _load_input(spec, args.radius, args.width, args.height)
+    unknown = args.allow_unknown_scene
     if args.mesh:
         mesh = aolab.load_mesh(_regular_file(args.mesh, "mesh"))
-    elif spec.startswith("analytic:"):
+    elif spec.startswith("analytic:"):   # the scene's own planes, made here
         name = spec.split(":", 1)[1]
         mesh = SimpleNamespace(info={})
         mesh.vertices, mesh.triangles = aolab.analytic_scene_mesh(name)
     else:
-        mesh = aolab.mesh_for_gbuffer(g)
+        mesh = aolab.mesh_for_gbuffer(g, allow_unknown_scene=unknown)
     out = _output_stem(args.out, "rtao")
-    scene = aolab.ray_scene(mesh, g, threads=args.threads)
+    scene = aolab.ray_scene(mesh, g, threads=args.threads, allow_unknown_scene=unknown)
     t0 = time.perf_counter()
     ao = aolab.rtao(g, scene, radius=radius, rays=args.rays, seed=args.seed,
-                    threads=args.threads)
+                    threads=args.threads, allow_unknown_scene=unknown)
     elapsed = time.perf_counter() - t0
     result = {"method": "rtao", "input": args.input, "width": g.width, "height": g.height,
               "radius": radius, "rays": args.rays, "seed": args.seed, "threads": args.threads,
@@ -663,7 +677,11 @@ def build_parser() -> argparse.ArgumentParser:
                     "folder, or analytic:NAME (its planes as triangles)")
     input_options(rt, settings=False)
     rt.add_argument("--mesh", help="the scene's .mesh file (default: <stem>.mesh beside the "
-                    "G-buffer, checked against its scene hash)")
+                    "G-buffer); its scene hash must equal the G-buffer's")
+    rt.add_argument("--allow-unknown-scene", action="store_true",
+                    help="trace a mesh whose scene cannot be checked: the mesh or the "
+                    "G-buffer carries no scene hash (an analytic scene, a .mesh without its "
+                    ".mesh.json); a hash that differs is refused all the same")
     rt.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RTAO_DEFAULT_RAYS,
                     help=f"rays per pixel, 1 to 65536 (default {RTAO_DEFAULT_RAYS}, the "
                     "reference's samples)")
@@ -803,7 +821,9 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as e:   # a bad option value (2), --help (0): argparse printed why
         return e.code if isinstance(e.code, int) else 2
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(warnings.showwarning)
+            return args.func(args)
     except KeyboardInterrupt:
         if args.debug:
             raise

@@ -29,6 +29,7 @@ import statistics
 import subprocess
 import sys
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -1115,20 +1116,33 @@ class Study:
         try:
             mesh = aolab.mesh_for_gbuffer(scene.g)
             rays_scene = aolab.ray_scene(mesh, scene.g, threads=threads)
+            # rtao's range rule (docs/conventions.md, "Ranges"), before any rung is timed:
+            # a refused scene is noted like a missing mesh, a warned one once.
+            offsets = aolab.rtao_range(scene.g, rays_scene, radius=scene.radius,
+                                       threads=threads)
+            if offsets["refusal"]:
+                raise ValueError(offsets["refusal"])
         except (ValueError, OSError) as e:
             self.notes.append(f"{scene.name}: rtao not run ({e})")
+            self.scene_info[scene.name]["rtao_not_run"] = str(e)
             if bar is not None:
                 bar.update(len(ladder))
             return
+        if offsets["warning"]:
+            self.notes.append(f"{scene.name}: {offsets['warning']}")
         build_ms = rays_scene.build_seconds * 1000.0
         info = {"triangles": rays_scene.triangles, "bvh_build_ms": build_ms}
         self.scene_info[scene.name]["rtao"] = info
+        self.scene_info[scene.name]["rtao_offset"] = {
+            k: offsets[k] for k in ("pixels", "warned", "largest_share_of_radius")}
         for rays in ladder:
             if bar is not None:
                 bar.set_description(f"{scene.name}: rtao {rays} rays")
-            ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
-                                                 rays=rays, threads=threads),
-                              self.opts.warmup, self.opts.repeat, self.opts.max_ms)
+            with warnings.catch_warnings():   # noted above, once
+                warnings.simplefilter("ignore", aolab.RtaoRangeWarning)
+                ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
+                                                     rays=rays, threads=threads),
+                                  self.opts.warmup, self.opts.repeat, self.opts.max_ms)
             row = _row(scene, "rtao", "rtao", f"{rays} ray{'s' if rays != 1 else ''}", preset="",
                        settings={"rays": rays, **info}, threads=threads, runs=len(times),
                        note=f"Embree BVH of {rays_scene.triangles} triangles built in "

@@ -1006,17 +1006,28 @@ def rtao_crossover(ladder: list[dict]) -> float | None:
     return min(wins) if wins else None
 
 
-def rtao_table(ladder: list[dict]) -> str:
+def rtao_not_run(results: dict) -> str:
+    """Why rtao has no rows on some scenes: "scene: reason" for each (the mesh is missing,
+    of another scene, or refused), or "" when it ran wherever the study asked for it."""
+    return "; ".join(f'{name}: {info["rtao_not_run"]}'
+                     for name, info in (results.get("scenes") or {}).items()
+                     if (info or {}).get("rtao_not_run"))
+
+
+def rtao_table(ladder: list[dict], not_run: str = "") -> str:
+    """The ladder against screen space; ``not_run`` (rtao_not_run) says where rtao did not
+    run and why."""
+    why = f"<p class='missing'>rtao not run on {html.escape(not_run)}</p>" if not_run else ""
     if not ladder:
-        return ("<p class='missing'>No rtao rows: no scene has a mesh beside its reference "
-                "(aolab mesh), or the study ran with --rtao-rays none.</p>")
+        return why or ("<p class='missing'>No rtao rows: no scene has a mesh beside its "
+                       "reference (aolab mesh), or the study ran with --rtao-rays none.</p>")
     head = ("<tr><th>rtao</th><th>ms</th><th>MAE</th><th>best screen-space within that time"
             "</th><th>ms</th><th>MAE</th><th>more accurate</th></tr>")
     body = [f'<tr><td>{html.escape(e["label"])}</td><td>{_cell(e["ms"], ".1f")}</td>'
             f'<td>{_cell(e["mae"])}</td><td>{html.escape(e["method"] or "—")}</td>'
             f'<td>{_cell(e["method_ms"], ".1f")}</td><td>{_cell(e["method_mae"])}</td>'
             f'<td>{html.escape(e["winner"] or "—")}</td></tr>' for e in ladder]
-    return f'<table class="check">{head}{"".join(body)}</table>'
+    return f'<table class="check">{head}{"".join(body)}</table>{why}'
 
 
 def study_sections(results: dict, agg: list[dict]) -> str:
@@ -1058,7 +1069,7 @@ def study_sections(results: dict, agg: list[dict]) -> str:
                  'scenes: ' + (f'from {cross:.0f} ms on, the ray tracer is more accurate.'
                                if cross is not None else
                                'screen space is more accurate at every rung.') + '</p>')
-    parts.append(rtao_table(ladder))
+    parts.append(rtao_table(ladder, rtao_not_run(results)))
     return "\n".join(parts)
 
 

@@ -132,9 +132,11 @@ def rtao_section(results: dict, agg: list[dict]) -> list[str]:
     """rtao's ladder against the most accurate screen-space configuration as fast as each
     rung: over all scenes, and the crossover time per scene."""
     ladder = report.rtao_ladder(agg)
+    not_run = report.rtao_not_run(results)
     if not ladder:
-        return ["## Against a CPU ray tracer", "", "No rtao rows in this run (no scene has a "
-                "mesh beside its reference: `aolab mesh`).", ""]
+        return ["## Against a CPU ray tracer", "", f"No rtao rows in this run ({not_run})."
+                if not_run else "No rtao rows in this run (no scene has a mesh beside its "
+                "reference: `aolab mesh`).", ""]
     builds = {name: info["rtao"] for name, info in results.get("scenes", {}).items()
               if info.get("rtao")}
     out = ["## Against a CPU ray tracer", "",
@@ -164,6 +166,8 @@ def rtao_section(results: dict, agg: list[dict]) -> list[str]:
                                      "none: screen space wins at every rung")
                    + (f' | {at["label"]}, MAE {_f(at["mae"])} | {at["method"] or "—"}, MAE '
                       f'{_f(at["method_mae"])} |' if at else " | — | — |"))
+    if not_run:
+        out += ["", f"rtao not run on {not_run}."]
     return out + [""]
 
 

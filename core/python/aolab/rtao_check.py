@@ -33,7 +33,7 @@ from .report import write_generated_block
 #: Rays per pixel of the check: the reference's own samples.
 CHECK_RAYS = 1024
 #: Bumped when rtao's output for the same inputs changes (the cache key includes it).
-RTAO_CACHE_VERSION = 2
+RTAO_CACHE_VERSION = 3
 #: Side of the blocks of the map of the mean difference: the noise of a 16x16 block mean is
 #: 1/16 of a pixel's, so a block that stays off by several floors is a real difference.
 BLOCK = 16

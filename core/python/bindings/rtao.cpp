@@ -62,16 +62,41 @@ Matrix4 matrix_from(const py::object& value) {
   return out;
 }
 
+py::dict offset_dict(const RtaoOffset& o) {
+  py::dict d;
+  d["x"] = o.x, d["y"] = o.y, d["depth"] = o.depth, d["point_distance"] = o.point_distance;
+  d["footprint"] = o.footprint, d["scale"] = o.scale, d["epsilon"] = o.epsilon;
+  return d;
+}
+
+// rtao_range's answer for Python: the counts, the largest offset, and the refusal and
+// warning texts (None when there is none).
+py::dict range_dict(const RtaoRange& r) {
+  py::dict d;
+  d["radius"] = r.radius, d["camera_distance"] = r.camera_distance;
+  d["longest_edge"] = r.longest_edge, d["coordinate_scale"] = r.coordinate_scale;
+  d["pixels"] = r.pixels, d["warned"] = r.warned;
+  d["refused"] = r.refused, d["beyond"] = r.beyond;
+  d["largest"] = r.pixels ? py::object(offset_dict(r.largest)) : py::object(py::none());
+  d["largest_share_of_radius"] = r.pixels ? r.largest.epsilon / r.radius : 0.0;
+  const std::string refusal = r.refusal(), warning = r.warning();
+  d["refusal"] = refusal.empty() ? py::object(py::none()) : py::object(py::str(refusal));
+  d["warning"] = warning.empty() ? py::object(py::none()) : py::object(py::str(warning));
+  return d;
+}
+
 }  // namespace
 
 void bind_rtao(py::module_& m) {
-  py::class_<RayScene>(m, "RayScene", R"doc(
+  py::class_<RayScene>(m, "RayScene", py::dynamic_attr(), R"doc(
 The scene's triangles in a G-buffer's view space, in an Embree BVH (built once, shared by
 every rtao call on that camera).
 
 RayScene(vertices, triangles, camera_to_world, threads=0): vertices (V, 3) world-space
 positions, triangles (T, 3) vertex indices, camera_to_world the sidecar's 4x4 row-major
 camera matrix (rotation and translation). Malformed input is a ValueError naming it.
+aolab.ray_scene also records where the mesh came from (mesh_source: its .mesh.json and
+path), so that aolab.rtao checks it against the G-buffer it traces.
 )doc")
       .def(py::init([](const py::object& vertices, const py::object& triangles,
                        const py::object& camera_to_world, int threads) {
@@ -87,7 +112,12 @@ camera matrix (rotation and translation). Malformed input is a ValueError naming
                              "wall-clock seconds of the BVH build")
       .def_property_readonly("coordinate_scale", &RayScene::coordinate_scale,
                              "L: the largest distance of a vertex from the world origin or the "
-                             "camera (the scale of the ray offset's rounding term)");
+                             "camera")
+      .def_property_readonly("camera_distance", &RayScene::camera_distance,
+                             "|c|: the camera's distance from the world origin")
+      .def_property_readonly("longest_edge", &RayScene::longest_edge,
+                             "D: the longest triangle edge (with L and |c|, the scale of the "
+                             "float rounding of the triangles near a point: docs/methods/rtao.md)");
 
   m.def(
       "rtao",
@@ -99,14 +129,37 @@ camera matrix (rotation and translation). Malformed input is a ValueError naming
         const RtaoSettings s = settings_from_values(values, kRtaoFields, "rtao", {});
         RunOptions options{threads, progress};
         Image ao;
+        RtaoRange range;
         {
           py::gil_scoped_release release;
-          ao = rtao(g.view, scene, s, options);
+          ao = rtao(g.view, scene, s, options, &range);
         }
-        return to_numpy(std::move(ao));
+        return py::make_tuple(to_numpy(std::move(ao)), range_dict(range));
       },
       py::arg("gbuffer"), py::arg("scene"), py::arg("settings"), py::kw_only(),
       py::arg("threads") = 0, py::arg("progress") = nullptr);
+
+  m.def(
+      "check_camera_to_world",
+      [](const py::object& camera_to_world) {
+        check_camera_to_world(matrix_from(camera_to_world));
+      },
+      py::arg("camera_to_world"),
+      "ValueError unless the 4x4 row-major matrix is a rotation and a translation: the rule "
+      "of RayScene and of the Blender bridge (core/raytracing/ray_scene.h)");
+
+  m.def(
+      "rtao_range",
+      [](const PyGBuffer& g, const RayScene& scene, float radius, int threads) {
+        RtaoRange range;
+        {
+          py::gil_scoped_release release;
+          range = rtao_range(g.view, scene, radius, threads);
+        }
+        return range_dict(range);
+      },
+      py::arg("gbuffer"), py::arg("scene"), py::arg("radius"), py::kw_only(),
+      py::arg("threads") = 0);
 
   m.def("rtao_settings", [] { return describe_settings_for_python(rtao_setting_descriptions()); });
 

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -117,14 +119,66 @@ TEST(Rtao, CreaseLineIsOneHalfPerPixel) {
 }
 
 // The offset ε keeps a surface from occluding itself at any grazing angle and any R: an open
-// plane is exactly 1.
+// plane is exactly 1. Pixels so far that 0.01 px exceeds R/2 are made background: there ε
+// would reach R, and rtao refuses to trace (docs/conventions.md, "Ranges").
 TEST(Rtao, OpenPlaneIsExactlyOne) {
   for (double tilt : {0.0, 60.0, 89.0}) {
     const TracedScene t("plane", 64, 36, {{"tilt", tilt}, {"azimuth", 30}});
-    for (float radius : {0.01f, 1.0f, 1e30f})
-      EXPECT_EQ(min_valid(rtao(t.g, t.scene, settings(radius, 64)), t.g), 1.0f)
+    for (float radius : {0.01f, 1.0f, 1e30f}) {
+      GBuffer near = t.g;
+      near.background_depth = std::min(
+          t.g.background_depth,
+          float(0.5 * radius * std::min(t.g.camera.fx, t.g.camera.fy) / kRtaoOffsetPixels));
+      EXPECT_EQ(min_valid(rtao(near, t.scene, settings(radius, 64)), near), 1.0f)
           << tilt << " " << radius;
+    }
   }
+}
+
+// The wall's planes as 50 m squares, the world moved by `shift` along x (the camera with it).
+struct ShiftedWall {
+  SceneFixture f{"wall", 48, 27};
+  TriangleMesh mesh = analytic_scene_mesh(analytic_scene_geometry("wall", {}), 50.0);
+  Matrix4 c2w = row_major(f.scene.camera_to_world);
+  explicit ShiftedWall(float shift) {
+    for (std::size_t k = 0; k < mesh.vertices.size(); k += 3) mesh.vertices[k] += shift;
+    c2w[3] += shift;
+  }
+};
+
+// The offset's rounding term scales with the triangles a ray can reach: a small triangle far
+// away changes no bit (it used to lift every ray by 5 m, and R = 0.5 then found nothing).
+TEST(Rtao, ASmallTriangleFarAwayChangesNothing) {
+  ShiftedWall w(0.0f);
+  const Image near = rtao(w.f.g, RayScene(w.mesh, w.c2w), settings(0.5f, 16));
+  const auto n = std::uint32_t(w.mesh.vertex_count());
+  w.mesh.vertices.insert(w.mesh.vertices.end(),
+                         {1e7f, 1e7f, 0, 1e7f + 1, 1e7f, 0, 1e7f, 1e7f + 1, 0});
+  w.mesh.triangles.insert(w.mesh.triangles.end(), {n, n + 1, n + 2});
+  const Image far = rtao(w.f.g, RayScene(w.mesh, w.c2w), settings(0.5f, 16));
+  EXPECT_EQ(far.pixels(), near.pixels());
+  EXPECT_LT(*std::min_element(near.pixels().begin(), near.pixels().end()), 0.9f);
+}
+
+// Where the scene's coordinates are so large that ε reaches R, rtao refuses, and its message
+// is rtao_range's, with the numbers; at home the same scene is neither refused nor warned.
+TEST(Rtao, AnOffsetReachingRIsRefusedWithItsNumbers) {
+  const ShiftedWall far(1e7f), home(0.0f);
+  const RayScene far_scene(far.mesh, far.c2w);
+  const RtaoRange range = rtao_range(far.f.g, far_scene, 0.5f);
+  EXPECT_GT(range.pixels, 1000u);
+  EXPECT_EQ(range.refused, range.pixels);
+  EXPECT_EQ(range.warned, range.pixels);
+  EXPECT_EQ(invalid_argument_message([&] { rtao(far.f.g, far_scene, settings(0.5f, 4)); }),
+            range.refusal());
+  EXPECT_NE(range.refusal().find("camera from the world origin |c| = 1e+07"), std::string::npos)
+      << range.refusal();
+  EXPECT_TRUE(range.warning().empty());
+  const RtaoRange ok = rtao_range(home.f.g, RayScene(home.mesh, home.c2w), 0.5f);
+  EXPECT_EQ(ok.pixels, range.pixels);
+  EXPECT_EQ(ok.warned, 0u);
+  EXPECT_TRUE(ok.refusal().empty() && ok.warning().empty());
+  EXPECT_LT(ok.largest.scale, 200.0);  // the 50 m squares, not the world 1e7 away
 }
 
 TEST(Rtao, EmptyMeshGivesOne) {
@@ -203,6 +257,13 @@ TEST(RayScene, MalformedMeshesAndCamerasAreNamed) {
   m.vertices[4] = std::numeric_limits<float>::infinity();
   EXPECT_NE(invalid_argument_message([&] { RayScene(m, identity); }).find("vertices"),
             std::string::npos);
+  // Beyond Embree's range (its FLT_LARGE), where it would drop the triangle without a word.
+  m.vertices[4] = 1e25f;
+  const std::string far = invalid_argument_message([&] { RayScene(m, identity); });
+  EXPECT_NE(far.find("vertices must have view-space coordinates below 1.844e+18"),
+            std::string::npos)
+      << far;
+  EXPECT_NE(far.find("the first vertex 1 at world (1, 1e+25, -1)"), std::string::npos) << far;
   m.vertices[4] = 0;
   Matrix4 scaled = identity;
   scaled[0] = 2;

@@ -46,3 +46,13 @@ def intrinsics(width: int, height: int, *, lens: float, sensor_width: float,
     cx = width / 2 - shift_x * viewfac
     cy = height / 2 + shift_y * viewfac / ycor
     return {"fx": fx, "fy": fy, "cx": cx, "cy": cy}
+
+
+def check_camera_to_world(matrix) -> None:
+    """ValueError unless ``matrix`` (4x4, row-major, the camera's scale removed) is a
+    rotation and a translation: a camera under an unevenly scaled, rotated parent is sheared,
+    and neither its pinhole projection nor the move of triangles and normals into its view
+    space holds. The ray tracer's own rule and tolerance (``RayScene``,
+    core/raytracing/ray_scene.h), so that a camera the bridge renders from is one rtao takes."""
+    from .. import _core
+    _core.check_camera_to_world(matrix)

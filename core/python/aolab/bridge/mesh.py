@@ -141,9 +141,47 @@ def _check_info(side: Path, data: bytes, n_vertices: int, n_triangles: int) -> d
     return info
 
 
-def mesh_for_gbuffer(g) -> Mesh:
-    """The mesh exported with G-buffer ``g``: ``<stem>.mesh`` next to ``g.path``, whose JSON's
-    scene_hash must equal the sidecar's."""
+def _gbuffer_name(g) -> str:
+    side = getattr(g, "sidecar", None) or {}
+    scene = side.get("scene")
+    if getattr(g, "path", None):
+        return str(g.path)
+    if isinstance(scene, str) and scene.startswith("analytic:"):
+        return f"{scene} (an analytic scene)"
+    return "the G-buffer (no file)"
+
+
+def check_pairing(g, mesh, *, allow_unknown_scene: bool = False, how: str = "") -> None:
+    """The one rule for tracing ``mesh`` against G-buffer ``g`` (docs/file_formats.md, "Scene
+    geometry"): when both carry a scene_hash (the sidecar's, the .mesh.json's), they must be
+    equal; a mesh read from a file whose scene cannot be checked that way (either side lacks
+    the hash: an analytic G-buffer, a .mesh without its JSON, a G-buffer not from the bridge)
+    is refused unless ``allow_unknown_scene``; a mesh made in memory (no file) is the caller's
+    own pairing. A refusal is a ValueError naming both files and both hashes, then ``how``."""
+    want = (getattr(g, "sidecar", None) or {}).get("scene_hash")
+    got = (getattr(mesh, "info", None) or {}).get("scene_hash")
+    path = getattr(mesh, "path", "") or ""
+    mesh_name = path or "the mesh made in memory"
+    tail = f"; {how}" if how else ""
+    if want is not None and got is not None:
+        if want != got:
+            raise ValueError(f"{mesh_name} is not the geometry of {_gbuffer_name(g)}: the "
+                             f"mesh's scene_hash {got!r} differs from the G-buffer sidecar's "
+                             f"{want!r}{tail}")
+        return
+    if not path or allow_unknown_scene:
+        return
+    lacking = " and ".join(name for name, h in (("the mesh", got), ("the G-buffer", want))
+                           if h is None)
+    raise ValueError(f"{mesh_name} cannot be checked to be the geometry of "
+                     f"{_gbuffer_name(g)}: {lacking} carries no scene_hash (the mesh's "
+                     f"scene_hash {got!r}, the G-buffer's {want!r}); pair them anyway with "
+                     f"allow_unknown_scene=True (aolab rtao --allow-unknown-scene){tail}")
+
+
+def mesh_for_gbuffer(g, *, allow_unknown_scene: bool = False) -> Mesh:
+    """The mesh exported with G-buffer ``g``: ``<stem>.mesh`` next to ``g.path``, paired with
+    ``g`` by check_pairing (its scene_hash must equal the sidecar's)."""
     gpath = getattr(g, "path", None)
     if not gpath:
         raise ValueError("g has no path: load it with aolab.load_gbuffer to find its mesh")
@@ -154,9 +192,5 @@ def mesh_for_gbuffer(g) -> Mesh:
     if not path.exists():
         raise FileNotFoundError(2, f"no mesh {path} beside the G-buffer: {how}", str(path))
     mesh = read_mesh(path)
-    want = (getattr(g, "sidecar", None) or {}).get("scene_hash")
-    got = mesh.info.get("scene_hash")
-    if want is None or got != want:
-        raise ValueError(f"{path} is not the geometry of {gpath}: its scene_hash {got!r} "
-                         f"differs from the G-buffer sidecar's {want!r}; {how}")
+    check_pairing(g, mesh, allow_unknown_scene=allow_unknown_scene, how=how)
     return mesh
