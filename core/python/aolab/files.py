@@ -38,6 +38,7 @@ class FolderInUse(OSError):
 
 def _kind(mode: int) -> str:
     return ("a folder" if stat.S_ISDIR(mode) else
+            "a regular file" if stat.S_ISREG(mode) else
             "a FIFO (named pipe)" if stat.S_ISFIFO(mode) else
             "a socket" if stat.S_ISSOCK(mode) else "a device or special file")
 
