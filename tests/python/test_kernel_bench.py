@@ -88,3 +88,42 @@ def test_cli_refuses_bad_options(args, needle):
     r = _cli(*args)
     assert r.returncode == 2
     assert needle in r.stderr
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--preset", "nope"], "preset 'nope' of alchemy is not one of ['default', 'low', "
+     "'medium'"),
+    (["--preset", "Medium"], "preset 'Medium' of alchemy is not one of"),
+    (["screen_space_limit", "--preset", "medium"],
+     "preset 'medium' of screen_space_limit is not one of ['default']"),
+])
+def test_a_preset_is_checked_as_compute_checks_it_before_any_timing(args, said):
+    """--preset nope timed the defaults under the label nope, and --preset Medium too."""
+    r = _cli(*(args if args[0] == "screen_space_limit" else ["alchemy", *args]),
+             "--size", "8x8", "--repeat", "1")
+    assert r.returncode == 2 and r.stdout == "", r.stdout
+    assert r.stderr.strip().startswith("aolab: " + said), r.stderr
+
+
+def test_a_method_without_the_default_preset_is_labelled_with_what_ran():
+    """screen_space_limit (an oracle: only its defaults) was labelled medium."""
+    rows = kernel_bench.table(["screen_space_limit", "alchemy"], repeat=1, size=(8, 8),
+                              blur=False, progress=None)
+    assert [(r["method"], r["preset"]) for r in rows] == [("screen_space_limit", "default"),
+                                                          ("alchemy", "medium")]
+    assert rows[1]["settings"] == {"samples": 8}
+
+
+@pytest.mark.parametrize("option, path, said", [
+    ("--json", "{tmp}", "--json must be a file, got '{tmp}', which is a folder"),
+    ("--json", "{tmp}/no/rows.json", "--json '{tmp}/no/rows.json': the folder {tmp}/no does "
+     "not exist"),
+    ("--profile", "{tmp}/file", "--profile must be a folder, got '{tmp}/file', which is a "
+     "regular file"),
+])
+def test_output_paths_are_checked_before_any_timing(tmp_path, option, path, said):
+    """--json DIR and --profile FILE were refused only after the whole table."""
+    (tmp_path / "file").write_text("x")
+    r = _cli("alchemy", "--size", "8x8", "--repeat", "1", option, path.format(tmp=tmp_path))
+    assert r.returncode == 2 and r.stdout == "", r.stdout
+    assert r.stderr.strip() == "aolab: " + said.format(tmp=tmp_path), r.stderr

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -103,3 +104,83 @@ def test_the_command_line_offers_the_same_presets(tmp_path, tuned_file, capsys):
                           "--width", "32", "--height", "18", "--preset", "best", "--out",
                           str(tmp_path / "x")], capture_output=True, text=True)
     assert res.returncode == 2 and "'best'" in res.stderr and "ultra" in res.stderr
+
+
+# --- one check of a preset name; a bad tuned-presets file named ------------------------------
+
+BAD_TUNED = {
+    "a list": ([1, 2], "the file must be a JSON object, got a list"),
+    "methods a list": ({"methods": [1]}, '"methods" must be a JSON object, got a list'),
+    "presets a list": ({"methods": {"hbao": {"presets": ["x"]}}},
+                       "\"presets\" of 'hbao' must be a JSON object, got a list"),
+    "a budget that is no number": ({"methods": {"hbao": {"presets": {"tuned-xms": {}}}}},
+                                   "preset name 'tuned-xms' of 'hbao' must be tuned-<ms>ms"),
+    "a setting that is a list": (
+        {"methods": {"hbao": {"presets": {"tuned-50ms": {"directions": [4]}}}}},
+        "setting 'directions' of preset 'tuned-50ms' of 'hbao' must be a number, true, false "
+        "or a name, got a list"),
+    "an unknown setting": ({"methods": {"hbao": {"presets": {"tuned-50ms": {"nope": 1}}}}},
+                           "preset 'tuned-50ms' of 'hbao' sets 'nope', which is not a setting "
+                           "of hbao"),
+    "blur that is no bool": ({"methods": {"hbao": {"presets": {"tuned-50ms": {"blur": 1}}}}},
+                             "setting 'blur' of preset 'tuned-50ms' of 'hbao' must be true or "
+                             "false, got a number, 1"),
+    "not JSON": ("{x", "is unreadable: not JSON"),
+}
+
+
+@pytest.fixture(params=sorted(BAD_TUNED))
+def bad_tuned(request, tmp_path, monkeypatch):
+    data, said = BAD_TUNED[request.param]
+    path = tmp_path / "tuned.json"
+    path.write_text(data if isinstance(data, str) else json.dumps(data))
+    monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(path))
+    return path, said
+
+
+def test_a_bad_tuned_file_is_one_error_naming_the_file(g, bad_tuned):
+    """It was AttributeError: 'list' object has no attribute 'get', or could not convert
+    string to float: 'x', naming no file."""
+    path, said = bad_tuned
+    where = f"tuned presets file {path}"
+    for call in (lambda: aolab.presets("hbao"), lambda: presets.names("hbao"),
+                 lambda: aolab.compute("hbao", g, radius=0.5, preset="tuned-50ms")):
+        with pytest.raises(ValueError) as e:
+            call()
+        assert str(e.value).startswith(where) and said in str(e.value), str(e.value)
+    # The built-in presets do not read the file: they work as without it.
+    np.testing.assert_array_equal(aolab.compute("hbao", g, radius=0.5, preset="low"),
+                                  aolab.compute("hbao", g, radius=0.5, directions=4, steps=4,
+                                                blur=True))
+    # A mistyped built-in name is the first problem, the file's the second.
+    with pytest.raises(ValueError, match=r"^preset 'Medium' of hbao is not one of \['default', "
+                       r"'low', 'medium', 'high', 'ultra'\] \(the tuned presets are left out: "
+                       + re.escape(where)):
+        aolab.compute("hbao", g, radius=0.5, preset="Medium")
+
+
+def test_a_bad_tuned_file_on_the_command_line(tmp_path, bad_tuned, capsys):
+    path, said = bad_tuned
+    assert cli.main(["presets", "hbao"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and err.startswith(f"aolab: tuned presets file {path}") and said in err
+    assert cli.main(["run", "hbao", "analytic:blocks", "--width", "32", "--height", "18",
+                     "--preset", "low", "--out", str(tmp_path / "low")]) == 0
+    assert cli.main(["run", "hbao", "analytic:blocks", "--width", "32", "--height", "18",
+                     "--preset", "tuned-50ms", "--out", str(tmp_path / "t")]) == 2
+    assert f"tuned presets file {path}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["medium", "Medium", "nope", "", "tuned-50ms"])
+def test_preset_values_checks_the_name_as_compute_does(name, tmp_path, monkeypatch):
+    """preset_values (bench-table, the add-on's menu) gave the defaults for any name the
+    method lacks; it now refuses what compute refuses."""
+    monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(tmp_path / "none.json"))   # no tuned ones
+    if name == "medium":
+        assert presets.preset_values("hbao", name) == ({"directions": 8, "steps": 8}, True)
+        with pytest.raises(ValueError, match=r"preset 'medium' of screen_space_limit is not "
+                           r"one of \['default'\]"):
+            presets.preset_values("screen_space_limit", name)
+        return
+    with pytest.raises(ValueError, match=f"^preset {re.escape(repr(name))} of hbao is not one"):
+        presets.preset_values("hbao", name)

@@ -714,8 +714,9 @@ def build_parser() -> argparse.ArgumentParser:
     # refuses it; an unknown name is a ValueError from aolab.method_info instead.
     bt.add_argument("methods", nargs="*", metavar="METHOD",
                     help="methods (default: every method but the oracles)")
-    bt.add_argument("--preset", default="medium",
-                    help="the preset to time (default medium; the shared blur is left out)")
+    bt.add_argument("--preset", help="the preset to time, a name of `aolab presets METHOD` "
+                    "(default medium, or default for a method without it; the shared blur is "
+                    "left out)")
     bt.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=5,
                     help=f"timed runs per kernel, 1 to {MAX_RUNS} (their median; default 5)")
     bt.add_argument("--scaling", action="store_true",

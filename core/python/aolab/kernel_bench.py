@@ -1,8 +1,8 @@
 """``aolab bench-table``: every method's scalar code against its SIMD kernel, in one run.
 
-Per method, at a preset (``medium`` by default, the shared blur left out as the study times
-it apart) on the ``blocks`` analytic scene at 1280×720 with R = 0.25 (the benchmarks' scene,
-docs/benchmarks.md):
+Per method, at a preset (``medium`` by default, ``default`` for a method without it; the
+shared blur left out as the study times it apart) on the ``blocks`` analytic scene at
+1280×720 with R = 0.25 (the benchmarks' scene, docs/benchmarks.md):
 
 - ``scalar ms``: the scalar per-pixel code (``kernel="scalar"``) on 1 thread — the plain
   implementation of the algorithm, and the SIMD kernel's test oracle;
@@ -83,6 +83,22 @@ def _time(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> flo
                                             kernel=kernel, **settings), repeat)
 
 
+#: The preset timed when none is asked for, where the method has it.
+DEFAULT_BENCH_PRESET = "medium"
+
+
+def bench_preset(method: str, preset: str | None) -> str:
+    """The preset timed for ``method``: ``preset``, checked as ``aolab.compute(preset=...)``
+    checks it (an unknown method or name is a ValueError listing what there is), or when
+    None DEFAULT_BENCH_PRESET, else the method's own defaults (an oracle such as
+    screen_space_limit has no presets: its row says "default", not a name it lacks)."""
+    if preset is None:
+        has = DEFAULT_BENCH_PRESET in presets_module.preset_names(method)
+        preset = DEFAULT_BENCH_PRESET if has else presets_module.DEFAULT_PRESET
+    presets_module.settings_of(method, preset)
+    return preset
+
+
 def configuration(method: str, preset: str) -> dict:
     """The preset's own settings as the study runs them (no blur)."""
     values, _blur = presets_module.preset_values(method, preset)
@@ -113,24 +129,32 @@ def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
-def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: bool = False,
+def default_methods() -> list[str]:
+    """Every method but the oracles."""
+    return [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
+
+
+def table(methods=None, *, preset: str | None = None, repeat: int = 5, scaling: bool = False,
           radii: bool = False, size=SIZE, blur: bool = True, progress=print) -> list[dict]:
-    """One row per method (see the module docstring); oracles are left out. ``blur`` adds the
-    shared blur's row (method ``BLUR_ROW``: no scalar/SIMD split, its time in every column)."""
-    methods = methods or [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
+    """One row per method (see the module docstring) at ``preset`` (:func:`bench_preset`);
+    oracles are left out unless named. ``blur`` adds the shared blur's row (method
+    ``BLUR_ROW``: no scalar/SIMD split, its time in every column). Every method and preset
+    is checked before the first timing."""
+    methods = methods or default_methods()
+    chosen = {m: bench_preset(m, preset) for m in methods}
     g = aolab.analytic_scene(SCENE, *size)
     large = aolab.analytic_scene(SCENE, *LARGE_SIZE) if scaling else None
     pixels = size[0] * size[1]
     rows = []
     for method in methods:
-        settings = configuration(method, preset)
+        settings = configuration(method, chosen[method])
         has_simd = aolab.method_info(method)["simd_kernel"]
         scalar = _time(method, g, settings, threads=1, kernel="scalar",
                        repeat=max(1, min(repeat, 3)))
         simd1 = _time(method, g, settings, threads=1, kernel="simd", repeat=repeat)
         simd2 = _time(method, g, settings, threads=2, kernel="simd", repeat=repeat)
         spp = samples_per_pixel(method, settings)
-        row = {"method": method, "preset": preset, "settings": settings, "size": list(size),
+        row = {"method": method, "preset": chosen[method], "settings": settings, "size": list(size),
                "simd_kernel": has_simd, "scalar_ms": scalar, "simd_1t_ms": simd1,
                "simd_2t_ms": simd2, "speedup": scalar / simd2, "threads_ratio": simd1 / simd2,
                "mpx_per_s": pixels / simd2 / 1000.0,
@@ -157,7 +181,9 @@ def table(methods=None, *, preset: str = "medium", repeat: int = 5, scaling: boo
         if progress:
             progress(format_row(row))
     if blur:
-        ao = aolab.compute("hbao", g, radius=RADIUS, **configuration("hbao", preset))
+        # The blur's cost does not depend on the AO it smooths (the same taps over the same
+        # geometry pixels), so any AO serves: HBAO's, at the preset every run of it has.
+        ao = aolab.compute("hbao", g, radius=RADIUS, **configuration("hbao", "medium"))
         one, two = (_median_ms(lambda t=t: aolab.gaussian_blur(ao, g, threads=t), repeat)
                     for t in (1, 2))
         row = {"method": BLUR_ROW, "preset": "σ 1.5, 5 taps", "settings": {}, "size": list(size),
@@ -220,9 +246,7 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     """Records ``runs`` computations of the method's SIMD kernel on 2 threads with ``perf
     record`` into folder/METHOD.perf.data, writes ``perf report`` to folder/METHOD.txt and
     returns its ``top`` hottest functions (self time)."""
-    if shutil.which("perf") is None:
-        raise ValueError("--profile needs Linux perf (Debian package linux-perf: "
-                         "scripts/install-deps.sh installs it)")
+    _need_perf()
     folder.mkdir(parents=True, exist_ok=True)
     data, report = folder / f"{method}.perf.data", folder / f"{method}.txt"
     code = ("import json, sys, aolab\n"
@@ -241,20 +265,38 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     return lines[:top]
 
 
+def _need_perf() -> None:
+    if shutil.which("perf") is None:
+        raise ValueError("--profile needs Linux perf (Debian package linux-perf: "
+                         "scripts/install-deps.sh installs it)")
+
+
 def _commit() -> str:
     from .compare import _git_commit
     return _git_commit(Path(__file__).resolve().parent) or "unknown"
 
 
 def main(args) -> int:
+    from . import files
     size = SIZE
     if args.size:
         size = tuple(args.size)
+    # Everything the command line names is checked before the first timing: the table takes
+    # minutes, and a bad --json or --profile found after it would lose them.
+    methods = args.methods or default_methods()
+    for method in methods:
+        bench_preset(method, args.preset)
+    if args.json:
+        files.check_output_file(args.json, "--json")
+    if args.profile:
+        files.check_output_folder(args.profile, "--profile")
+        _need_perf()
+    preset = args.preset or f"{DEFAULT_BENCH_PRESET} (default where a method has none)"
     print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
-          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {args.preset}, "
+          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {preset}, "
           f"median of {args.repeat} runs; {machine()}; SIMD target {simd_target()}")
     print(header(args.scaling, args.radii))
-    rows = table(args.methods or None, preset=args.preset, repeat=args.repeat,
+    rows = table(methods, preset=args.preset, repeat=args.repeat,
                  scaling=args.scaling, radii=args.radii, size=size)
     if args.json:
         files.write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
@@ -262,7 +304,7 @@ def main(args) -> int:
         for row in rows:
             if row["method"] == BLUR_ROW:
                 continue
-            print(f"\n## perf: {row['method']} ({args.preset}, SIMD kernel, 2 threads)")
+            print(f"\n## perf: {row['method']} ({row['preset']}, SIMD kernel, 2 threads)")
             for line in profile(row["method"], row["settings"], Path(args.profile), size=size):
                 print(line)
     return 0

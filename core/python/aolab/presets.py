@@ -125,15 +125,11 @@ def preset_names(method: str) -> list[str]:
 def preset_values(method: str, name: str) -> tuple[dict, bool]:
     """(the method's settings, shared blur on/off) of preset ``name`` as the study runs it:
     the method's builtin blur switch off where the shared blur replaces it; a tuned preset as
-    tuned. ({}, False) for DEFAULT_PRESET, an unknown name or a method without presets: its
-    own defaults."""
-    e = entry(method)
-    if name in tuned_presets(method):
-        return _split(method, tuned_presets(method)[name])
-    if e is None or name not in e.presets:
-        return {}, False
-    values, blur = _split(method, e.presets[name])
-    return Setting(method, name, values, blur, name).compute_settings(), blur
+    tuned; DEFAULT_PRESET as every setting's default. The name is checked as
+    ``aolab.compute(preset=...)`` checks it (:func:`settings_of`)."""
+    values = settings_of(method, name)
+    blur = bool(values.pop("blur", False))
+    return values, blur
 
 
 def _identity(method: str, values: dict, blur: bool) -> tuple:
@@ -210,41 +206,127 @@ TUNED_PREFIX = "tuned-"
 #: The committed tuned presets (written by ``aolab tune``, docs/tuning.md), copied beside this
 #: module by the build; $AOLAB_TUNED_PRESETS names another file.
 TUNED_FILE = "tuned_presets.json"
+#: The environment variable that names another tuned-presets file.
+TUNED_ENV = "AOLAB_TUNED_PRESETS"
 _tuned_cache: dict = {}
 
 
 def tuned_file() -> Path:
     """The JSON file the tuned presets are read from."""
-    return Path(os.environ.get("AOLAB_TUNED_PRESETS") or Path(__file__).with_name(TUNED_FILE))
+    return Path(os.environ.get(TUNED_ENV) or Path(__file__).with_name(TUNED_FILE))
 
 
 def tuned_presets(method: str) -> dict:
     """The tuned presets of ``method`` from :func:`tuned_file`, cheapest budget first
-    (name -> settings, "blur" included); {} when the file or the method's entry is absent."""
+    (name -> settings, "blur" included); {} when the file or the method's entry is absent.
+    A file that is not what ``aolab tune`` writes is one ValueError naming the file and what
+    is wrong with it (:func:`_read_tuned`)."""
     path = tuned_file()
     try:
         stamp = path.stat().st_mtime_ns
-    except OSError:
+    except FileNotFoundError:
         return {}
+    except OSError as e:   # a part of the path is a file, a folder we may not enter, ...
+        raise ValueError(f"tuned presets file {path}: cannot be read ({e.strerror}); fix or "
+                         f"unset ${TUNED_ENV}") from None
     if _tuned_cache.get("key") != (str(path), stamp):
-        try:
-            data = json.loads(path.read_text())
-        except (OSError, ValueError) as e:
-            raise ValueError(f"tuned presets {path}: unreadable ({e})") from None
-        _tuned_cache.update(key=(str(path), stamp), data=data)
-    entry_ = _tuned_cache["data"].get("methods", {}).get(method, {})
-    found = entry_.get("presets", {})
+        _tuned_cache.clear()
+        _tuned_cache.update(key=(str(path), stamp), data=_read_tuned(path))
+    found = _tuned_cache["data"].get(method, {})
     return {n: dict(found[n]) for n in sorted(found, key=budget_of)}
 
 
+#: The JSON values a setting may have in a tuned preset (a choice setting is a name).
+_SETTING_TYPES = (bool, int, float, str)
+
+
+def _read_tuned(path: Path) -> dict:
+    """The tuned presets of the file at ``path`` as {method: {name: settings}}, after
+    checking that it has the form ``aolab tune`` writes: {"methods": {METHOD: {"presets":
+    {"tuned-<ms>ms": {SETTING: value, ...}}}}}. Anything else is one ValueError naming the
+    file and the first thing wrong, instead of a Python error from deep inside a lookup
+    ("'list' object has no attribute 'get'") that names no file."""
+    from . import files
+    where = f"tuned presets file {path}"
+    try:
+        data = json.loads(files.read_text(path, "tuned presets"))
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{where} is unreadable: not JSON ({e})") from None
+    except OSError as e:
+        raise ValueError(f"{where}: cannot be read ({e.strerror or e})") from None
+    # read_text's own ValueErrors (a folder, a FIFO, not UTF-8) name the file already.
+
+    def need_object(value, what: str) -> dict:
+        if not isinstance(value, dict):
+            raise ValueError(f"{where}: {what} must be a JSON object, got {_json_kind(value)}")
+        return value
+
+    import aolab
+
+    from .settings import described
+    methods = need_object(need_object(data, "the file").get("methods", {}), '"methods"')
+    out = {}
+    for method, entry_ in methods.items():
+        found = need_object(need_object(entry_, f"the entry of {method!r}").get("presets", {}),
+                            f'"presets" of {method!r}')
+        # A method this build lacks is kept unchecked (a file from a newer build); a known
+        # one's settings are checked here, where the message can name the file.
+        known = ({s["name"] for s in described(method)} | {"blur"}
+                 if method in aolab.methods() else None)
+        out[method] = {}
+        for name, values in found.items():
+            if _budget(name) is None:
+                raise ValueError(f"{where}: preset name {name!r} of {method!r} must be "
+                                 f"{TUNED_PREFIX}<ms>ms with a time budget > 0, e.g. "
+                                 f"{TUNED_PREFIX}100ms")
+            need_object(values, f"preset {name!r} of {method!r}")
+            for key, value in values.items():
+                if known is not None and key not in known:
+                    raise ValueError(f"{where}: preset {name!r} of {method!r} sets {key!r}, "
+                                     f"which is not a setting of {method} (settings: "
+                                     f"{', '.join(sorted(known))})")
+                blur = key == "blur"
+                if not isinstance(value, bool if blur else _SETTING_TYPES):
+                    need = "true or false" if blur else "a number, true, false or a name"
+                    raise ValueError(f"{where}: setting {key!r} of preset {name!r} of "
+                                     f"{method!r} must be {need}, got {_json_kind(value)}")
+            out[method][name] = values
+    return out
+
+
+def _json_kind(value) -> str:
+    """What a JSON value is, for a message: its kind and its (shortened) text."""
+    kind = {dict: "an object", list: "a list", str: "a string", bool: "a boolean",
+            type(None): "null"}.get(type(value), "a number")
+    text = json.dumps(value)
+    return f"{kind}, {text if len(text) <= 40 else text[:37] + '...'}"
+
+
+def _budget(name) -> float | None:
+    """The budget in ms of a tuned preset's name ("tuned-100ms" -> 100), None when ``name``
+    is not such a name."""
+    if not (isinstance(name, str) and name.startswith(TUNED_PREFIX) and name.endswith("ms")):
+        return None
+    try:
+        ms = float(name[len(TUNED_PREFIX):-2])
+    except ValueError:
+        return None
+    return ms if 0 < ms < float("inf") else None
+
+
 def budget_of(name: str) -> float:
-    """The time budget in ms of a tuned preset's name: "tuned-100ms" -> 100."""
-    return float(name[len(TUNED_PREFIX):].removesuffix("ms"))
+    """The time budget in ms of a tuned preset's name: "tuned-100ms" -> 100; a ValueError
+    naming it when it is not one."""
+    ms = _budget(name)
+    if ms is None:
+        raise ValueError(f"a tuned preset's name must be {TUNED_PREFIX}<ms>ms, got {name!r}")
+    return ms
 
 
 def names(method: str) -> list[str]:
     """Every named preset of ``method``: DEFAULT_PRESET (the method's own defaults), the
-    study's presets cheapest first, then the tuned ones cheapest first."""
+    study's presets cheapest first, then the tuned ones cheapest first (a bad tuned-presets
+    file: its ValueError)."""
     return [DEFAULT_PRESET] + preset_names(method) + list(tuned_presets(method))
 
 
@@ -253,31 +335,57 @@ def named(method: str) -> dict:
     DEFAULT_PRESET = every setting's default (``aolab.method_info``, R excepted); the study's
     presets as the study runs them (a builtin blur switch off where the shared blur replaces
     it); the tuned presets as ``aolab tune`` chose them."""
-    from .settings import described
-    out = {DEFAULT_PRESET: {s["name"]: s["default"] for s in described(method)}}
-    out[DEFAULT_PRESET]["blur"] = False
-    for name in preset_names(method):
-        values, blur = preset_values(method, name)
-        out[name] = {**values, "blur": blur}
+    out = {name: _builtin(method, name) for name in [DEFAULT_PRESET] + preset_names(method)}
     out.update(tuned_presets(method))
     return out
 
 
+def _builtin(method: str, name: str) -> dict:
+    """DEFAULT_PRESET or one of the study's presets (``name`` known to be one), "blur"
+    included."""
+    if name == DEFAULT_PRESET:
+        from .settings import described
+        return {**{s["name"]: s["default"] for s in described(method)}, "blur": False}
+    values, blur = _split(method, entry(method).presets[name])
+    return {**Setting(method, name, values, blur, name).compute_settings(), "blur": blur}
+
+
 def presets_of(method: str) -> dict:
     """``aolab.presets(method)``: :func:`named`, after checking that ``method`` exists."""
-    import aolab
-    if method not in aolab.methods():
-        raise ValueError(f"method {method!r} is not one of {aolab.methods()}")
+    _check_method(method)
     return named(method)
 
 
+def _check_method(method: str) -> None:
+    import aolab
+    if method not in aolab.methods():
+        raise ValueError(f"method {method!r} is not one of {aolab.methods()}")
+
+
 def settings_of(method: str, name: str) -> dict:
-    """The settings of preset ``name`` ("blur" included); a ValueError naming the method's
-    presets for an unknown name."""
-    every = presets_of(method)
-    if name not in every:
-        raise ValueError(f"preset {name!r} of {method} is not one of {list(every)}")
-    return dict(every[name])
+    """The settings of preset ``name`` ("blur" included). The one check of a preset name:
+    ``aolab.compute(preset=...)``, every command's --preset and the add-on's preset menu go
+    through it. A name matches exactly (``Medium`` is not ``medium``); an unknown one is a
+    ValueError listing the method's presets.
+
+    The built-in presets (DEFAULT_PRESET and the study's) never read the tuned-presets file,
+    so a bad file does not take them away; a tuned or unknown name, and the listings
+    (:func:`names`, :func:`named`), report a bad file (:func:`tuned_presets`)."""
+    _check_method(method)
+    if isinstance(name, str) and (name == DEFAULT_PRESET or name in preset_names(method)):
+        return _builtin(method, name)
+    builtin = [DEFAULT_PRESET] + preset_names(method)
+    try:
+        tuned = tuned_presets(method)
+    except ValueError as e:
+        if isinstance(name, str) and name.startswith(TUNED_PREFIX):
+            raise
+        # A mistyped built-in name is the user's first problem: say it, and the file's too.
+        raise ValueError(f"preset {name!r} of {method} is not one of {builtin} (the tuned "
+                         f"presets are left out: {e})") from None
+    if name in tuned:
+        return dict(tuned[name])
+    raise ValueError(f"preset {name!r} of {method} is not one of {builtin + list(tuned)}")
 
 
 class _CallableModule(types.ModuleType):
