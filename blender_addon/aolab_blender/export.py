@@ -65,16 +65,38 @@ def scene_camera(scene, camera_name: str | None = None):
         kind = CAMERA_TYPE_NAMES.get(cam.data.type, cam.data.type)
         raise BridgeError(f"camera {cam.name!r} is {kind}; AO Lab supports perspective cameras "
                           "only (its methods reconstruct positions with a pinhole model)")
-    camera_to_world(cam)   # refuses a sheared camera before anything is rendered
+    camera_to_world(cam)   # refuses a sheared, zero-scaled or far camera before any render
     return cam
+
+
+#: The largest magnitude of a camera's world coordinate: Cycles traces with Embree, which
+#: refuses a ray whose origin lies beyond its FLT_LARGE (Debian's Blender asserts, and dies,
+#: on the first such ray); rtao holds points to the same bound (kMaxRayCoordinate in
+#: core/raytracing/ray_scene.h, which the core does not export).
+CAMERA_MAX_COORDINATE = 1.844e18
 
 
 def camera_to_world(cam) -> list[list[float]]:
     """The camera's world matrix, row-major, scale removed (renders ignore camera scale);
     BridgeError when what is left is no rotation: a camera sheared by a parent's uneven scale
-    under a rotation, which neither the pinhole intrinsics nor rtao can follow."""
+    under a rotation, which neither the pinhole intrinsics nor rtao can follow; a camera
+    scaled to zero (its sidecar would hold NaN, which no JSON reader takes, and break the
+    cache's entry); or one beyond CAMERA_MAX_COORDINATE."""
     m = np.array(cam.matrix_world, dtype=np.float64)
-    m[:3, :3] /= np.linalg.norm(m[:3, :3], axis=0, keepdims=True)
+    # Two cases the rotation check would misname (as a shear, or NaN): a camera out of the
+    # ray tracer's range, and one scaled to zero, which has no view direction at all.
+    loc = m[:3, 3]
+    if not (np.abs(loc) <= CAMERA_MAX_COORDINATE).all():   # NaN included
+        shown = ", ".join(f"{v:g}" for v in loc)
+        raise BridgeError(f"camera {cam.name!r} is at the world location ({shown}), beyond "
+                          f"+-{CAMERA_MAX_COORDINATE:g} along an axis, where Cycles cannot "
+                          "trace rays: move it (or its parents) nearer the origin")
+    scale = np.linalg.norm(m[:3, :3], axis=0)
+    if not (scale > 0).all():   # NaN included
+        shown = ", ".join(f"{v:g}" for v in scale)
+        raise BridgeError(f"camera {cam.name!r} is scaled to zero (world scale {shown}): it "
+                          "has no view direction; give it (and its parents) a non-zero scale")
+    m[:3, :3] /= scale
     try:
         check_camera_to_world(m)
     except ValueError as e:

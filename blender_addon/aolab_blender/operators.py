@@ -93,6 +93,9 @@ def scene_inputs(context, *, need_runs: bool = True, hash_scene: bool = True) ->
     scene = context.scene
     if not properties.available():
         raise UserError(f"{properties.NOT_BUILT} ({properties.IMPORT_ERROR})")
+    # The camera's matrix_world is the depsgraph's: a change made since its last evaluation
+    # (a script's, or one made just before this operator) is not in it until evaluated.
+    context.evaluated_depsgraph_get()
     problem = camera_problem(scene)
     if problem:
         raise UserError(problem)

@@ -146,10 +146,25 @@ def _preset_label(name: str) -> str:
     return name.title()
 
 
+def preset_problem(method: str) -> str | None:
+    """Why the method's preset menu lacks the tuned presets (a bad tuned-presets file: its
+    error, naming the file), or None. The built-in presets serve all the same."""
+    try:
+        presets.tuned_presets(method)
+    except ValueError as e:
+        return str(e)
+    return None
+
+
 def _preset_items(self, context):
-    """aolab.presets(method)'s names: default, the study's presets, the tuned ones."""
-    items = [(n, _preset_label(n), f"{self.method_name} at its {n} preset")
-             for n in presets.names(self.method_name)]
+    """aolab.presets(method)'s names: default, the study's presets, the tuned ones. A bad
+    tuned-presets file leaves the tuned ones out (the panel says why: ui._problems) instead
+    of a Python error in every redraw and an empty menu."""
+    try:
+        names = presets.names(self.method_name)
+    except ValueError:
+        names = [presets.DEFAULT_PRESET] + presets.preset_names(self.method_name)
+    items = [(n, _preset_label(n), f"{self.method_name} at its {n} preset") for n in names]
     # The enum keeps the returned strings alive only while they are referenced.
     _preset_items.cache[self.method_name] = items
     return items
@@ -159,8 +174,16 @@ _preset_items.cache = {}
 
 
 def _apply_preset(self, context):
-    """Puts the preset's values into the settings (default: every setting's default)."""
-    values, blur = presets.preset_values(self.method_name, self.preset)
+    """Puts the preset's values into the settings (default: every setting's default). The
+    name is checked as aolab.compute(preset=...) checks it; a preset that cannot be applied
+    (its tuned-presets file changed and went bad) leaves the settings as they were and says
+    why in the panel: an update callback cannot report, and a raise would be a traceback."""
+    try:
+        values, blur = presets.preset_values(self.method_name, self.preset)
+    except ValueError as e:
+        session = context.window_manager.aolab
+        session.message, session.message_is_error = f"Preset: {e}", True
+        return
     for s in method_settings.described(self.method_name):
         setattr(self, s["name"], values.get(s["name"], s["default"]))
     self.use_blur = blur

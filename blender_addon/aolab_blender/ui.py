@@ -21,6 +21,9 @@ def _problems(context) -> list[str]:
         out.append("no world: set the radius by hand")
     if not properties.chosen_runs(scene):
         out.append("nothing selected: tick a method")
+    tuned = next(filter(None, map(properties.preset_problem, scene.aolab.methods)), None)
+    if tuned:
+        out.append(f"tuned presets left out of the menus: {tuned}")
     return out
 
 

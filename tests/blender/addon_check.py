@@ -18,7 +18,8 @@ import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import ADDON, addon_module, diff, run_build_script, scene_state  # noqa: E402
+from common import (ADDON, addon_module, addon_on_scene, call, diff,  # noqa: E402
+                    scene_state)
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
@@ -41,19 +42,6 @@ def registered() -> list[str]:
     if hasattr(bpy.types.WindowManager, "aolab"):
         names.append("WindowManager.aolab")
     return names
-
-
-def call(op, **kw) -> dict:
-    """Runs an operator; returns its result set and the message it reported."""
-    t0 = time.perf_counter()
-    try:
-        result = sorted(op(**kw))
-        error = None
-    except RuntimeError as e:  # an ERROR report makes bpy.ops raise in the background
-        result, error = ["CANCELLED"], str(e)
-    session = bpy.context.window_manager.aolab
-    return {"result": result, "error": error, "message": session.message,
-            "seconds": time.perf_counter() - t0}
 
 
 def results_table() -> list[dict]:
@@ -81,21 +69,12 @@ if mode == "installed":
     sys.exit(0)
 
 tiny, cache, out_dir = args[1:4]
-run_build_script(tiny)
-addon_utils.enable(ADDON, default_set=True)
+scene = addon_on_scene(tiny, cache)
 mod = sys.modules[ADDON]
 images, operators, properties = (addon_module(n) for n in ("images", "operators", "properties"))
-
 prefs = bpy.context.preferences.addons[ADDON].preferences
-prefs.cache_dir = cache
-prefs.threads = 2
-scene = bpy.context.scene
 s = scene.aolab
-s.preview_scale = 100
-s.reference_samples = 8
 methods = properties.methods()
-for m in methods:
-    getattr(s, "m_" + m).use_method = m in ("hbao", "lsao")
 getattr(s, "m_hbao").directions = 4  # a changed setting: passed to compute like --set
 r = {"methods": methods, "file": mod.__file__}
 

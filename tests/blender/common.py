@@ -1,8 +1,10 @@
 """Shared by the Blender-side check scripts: puts the bridge on sys.path (use_checkout),
-builds scenes, snapshots every RNA property the bridge might touch."""
+builds scenes, snapshots every RNA property the bridge might touch, and drives the add-on as
+a user would (call an operator, pump Live's timer, draw the panel)."""
 import importlib
 import os
 import sys
+import time
 
 import bpy
 
@@ -28,6 +30,81 @@ def use_checkout():
     sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
     if os.environ.get("AOLAB_PACKAGE_PATH"):
         sys.path.insert(0, os.environ["AOLAB_PACKAGE_PATH"])
+
+
+def addon_on_scene(scene_script: str, cache: str, ticked=("hbao", "lsao")):
+    """Builds the scene of `scene_script` and enables the installed add-on on it: its cache
+    in `cache`, 2 threads, the AO Lab size at 100 %, 8 reference samples, the methods of
+    `ticked` ticked. Returns the scene."""
+    import addon_utils
+    run_build_script(scene_script)
+    addon_utils.enable(ADDON, default_set=True)
+    prefs = bpy.context.preferences.addons[ADDON].preferences
+    prefs.cache_dir = cache
+    prefs.threads = 2
+    scene = bpy.context.scene
+    s = scene.aolab
+    s.preview_scale = 100
+    s.reference_samples = 8
+    for m in s.methods:
+        getattr(s, "m_" + m).use_method = m in ticked
+    return scene
+
+
+def call(op, **kw) -> dict:
+    """Runs an operator; returns its result set and the message it reported."""
+    t0 = time.perf_counter()
+    try:
+        result = sorted(op(**kw))
+        error = None
+    except RuntimeError as e:  # an ERROR report makes bpy.ops raise in the background
+        result, error = ["CANCELLED"], str(e)
+    session = bpy.context.window_manager.aolab
+    return {"result": result, "error": error, "message": session.message,
+            "seconds": time.perf_counter() - t0}
+
+
+def pump(live, timeout: float = 120.0) -> None:
+    """Blender's event loop, for bpy.app.timers and live.tick only."""
+    deadline = time.perf_counter() + timeout
+    while bpy.app.timers.is_registered(live.tick):
+        if time.perf_counter() > deadline:
+            raise RuntimeError("live.tick still registered after %g s" % timeout)
+        interval = live.tick()
+        if interval is None:
+            bpy.app.timers.unregister(live.tick)   # what Blender does when it returns None
+            return
+        time.sleep(interval)
+
+
+class Layout:
+    """Stands in for bpy.types.UILayout (which -b cannot make): records the labels, checks
+    that every drawn property exists."""
+
+    def __init__(self, texts):
+        self.texts = texts
+
+    def __getattr__(self, name):   # box, row, column, split, operator, separator, ...
+        return lambda *a, **k: Layout(self.texts)
+
+    def label(self, text="", **k):
+        self.texts.append(text)
+
+    def prop(self, owner, name, **k):
+        if not hasattr(owner, name):
+            raise AttributeError(f"the panel draws {owner!r}.{name}, which does not exist")
+
+
+def panel_text() -> list[str]:
+    """The AO Lab panel's labels, drawn by ui.draw_panel as Blender would."""
+    from types import SimpleNamespace
+    ui = addon_module("ui")
+    texts = []
+    c = bpy.context
+    ui.draw_panel(Layout(texts), SimpleNamespace(
+        scene=c.scene, window_manager=c.window_manager, region=None,
+        preferences=c.preferences))
+    return texts
 
 
 def run_build_script(path):

@@ -22,7 +22,8 @@ import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import ADDON, addon_module, run_build_script  # noqa: E402
+import common  # noqa: E402
+from common import ADDON, addon_module, panel_text, run_build_script  # noqa: E402
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
@@ -45,16 +46,7 @@ methods = properties.methods()
 
 
 def pump(timeout: float = 120.0) -> None:
-    """Blender's event loop, for bpy.app.timers and live.tick only."""
-    deadline = time.perf_counter() + timeout
-    while bpy.app.timers.is_registered(live.tick):
-        if time.perf_counter() > deadline:
-            raise RuntimeError("live.tick still registered after %g s" % timeout)
-        interval = live.tick()
-        if interval is None:
-            bpy.app.timers.unregister(live.tick)   # what Blender does when it returns None
-            return
-        time.sleep(interval)
+    common.pump(live, timeout)
 
 
 def group(method):
@@ -79,36 +71,6 @@ def tick_until_computing(timeout: float = 10.0) -> None:
         if time.perf_counter() > deadline:
             raise RuntimeError("no compute started")
         time.sleep(live.tick() or 0.0)
-
-
-class Layout:
-    """Stands in for bpy.types.UILayout (which -b cannot make): records the labels, checks
-    that every drawn property exists."""
-
-    def __init__(self, texts):
-        self.texts = texts
-
-    def __getattr__(self, name):   # box, row, column, split, operator, separator, ...
-        return lambda *a, **k: Layout(self.texts)
-
-    def label(self, text="", **k):
-        self.texts.append(text)
-
-    def prop(self, owner, name, **k):
-        if not hasattr(owner, name):
-            raise AttributeError(f"the panel draws {owner!r}.{name}, which does not exist")
-
-
-def panel_text() -> list[str]:
-    """The AO Lab panel's labels, drawn by ui.draw_panel as Blender would."""
-    from types import SimpleNamespace
-    ui = addon_module("ui")
-    texts = []
-    c = bpy.context
-    ui.draw_panel(Layout(texts), SimpleNamespace(
-        scene=c.scene, window_manager=c.window_manager, region=None,
-        preferences=c.preferences))
-    return texts
 
 
 r = {"methods": methods}

@@ -348,3 +348,74 @@ def test_manifest_and_bl_info_agree():
     assert manifest["tags"] == [bl_info["category"]]
     assert tuple(int(v) for v in manifest["blender_version_min"].split(".")) >= (4, 2, 0)
     assert bl_info["blender"] < (4, 2, 0)   # below it, Blender reads bl_info
+
+
+# ---- Scenes the methods cannot see or score (tests/blender/hostile_check.py) ----
+
+HOSTILE_CHECK = ROOT / "tests" / "blender" / "hostile_check.py"
+
+
+@pytest.fixture(scope="module")
+def hostile(installed, tmp_path_factory):
+    base, env = installed
+    work = tmp_path_factory.mktemp("addon_hostile")
+    r = run_blender(env, "hostile", str(TINY), str(work / "cache"), str(work),
+                    script=HOSTILE_CHECK)
+    return r, work
+
+
+@pytest.mark.parametrize("case, said", [
+    ("zero_scale", "camera 'Camera' is scaled to zero (world scale 0, 0, 0)"),
+    ("infinite_location", "camera 'Camera' is at the world location (3.40282e+38, -2.5, 1.8), "
+     "beyond +-1.844e+18 along an axis")])
+def test_a_degenerate_camera_is_refused_by_every_operation(hostile, case, said):
+    """Scaled to zero, its sidecar held NaN (no JSON reader takes it) and broke the cache's
+    entry; at 1e39 (Blender stores the largest float32), Blender died rendering from it and
+    the operators said "Blender failed:". Both are refused, naming the camera, before any
+    work."""
+    r, _ = hostile
+    for op in ("preview", "render_reference", "compare", "write_report"):
+        step = r[case][op]
+        assert step["result"] == ["CANCELLED"], (case, op, step)
+        assert said in step["message"] and said in step["error"], (case, op, step)
+        assert "Traceback" not in step["error"], (case, op)
+    assert r[case]["live"]["error"] and said in r[case]["live"]["message"]
+    assert r["cache_after_camera"], "a refused operation wrote into the cache"
+
+
+def test_a_huge_object_works(hostile):
+    r, _ = hostile
+    for op in ("preview", "render_reference", "compare", "write_report"):
+        assert r["huge"][op]["result"] == ["FINISHED"], (op, r["huge"][op])
+    metrics = r["huge"]["metrics"]
+    assert len(metrics) == 2 and all(0 <= m["mae"] <= 1 for m in metrics), metrics
+    assert not r["huge"]["live"]["error"] and r["huge"]["live"]["applied"] == 2
+
+
+@pytest.mark.parametrize("case", ["sky", "empty"])
+def test_nothing_in_the_frame_renders_and_says_there_is_nothing_to_score(hostile, case):
+    """Compare said TypeError: 'NoneType' object is not subscriptable; it now says what Write
+    HTML Report says (aolab compare's words)."""
+    r, _ = hostile
+    steps = r[case]
+    assert steps["preview"]["result"] == ["FINISHED"], steps["preview"]
+    assert steps["render_reference"]["result"] == ["FINISHED"], steps["render_reference"]
+    for op in ("compare", "write_report"):
+        assert steps[op]["result"] == ["CANCELLED"], (op, steps[op])
+        assert "reference.exr has no geometry pixel" in steps[op]["message"], (op, steps[op])
+        assert "Traceback" not in steps[op]["error"], (op, steps[op]["error"])
+    assert steps["compare"]["message"].startswith("nothing to compare: ")
+    assert not steps["live"]["error"] and steps["live"]["applied"] == 2, steps["live"]
+
+
+def test_a_bad_tuned_presets_file_keeps_the_built_in_presets(hostile):
+    r, work = hostile
+    bad = r["bad_tuned"]
+    assert bad["tuned_before"] == ["tuned-100ms"]
+    from aolab import presets
+    assert bad["menu"] == ["default"] + presets.preset_names("hbao")
+    said = f"tuned presets file {work / 'tuned_bad.json'}: preset name 'tuned-xms'"
+    assert bad["apply_message"].startswith("Preset: " + said), bad["apply_message"]
+    panel = " ".join(bad["panel"])   # wrapped into lines at spaces
+    assert "tuned presets left out of the menus: " + said in panel, bad["panel"]
+    assert bad["low"] == {"directions": 4, "steps": 4, "blur": True}

@@ -45,6 +45,7 @@ from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from .regions import REGIONS, region_masks
 from . import files
 from .report import WEAK_FRACTION
+from .scoring import nothing_to_score
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -352,14 +353,9 @@ def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None
         cropped.reference = reference
         g = cropped
     where = "" if crop is None else f" in the {crop.width}x{crop.height} crop"
-    valid = np.asarray(g.valid_mask(), bool)
-    if not valid.any():
-        raise ValueError(f"scene {shown!r}: reference.exr has no geometry pixel{where} "
-                         "(its depth is background everywhere), so there is nothing to score")
-    if not np.isfinite(reference[valid]).any():
-        raise ValueError(f"scene {shown!r}: the AO pass of reference.exr has no finite "
-                         f"value on any geometry pixel{where} (all NaN or infinite), so there is "
-                         "nothing to score against; render the reference again")
+    problem = nothing_to_score(g, reference, where)
+    if problem:
+        raise ValueError(f"scene {shown!r}: {problem}")
     return g, reference, radius, crop
 
 

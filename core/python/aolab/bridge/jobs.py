@@ -28,7 +28,7 @@ from pathlib import Path
 import aolab
 
 from .. import files
-from ..scoring import error_map, metrics_mask
+from ..scoring import error_map, metrics_mask, nothing_to_score
 from .constants import RESULT_EXR, RESULT_JSON
 
 PYTHON = "/usr/bin/python3"
@@ -268,6 +268,11 @@ def compare_task(job: Job, plan: dict) -> dict:
     """The methods on the reference's own G-buffer, scored against its AO."""
     job.report(0.0, "loading the reference")
     g = aolab.load_gbuffer(Path(plan["folder"]) / RESULT_EXR)
+    # A frame of background alone (an empty scene, a camera facing away) renders fine, but
+    # leaves nothing to score: said before any method runs, as aolab compare says it.
+    problem = nothing_to_score(g)
+    if problem:
+        raise JobError(f"nothing to compare: {problem}")
     runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"])
     return {"folder": plan["folder"], "runs": runs, "reference": g.reference}
 
