@@ -232,7 +232,11 @@ def add_parser(sub):
 def main(args) -> int:
     """The ``aolab bridge-check`` command (arguments from cli.py).
     One run at a time writes into the output folder (files.output_lock): a second one is
-    refused naming the first instead of mixing their files."""
+    refused naming the first instead of mixing their files. Its paths are checked first."""
+    from . import reference
+    from .cli import check_paths
+    reference.check_path_options(args)
+    check_paths(edited={"--update-doc": args.update_doc})
     with files.output_lock(args.out, "aolab bridge-check"):
         return _main(args)
 

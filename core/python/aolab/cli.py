@@ -31,7 +31,6 @@ import math
 import os
 import platform
 import re
-import stat
 import statistics
 import sys
 import time
@@ -257,22 +256,30 @@ _OWN_OPTIONS = {"radius": "--radius", "threads": "--threads", "preset": "--prese
                 "blur_taps": "--blur-taps", "progress": "no option (it is not a setting)"}
 
 
-def _regular_file(spec: str, what: str) -> Path:
-    """``spec`` as a Path after checking, without opening it, that it is a regular file: a
-    folder, a FIFO or a device is refused (opening a FIFO would wait forever)."""
-    try:
-        st = os.stat(spec)
-    except FileNotFoundError:
-        raise FileNotFoundError(f"no such {what} file: {spec}") from None
-    except NotADirectoryError:
-        raise ValueError(f"no such {what} file: {spec} (a part of the path is a file, not a "
-                         "folder)") from None
-    if not stat.S_ISREG(st.st_mode):
-        kind = ("a folder" if stat.S_ISDIR(st.st_mode) else
-                "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else
-                "a socket" if stat.S_ISSOCK(st.st_mode) else "a device or special file")
-        raise ValueError(f"{what} must be a regular file, got {spec!r}, which is {kind}")
-    return Path(spec)
+def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
+                inputs: dict = {}) -> None:
+    """Checks, before a command's work starts, the paths its options name ({option: path};
+    an option left unset is skipped), so that a mistyped path costs no hours of work: an
+    output file (``files``: its folder exists and is writable, the path is no folder or
+    special file), an output folder (``folders``: a folder, or one that can be made), a file
+    rewritten in place (``edited``: an existing regular file that can be replaced), an input
+    folder (``inputs``: an existing folder). A ValueError naming the option otherwise."""
+    from . import files as files_mod
+    for option, path in files.items():
+        if path:
+            files_mod.check_output_file(path, option)
+    for option, path in folders.items():
+        if path:
+            files_mod.check_output_folder(path, option)
+    for option, path in edited.items():
+        if path:
+            files_mod.regular_file(path, option)
+            files_mod.check_output_file(path, option)
+    for option, path in inputs.items():
+        if path and not Path(path).is_dir():
+            what = "does not exist" if not os.path.lexists(path) else "is not a folder"
+            raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
+                             f"{what}")
 
 
 def _load_input(spec: str, radius: float | None, width: int, height: int):
@@ -281,7 +288,7 @@ def _load_input(spec: str, radius: float | None, width: int, height: int):
         params = {"radius": radius} if radius is not None else {}
         g = aolab.analytic_scene(spec.split(":", 1)[1], width, height, **params)
         return g, radius if radius is not None else 1.0
-    path = _regular_file(spec, "G-buffer")
+    path = files.regular_file(spec, "G-buffer")
     g = aolab.load_gbuffer(path)
     if radius is None:
         radius = g.sidecar.get("ao_distance")
@@ -405,15 +412,9 @@ def _write_result(g, ao, stem: Path, result: dict, json_path: str | None, header
     print(line)
 
 
-def _check_json_path(path: str | None) -> None:
-    """--json (aolab run, aolab rtao) names a file: a folder is refused before any work."""
-    if path and (path.endswith(("/", os.sep)) or Path(path).is_dir()):
-        raise ValueError(f"--json must be a file path, got {path!r}, a folder")
-
-
 def cmd_run(args) -> int:
     settings = _key_values(args.set, args.method)
-    _check_json_path(args.json)
+    check_paths(files={"--json": args.json})
     g, radius = _load_input(args.input, args.radius, args.width, args.height)
     out = _output_stem(args.out, args.method)
     kwargs = dict(radius=radius, threads=args.threads, preset=args.preset, blur=args.blur,
@@ -432,14 +433,14 @@ def cmd_run(args) -> int:
 
 def cmd_rtao(args) -> int:
     """aolab rtao: ray-traced AO of a G-buffer against its scene's triangles."""
-    _check_json_path(args.json)
+    check_paths(files={"--json": args.json})
     spec = args.input
     if not spec.startswith("analytic:") and Path(spec).is_dir():
         spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
     g, radius = _load_input(spec, args.radius, args.width, args.height)
     unknown = args.allow_unknown_scene
     if args.mesh:
-        mesh = aolab.load_mesh(_regular_file(args.mesh, "mesh"))
+        mesh = aolab.load_mesh(files.regular_file(args.mesh, "mesh"))
     elif spec.startswith("analytic:"):   # the scene's own planes, made here
         name = spec.split(":", 1)[1]
         mesh = SimpleNamespace(info={})

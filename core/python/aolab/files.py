@@ -114,7 +114,8 @@ def check_output_file(path, what: str) -> Path:
     folder we may write in, and ``path`` is not a folder or special file. Returns it as a
     Path; a ValueError naming ``what`` otherwise."""
     p = Path(path)
-    if p.name in ("", ".", ".."):
+    # Path() drops a trailing slash, which says the user meant a folder.
+    if p.name in ("", ".", "..") or str(path).endswith(("/", os.sep)):
         raise ValueError(f"{what} must name a file, got {str(path)!r}")
     _check_writable_folder(p.parent if str(p.parent) else Path("."), what, str(path))
     try:

@@ -277,7 +277,7 @@ def _commit() -> str:
 
 
 def main(args) -> int:
-    from . import files
+    from .cli import check_paths
     size = SIZE
     if args.size:
         size = tuple(args.size)
@@ -286,10 +286,8 @@ def main(args) -> int:
     methods = args.methods or default_methods()
     for method in methods:
         bench_preset(method, args.preset)
-    if args.json:
-        files.check_output_file(args.json, "--json")
+    check_paths(files={"--json": args.json}, folders={"--profile": args.profile})
     if args.profile:
-        files.check_output_folder(args.profile, "--profile")
         _need_perf()
     preset = args.preset or f"{DEFAULT_BENCH_PRESET} (default where a method has none)"
     print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "

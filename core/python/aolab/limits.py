@@ -141,7 +141,9 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
 
 def main(args) -> int:
     """The ``aolab limits`` command (arguments from cli.py)."""
+    from .cli import check_paths
     from .compare import find_scenes_dir, resolve_scenes
+    check_paths(inputs={"--scenes-dir": args.scenes_dir})
     thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
     scenes_dir = Path(args.scenes_dir) if args.scenes_dir else find_scenes_dir()
     for folder in resolve_scenes(args.scenes, scenes_dir):

@@ -216,7 +216,10 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -
 def main(args) -> int:
     """The ``aolab radius-study`` command (arguments from add_parser).
     One run at a time writes into the output folder (files.output_lock): a second one is
-    refused naming the first instead of mixing their files."""
+    refused naming the first instead of mixing their files. Its paths are checked first
+    (--out was refused after the renders, 35 min)."""
+    from . import reference
+    reference.check_path_options(args)
     with files.output_lock(args.out, "aolab radius-study"):
         return _main(args)
 

@@ -540,6 +540,7 @@ def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
 
 def main(args) -> int:
     """The `aolab reference` command (arguments from cli.py)."""
+    check_path_options(args)
     resolution = parse_resolution(args.resolution) if args.resolution else None
     scenes = [resolve_scene(s) for s in args.scenes]  # every error before any render
     plans = [make_plan(s, spp=args.spp, radius=args.radius, methods=args.methods,
@@ -567,6 +568,7 @@ def mesh_main(args) -> int:
     """The `aolab mesh` command: each scene's world-space triangles as Cycles renders them,
     without rendering, at the resolution and camera a reference of it has (so that the
     scene_hash of reference.mesh.json equals reference.json's)."""
+    check_path_options(args)
     resolution = parse_resolution(args.resolution) if args.resolution else None
     scenes = [resolve_scene(s) for s in args.scenes]  # every error before any export
     plans = [make_plan(s, passes=["depth"], resolution=resolution, camera=args.camera)
@@ -581,6 +583,15 @@ def _holding(out, owner: str):
     """The --out folder held for this run (files.output_lock), so that two runs never
     interleave their copies of a result; nothing to hold without --out."""
     return files.output_lock(out, owner) if out else contextlib.nullcontext()
+
+
+def check_path_options(args) -> None:
+    """--cache and --out of `aolab reference` and `aolab mesh` (and their callers'), checked
+    before Blender starts: a --cache that is a file said "File exists" only once the render
+    was to be stored, and a bad --out failed after the render."""
+    from .cli import check_paths
+    check_paths(folders={"--cache": getattr(args, "cache", None),
+                         "--out": getattr(args, "out", None)})
 
 
 def run_plans(plans: list[Plan], args) -> int:
