@@ -308,3 +308,44 @@ def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
     opts.crop = compare.parse_crop(CROP)
     assert tune.default_presets_file(every, SCENES, opts) == tmp_path / presets.TUNED_FILE
+
+
+@pytest.mark.parametrize("kind, said", [
+    ("garbage", "the trial store {db} is not an SQLite database (aolab tune keeps its trials "
+     "there): move it away or choose another --out"),
+    ("fifo", "the trial store must be a regular file, got '{db}', which is a FIFO"),
+    ("corrupt", "the trial store {db} cannot be used: file is not a database (move it away or "
+     "choose another --out)"),
+])
+def test_a_bad_trial_store_is_one_line_naming_it(tmp_path, capsys, kind, said):
+    """A garbage tune.db gave SQLAlchemy's text and a web link, a FIFO "disk I/O error";
+    neither named the file."""
+    import os
+    db = tmp_path / tune.DB_NAME
+    if kind == "fifo":
+        os.mkfifo(db)
+    else:   # garbage; or an SQLite header over garbage, which only SQLite itself refuses
+        db.write_bytes((tune.SQLITE_MAGIC if kind == "corrupt" else b"") + b"garbage" * 50)
+    assert cli.main(["tune", "--methods", "vao", "--trials", "1", "--out", str(tmp_path),
+                     "--presets-file", str(tmp_path / "p.json"), *FAST]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("aolab: " + said.format(db=db)), err
+    assert "sqlalche.me" not in err and not (tmp_path / "p.json").exists()
+
+
+@pytest.mark.parametrize("kind, said", [
+    ("folder", "--presets-file must be a regular file, got '{p}', which is a folder"),
+    ("malformed", "tuned presets file {p}: \"methods\" must be a JSON object, got a list"),
+])
+def test_the_presets_file_is_checked_before_any_trial(tmp_path, capsys, kind, said):
+    """--presets-file DIR (or a file it cannot merge into) was refused only after the first
+    method's trials."""
+    pfile = tmp_path / "p.json"
+    if kind == "folder":
+        pfile.mkdir()
+    else:
+        pfile.write_text('{"methods": []}')
+    assert cli.main(["tune", "--methods", "vao", "--trials", "1", "--out", str(tmp_path / "t"),
+                     "--presets-file", str(pfile), *FAST]) == 2
+    assert capsys.readouterr().err.startswith("aolab: " + said.format(p=pfile))
+    assert not (tmp_path / "t" / tune.DB_NAME).exists()   # no trial ran

@@ -220,7 +220,7 @@ def tuned_presets(method: str) -> dict:
     """The tuned presets of ``method`` from :func:`tuned_file`, cheapest budget first
     (name -> settings, "blur" included); {} when the file or the method's entry is absent.
     A file that is not what ``aolab tune`` writes is one ValueError naming the file and what
-    is wrong with it (:func:`_read_tuned`)."""
+    is wrong with it (:func:`read_tuned`)."""
     path = tuned_file()
     try:
         stamp = path.stat().st_mtime_ns
@@ -231,7 +231,7 @@ def tuned_presets(method: str) -> dict:
                          f"unset ${TUNED_ENV}") from None
     if _tuned_cache.get("key") != (str(path), stamp):
         _tuned_cache.clear()
-        _tuned_cache.update(key=(str(path), stamp), data=_read_tuned(path))
+        _tuned_cache.update(key=(str(path), stamp), data=read_tuned(path))
     found = _tuned_cache["data"].get(method, {})
     return {n: dict(found[n]) for n in sorted(found, key=budget_of)}
 
@@ -240,7 +240,7 @@ def tuned_presets(method: str) -> dict:
 _SETTING_TYPES = (bool, int, float, str)
 
 
-def _read_tuned(path: Path) -> dict:
+def read_tuned(path: Path) -> dict:
     """The tuned presets of the file at ``path`` as {method: {name: settings}}, after
     checking that it has the form ``aolab tune`` writes: {"methods": {METHOD: {"presets":
     {"tuned-<ms>ms": {SETTING: value, ...}}}}}. Anything else is one ValueError naming the

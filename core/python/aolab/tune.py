@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import shlex
 import signal
 import statistics
@@ -832,6 +833,51 @@ def _git_date() -> str:
     return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
 
 
+#: The first bytes of every SQLite database file.
+SQLITE_MAGIC = b"SQLite format 3\x00"
+
+
+def check_store(out: Path) -> Path:
+    """The trial store out/tune.db, checked before any trial: --out a folder (or one that can
+    be made), and tune.db absent or a regular file that is an SQLite database. A FIFO would
+    have been opened (SQLite said "disk I/O error") and a stray file read as a database
+    (SQLAlchemy's "file is not a database" and a web link), neither naming the file."""
+    from . import files
+    from .cli import check_paths
+    check_paths(folders={"--out": out})
+    db = out / DB_NAME
+    if os.path.lexists(db):
+        files.regular_file(db, "the trial store")
+        with open(db, "rb") as f:
+            head = f.read(len(SQLITE_MAGIC))
+        if head and head != SQLITE_MAGIC:   # an empty file is an empty database to SQLite
+            raise ValueError(f"the trial store {db} is not an SQLite database (aolab tune keeps "
+                             "its trials there): move it away or choose another --out")
+    return db
+
+
+def store_error(db: Path, e: BaseException) -> str:
+    """One line for an error of the trial store (Optuna's storage, SQLAlchemy, SQLite): the
+    file and SQLite's own reason, without SQLAlchemy's SQL and web link."""
+    cause = e.__cause__ if e.__cause__ is not None else e
+    reason = str(getattr(cause, "orig", None) or cause).strip().splitlines()
+    return (f"the trial store {db} cannot be used: {reason[0] if reason else type(e).__name__}"
+            " (move it away or choose another --out)")
+
+
+def check_presets_file(path: Path) -> None:
+    """The tuned-presets file the run will update, before any trial: an existing one must be
+    a regular file that can be replaced and hold what aolab tune writes (presets.read_tuned),
+    a new one a folder it can go in. A folder or a malformed file was refused only when the
+    first method's presets were written, after its trials."""
+    from .cli import check_paths
+    if os.path.lexists(path):
+        check_paths(edited={"--presets-file": path})
+        presets_mod.read_tuned(path)
+    else:
+        check_paths(folders={"--presets-file": path.parent})
+
+
 def default_presets_file(folders: list[Path], scenes_dir: Path | None, opts: Options) -> Path:
     """The checkout's committed tuned presets for a run on every scene of the checkout at
     full size; DIR/tuned_presets.json for any other run (a crop, some scenes), so that a
@@ -865,6 +911,8 @@ def run(opts: Options) -> dict:
     scenes_dir = opts.scenes_dir or find_scenes_dir()
     folders = resolve_scenes(opts.scenes, scenes_dir)
     presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
+    db = check_store(opts.out)
+    check_presets_file(presets_file)
     deadline = None if opts.timeout is None else time.monotonic() + opts.timeout
     scenes = load_scenes(folders, opts.crop)
     meta = {"command": command_line(opts), "commit": _git_commit(folders[0]),
@@ -880,9 +928,14 @@ def run(opts: Options) -> dict:
             "sampler": opts.sampler, "seed": opts.seed, "budgets_ms": list(BUDGETS_MS)}
     bar = _progress(opts.progress, opts, methods)
     results = {}
+    from optuna.exceptions import StorageInternalError
+    from sqlalchemy.exc import SQLAlchemyError
     try:
         for m in methods:
-            res = run_method(opts, m, scenes, bar, deadline)
+            try:
+                res = run_method(opts, m, scenes, bar, deadline)
+            except (SQLAlchemyError, StorageInternalError) as e:   # a full disk, a bad file
+                raise ValueError(store_error(db, e)) from None
             results[m] = res
             entry = method_entry(opts, res, scenes, {**meta, "date": _git_date()})
             text = summary(m, res["selection"], entry["trials"]["complete"])
