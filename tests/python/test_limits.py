@@ -102,3 +102,44 @@ def test_committed_limits_are_current():
             assert e["reference_sha256"] == digest, (folder.name, e["name"])
             assert e["radius"] == side["ao_distance"] and e["rays"] >= limits.RAYS
             assert (folder / "limits" / e["file"]).exists()
+
+
+def test_fewer_rays_keep_a_better_entry_without_force(tmp_path):
+    """aolab limits room --rays 4 replaced the committed 256-ray entry: a lower-quality result
+    must not replace a better one without --force."""
+    folder = analytic_folder(tmp_path)
+    logged = []
+    (better,) = limits.compute_scene(folder, (0.5,), RAYS, 0, False, log=logged.append)
+    exr = (folder / "limits" / better["file"]).read_bytes()
+    (kept,) = limits.compute_scene(folder, (0.5,), RAYS // 4, 0, False, log=logged.append)
+    assert kept == better and (folder / "limits" / better["file"]).read_bytes() == exr
+    assert logged[-1] == (f"{folder.name}: {better['name']} kept: it has {RAYS} rays, more "
+                          f"than --rays {RAYS // 4} (--force replaces it)")
+    (forced,) = limits.compute_scene(folder, (0.5,), RAYS // 4, 0, True, log=logged.append)
+    assert forced["rays"] == RAYS // 4
+    # A better entry of a reference that changed since is stale: fewer rays replace it.
+    (again,) = limits.compute_scene(folder, (0.5,), RAYS, 0, False, log=logged.append)
+    g = aolab.analytic_scene("wall", 48, 27, radius=RADIUS)
+    ref = np.where(np.isfinite(g.reference), g.reference, 1.0).astype(np.float32)
+    aolab.save_gbuffer(folder / "reference.exr", g, reference=ref, sidecar=g.sidecar)
+    (fresh,) = limits.compute_scene(folder, (0.5,), RAYS // 4, 0, False, log=logged.append)
+    assert fresh["rays"] == RAYS // 4 and fresh["reference_sha256"] != again["reference_sha256"]
+
+
+@pytest.mark.parametrize("text", ["1e300", "1e7", "1e309", "0", "nan", "x"])
+def test_a_thickness_the_method_cannot_take_is_refused_when_read(tmp_path, capsys, text):
+    """--thickness 1e300 passed the option check and then failed with "got inf"."""
+    folder = analytic_folder(tmp_path)
+    assert cli.main(["limits", str(folder), "--thickness", text, "--rays", "1"]) == 2
+    err = capsys.readouterr().err
+    assert (f"argument --thickness: --thickness must be a multiple of R in (0, 1e+06] or inf "
+            f"(a height field), got {text!r}") in err, err
+    assert not (folder / "limits").exists()
+
+
+def test_the_largest_thickness_is_computed(tmp_path):
+    assert limits.parse_thickness(" Inf ") == limits.parse_thickness(math.inf) == math.inf
+    folder = analytic_folder(tmp_path)
+    (entry,) = limits.compute_scene(folder, (limits.MAX_THICKNESS_R,), 1, 0, False,
+                                    log=lambda m: None)
+    assert entry["thickness"] == pytest.approx(limits.MAX_THICKNESS_R * RADIUS)

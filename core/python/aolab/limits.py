@@ -16,8 +16,10 @@ costs about one run at the thinnest of them.
 
 An entry is recomputed only when it is missing, when its file or settings differ from the
 request, when the scene's reference.exr changed, or with ``--force`` (after a change to the
-method itself). Each EXR and limits.json are written atomically, limits.json after every
-scene, so an interrupted run keeps the scenes it finished.
+method itself). An entry of more rays than asked for is kept without ``--force``: a quick
+look at fewer rays never replaces the committed, better limit. Each EXR and limits.json are
+written atomically, limits.json after every scene, so an interrupted run keeps the scenes it
+finished.
 """
 
 from __future__ import annotations
@@ -48,6 +50,10 @@ THICKNESS_R = (0.1, 0.25, 0.5, 1.0, math.inf)
 RAYS = 256
 #: A height field is the method's largest thickness.
 HEIGHT_FIELD = 1e30
+#: The largest finite thickness, in multiples of R, that --thickness takes: a shell a million
+#: times R thick is a height field for any scene (inf says so), and a larger number such as
+#: 1e300 would overflow the method's float thickness (it said "got inf").
+MAX_THICKNESS_R = 1e6
 
 
 def thickness_label(t_r: float) -> str:
@@ -58,14 +64,18 @@ def entry_name(t_r: float) -> str:
     return f"{LIMIT_METHOD}_t_inf" if math.isinf(t_r) else f"{LIMIT_METHOD}_t{t_r:g}R"
 
 
-def parse_thickness(text: str) -> float:
-    """A thickness in multiples of R: a positive number, or inf."""
+def parse_thickness(text) -> float:
+    """A thickness in multiples of R: a number in (0, MAX_THICKNESS_R], or inf (a height
+    field); a ValueError naming --thickness otherwise."""
     try:
-        v = float(text)
+        v = float(str(text).strip())
     except ValueError:
         v = math.nan
-    if not (v > 0):
-        raise ValueError(f"--thickness must be positive multiples of R or inf, got {text!r}")
+    # Only "inf" itself asks for a height field: 1e309 is a number too large, not a wish.
+    spelled_inf = str(text).strip().lower().lstrip("+") in ("inf", "infinity")
+    if not (0 < v <= MAX_THICKNESS_R or (v == math.inf and spelled_inf)):
+        raise ValueError(f"--thickness must be a multiple of R in (0, {MAX_THICKNESS_R:g}] or "
+                         f"inf (a height field), got {str(text)!r}")
     return v
 
 
@@ -107,14 +117,21 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
         name = entry_name(t_r)
         want = {"rays": rays, "seed": 0, "thickness_r": None if math.isinf(t_r) else t_r,
                 "reference_sha256": digest, "radius": radius}
-        if not force and _up_to_date(entries.get(name), folder, want):
+        have = entries.get(name)
+        better = {**want, "rays": have.get("rays")} if have else None
+        if not force and _up_to_date(have, folder, want):
             log(f"{folder.name}: {name} up to date")
+        elif not force and _up_to_date(have, folder, better) and have["rays"] > rays:
+            log(f"{folder.name}: {name} kept: it has {have['rays']} rays, more than --rays "
+                f"{rays} (--force replaces it)")
         else:
             todo.append((t_r, name, want))
     if not todo:
         return read_entries(folder)
     # One pass for every stale thickness: each ray is marched once (docs/comparison.md).
-    thickness = [HEIGHT_FIELD if math.isinf(t_r) else t_r * radius for t_r, _, _ in todo]
+    # A shell thicker than the height field's is the height field (min): a huge R times a
+    # large multiple would pass the method's largest thickness.
+    thickness = [min(t_r * radius, HEIGHT_FIELD) for t_r, _, _ in todo]
     t0 = time.perf_counter()
     images = aolab._core.screen_space_limit_thicknesses(
         g, {"radius": radius, "rays": rays, "seed": 0}, thickness, threads=threads)
@@ -154,7 +171,7 @@ def main(args) -> int:
 
 
 def add_limits_parser(sub):
-    from .cli import MAX_THREADS, float_option, int_option, threads_option
+    from .cli import MAX_THREADS, checked_type, int_option, threads_option
     p = sub.add_parser(
         "limits", help="compute the screen-space limit of each reference scene (committed)",
         description="Computes the screen_space_limit oracle on each reference scene at several "
@@ -164,8 +181,9 @@ def add_limits_parser(sub):
     p.add_argument("scenes", nargs="*", metavar="SCENE",
                    help="reference_scenes/<name> folders or names (default: every scene)")
     p.add_argument("--thickness", nargs="+", metavar="T",
-                   type=float_option("--thickness", allow_inf=True),
-                   help="thicknesses in multiples of R, > 0, inf = height field (default "
+                   type=checked_type(parse_thickness, "--thickness"),
+                   help=f"thicknesses in multiples of R, in (0, {MAX_THICKNESS_R:g}], inf = "
+                   "height field (default "
                    + " ".join(f"{t:g}" for t in THICKNESS_R) + ")")
     p.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RAYS,
                    help=f"rays per pixel, 1 to 65536 (default {RAYS})")
