@@ -55,10 +55,34 @@ def test_check_of_a_committed_scene_agrees_at_few_rays(tmp_path, monkeypatch):
     assert r["outliers"]["share"] < 0.01
     assert {"occluded", "creases"} <= set(r["regions"])
     assert (tmp_path / "out" / "colored_room_difference.png").exists()
-    cached = list((tmp_path / "cache" / "aolab" / "rtao").glob("colored_room-*.exr"))
+    cached = list((tmp_path / "cache" / "aolab" / "references" / "rtao").glob(
+        "colored_room-*.exr"))
     assert len(cached) == 1
     again = rtao_check.check_scene(folder, 16, 0, 0, None)   # from the cache, same numbers
     assert again["mae"] == r["mae"] and again["rtao"] == r["rtao"]
+
+
+def test_the_cache_lives_under_aolab_cache(tmp_path, monkeypatch):
+    """It went to the parent of $AOLAB_CACHE, beside the folder the user chose."""
+    monkeypatch.setenv("AOLAB_CACHE", str(tmp_path / "mine"))
+    assert rtao_check.cache_dir() == tmp_path / "mine" / "rtao"
+    monkeypatch.delenv("AOLAB_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert rtao_check.cache_dir() == tmp_path / "xdg" / "aolab" / "references" / "rtao"
+
+
+def test_the_table_names_the_rays_traced():
+    """--rays 4 printed the header "rtao 1024 vs Cycles 1024"."""
+    row = {"scene": "s", "pixels": 1, "mae": 0.1, "bias": 0.0, "bias_se": 0.0,
+           "noise_floor": 0.1, "noise_floor_source": "x", "mae_over_floor": 1.0,
+           "agrees": True, "rtao": {"rays": 4},
+           "worst_block": {"x": 0, "y": 0, "mean_difference": 0.0},
+           "outliers": {"pixels": 0, "share": 0.0, "on_coincident_faces": 0, "examined": 0,
+                        "on_silhouettes": 0, "bias_without": 0.0, "bias_without_se": 0.0},
+           "regions": {}}
+    header = rtao_check.markdown([row]).splitlines()[0]
+    assert "| rtao 4 vs Cycles 1024: MAE |" in header, header
+    assert "rtao 1024 vs" in rtao_check.markdown([]).splitlines()[0]
 
 
 def test_update_doc_replaces_only_the_generated_block(tmp_path):
