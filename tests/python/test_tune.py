@@ -349,3 +349,12 @@ def test_the_presets_file_is_checked_before_any_trial(tmp_path, capsys, kind, sa
                      "--presets-file", str(pfile), *FAST]) == 2
     assert capsys.readouterr().err.startswith("aolab: " + said.format(p=pfile))
     assert not (tmp_path / "t" / tune.DB_NAME).exists()   # no trial ran
+
+
+def test_an_out_that_is_a_file_is_refused_naming_the_option(tmp_path, capsys):
+    """It said "File exists" (the output folder's lock could not make it)."""
+    (tmp_path / "file").write_text("x")
+    assert cli.main(["tune", "--methods", "vao", "--trials", "1", "--out",
+                     str(tmp_path / "file"), *FAST]) == 2
+    assert capsys.readouterr().err == (f"aolab: --out must be a folder, got "
+                                       f"'{tmp_path / 'file'}', which is a regular file\n")

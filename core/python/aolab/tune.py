@@ -1019,6 +1019,8 @@ def main(args) -> int:
         import optuna  # noqa: F401
     except ImportError:
         raise ValueError("aolab tune needs Optuna: apt-get install python3-optuna") from None
+    from .cli import check_paths
+    check_paths(folders={"--out": opts.out})   # before the lock makes the folder
 
     _STOP.clear()
     # Ctrl-C and `kill` keep the finished trials alike.
