@@ -444,3 +444,14 @@ def test_paths_are_checked_before_any_work(capsys, tmp_path, monkeypatch, argv, 
     assert err.startswith("aolab: " + said.format(**where)), err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dir", "doc.md", "file"]
     assert (tmp_path / "file").read_text() == "x" and not list((tmp_path / "dir").iterdir())
+
+
+@pytest.mark.parametrize("argv", [["methods", "\n0"],
+                                  ["run", "hbao", "analytic:plane", "a\r\nb"]])
+def test_an_unrecognized_argument_with_a_newline_stays_on_one_line(capsys, argv):
+    """argparse echoed unrecognized arguments as typed, so the message took two lines
+    (hypothesis found "\\n0")."""
+    assert status_of(argv) == 2
+    last = terminal_lines(capsys.readouterr().err)[-1]
+    assert last.startswith("aolab") and "error: unrecognized arguments: " in last, last
+    assert "\\n" in last

@@ -586,11 +586,15 @@ def add_compare_parser(sub) -> None:
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with one gap closed: Python 3.11's argparse drops a value ``--`` given as
+    """argparse with two gaps closed: Python 3.11's argparse drops a value ``--`` given as
     ``--OPT=--`` and stores an empty list without calling the option's ``type``, so the
-    range check never runs. Here ``--OPT=--`` is refused like any other bad value.
-    Subcommand parsers are of this class too (add_subparsers makes them of the parent's
-    class), each checking its own options."""
+    range check never runs. Here ``--OPT=--`` is refused like any other bad value. And its
+    "unrecognized arguments" message shows them as typed, so a newline in one split the
+    message over lines; here it is one line. Subcommand parsers are of this class too
+    (add_subparsers makes them of the parent's class), each checking its own options."""
+
+    def error(self, message):
+        super().error(message.replace("\r", "\\r").replace("\n", "\\n"))
 
     def parse_known_args(self, args=None, namespace=None):
         for text in sys.argv[1:] if args is None else args:
