@@ -30,7 +30,7 @@ from aolab import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.intrinsics import (SUPPORTED_CAMERA_TYPES, check_camera_to_world,
-                                     image_size, intrinsics)
+                                     image_size, intrinsics, max_ray_coordinate)
 from aolab.bridge.passes import GEOMETRY_PASSES, PASSES
 
 from .state import SettingsRestorer
@@ -69,27 +69,22 @@ def scene_camera(scene, camera_name: str | None = None):
     return cam
 
 
-#: The largest magnitude of a camera's world coordinate: Cycles traces with Embree, which
-#: refuses a ray whose origin lies beyond its FLT_LARGE (Debian's Blender asserts, and dies,
-#: on the first such ray); rtao holds points to the same bound (kMaxRayCoordinate in
-#: core/raytracing/ray_scene.h, which the core does not export).
-CAMERA_MAX_COORDINATE = 1.844e18
-
-
 def camera_to_world(cam) -> list[list[float]]:
     """The camera's world matrix, row-major, scale removed (renders ignore camera scale);
     BridgeError when what is left is no rotation: a camera sheared by a parent's uneven scale
     under a rotation, which neither the pinhole intrinsics nor rtao can follow; a camera
     scaled to zero (its sidecar would hold NaN, which no JSON reader takes, and break the
-    cache's entry); or one beyond CAMERA_MAX_COORDINATE."""
+    cache's entry); or one beyond the ray tracers' coordinate range (max_ray_coordinate:
+    Cycles, which traces with Embree, dies on a ray from beyond it)."""
     m = np.array(cam.matrix_world, dtype=np.float64)
     # Two cases the rotation check would misname (as a shear, or NaN): a camera out of the
     # ray tracer's range, and one scaled to zero, which has no view direction at all.
     loc = m[:3, 3]
-    if not (np.abs(loc) <= CAMERA_MAX_COORDINATE).all():   # NaN included
+    limit = max_ray_coordinate()
+    if not (np.abs(loc) <= limit).all():   # NaN included
         shown = ", ".join(f"{v:g}" for v in loc)
         raise BridgeError(f"camera {cam.name!r} is at the world location ({shown}), beyond "
-                          f"+-{CAMERA_MAX_COORDINATE:g} along an axis, where Cycles cannot "
+                          f"+-{limit:g} along an axis, where Cycles cannot "
                           "trace rays: move it (or its parents) nearer the origin")
     scale = np.linalg.norm(m[:3, :3], axis=0)
     if not (scale > 0).all():   # NaN included

@@ -161,6 +161,8 @@ path), so that aolab.rtao checks it against the G-buffer it traces.
       py::arg("gbuffer"), py::arg("scene"), py::arg("radius"), py::kw_only(),
       py::arg("threads") = 0);
 
+  // The ray tracer's coordinate bound, so that the bridge holds cameras to the same number.
+  m.attr("MAX_RAY_COORDINATE") = double(kMaxRayCoordinate);
   m.def("rtao_settings", [] { return describe_settings_for_python(rtao_setting_descriptions()); });
 
   // The built-in analytic scenes as world-space triangles (tests of rtao's known answers).

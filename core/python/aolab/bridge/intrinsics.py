@@ -48,6 +48,14 @@ def intrinsics(width: int, height: int, *, lens: float, sensor_width: float,
     return {"fx": fx, "fy": fy, "cx": cx, "cy": cy}
 
 
+def max_ray_coordinate() -> float:
+    """The largest magnitude of a coordinate the ray tracers can take (Embree's FLT_LARGE,
+    kMaxRayCoordinate in core/raytracing/ray_scene.h): Cycles, which traces with Embree, dies
+    on a ray from beyond it, and rtao refuses it."""
+    from .. import _core
+    return _core.MAX_RAY_COORDINATE
+
+
 def check_camera_to_world(matrix) -> None:
     """ValueError unless ``matrix`` (4x4, row-major, the camera's scale removed) is a
     rotation and a translation: a camera under an unevenly scaled, rotated parent is sheared,
