@@ -64,3 +64,15 @@ def test_choice_settings_are_given_by_name(tmp_path):
     assert "falloff must be one of rational, clipped" in bad.stderr
     listing = aolab_cmd("methods").stdout
     assert "falloff" in listing and "one of rational, clipped" in listing
+
+
+def test_help_lists_every_command():
+    """`aolab --help`'s summary names every subcommand the parser has."""
+    import argparse
+    from aolab import cli
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    text = aolab_cmd("--help").stdout
+    summary = text[:text.index("positional arguments")]
+    missing = [name for name in sub.choices if f"aolab {name} " not in summary]
+    assert not missing, f"aolab --help's summary leaves out {missing}"

@@ -3,6 +3,9 @@
     aolab methods                         list the methods and their settings
     aolab analytic NAME OUT.exr           write an analytic scene's G-buffer (+ sidecar)
     aolab run METHOD INPUT [options]      compute AO for a G-buffer, write EXR + PNG, score it
+    aolab rtao INPUT [options]            ray-traced AO against the scene's triangles (Embree)
+    aolab rtao-check [SCENE...]           rtao at 1024 rays against the committed references
+    aolab bridge-check [SCENE...]         this Blender's export against the committed references
     aolab bench [options]                 time a method (median of repeated runs)
     aolab bench-table [METHOD...]         every method's scalar code against its SIMD kernel
     aolab reference SCENE... [options]    render Cycles AO references with Blender (cached)

@@ -23,10 +23,8 @@ import io
 import json
 import math
 import os
-import platform
 import signal
 import statistics
-import subprocess
 import sys
 import time
 import warnings
@@ -37,13 +35,14 @@ import numpy as np
 
 import aolab
 
+from . import files
 from . import presets as presets_mod
 from .bridge.constants import EEVEE_NEXT_JSON, PEERS_DIR, PEERS_JSON
 from .limits import LIMITS_DIR, LIMITS_JSON
 from .raytracing import RTAO_LADDER
 from .regions import DESCRIPTIONS as REGION_DESCRIPTIONS
+from .provenance import git_commit, machine_info
 from .regions import REGIONS, region_masks
-from . import files
 from .report import WEAK_FRACTION
 from .scoring import nothing_to_score
 
@@ -76,45 +75,6 @@ def row_key(scene: str, method: str, label: str) -> str:
 
 # ----------------------------------------------------------------------------------------
 # Machine, scenes, peers
-
-
-def machine_info(threads: int) -> dict:
-    """What the timings were measured on."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.lower().startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    mem = None
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemTotal:"):
-                mem = round(int(line.split()[1]) / 1024 ** 2, 1)
-    except (OSError, ValueError):
-        pass
-    try:
-        usable = len(os.sched_getaffinity(0))
-    except AttributeError:
-        usable = os.cpu_count()
-    return {
-        "cpu": cpu, "logical_cores": os.cpu_count(), "usable_cores": usable,
-        "memory_gib": mem, "threads": threads or usable,
-        "threads_requested": threads, "platform": platform.platform(),
-        "python": platform.python_version(), "numpy": np.__version__,
-        "load_average_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-    }
-
-
-def _git_commit(where: Path) -> str | None:
-    try:
-        out = subprocess.run(["git", "-C", str(where), "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True, timeout=5)
-        return out.stdout.strip() or None
-    except (OSError, subprocess.SubprocessError):
-        return None
 
 
 def find_scenes_dir() -> Path | None:
@@ -943,7 +903,7 @@ class Study:
             "warmup": opts.warmup, "repeat": opts.repeat, "budget_ms": opts.budget_ms,
             "max_ms": opts.max_ms,
             "crop": None if opts.crop is None else f"{opts.crop.width}x{opts.crop.height}",
-            "machine": machine_info(opts.threads), "aolab_commit": _git_commit(folders[0]),
+            "machine": machine_info(opts.threads), "aolab_commit": git_commit(folders[0]),
             "weak_fraction": WEAK_FRACTION, "blur_sigma": presets_mod.BLUR_SIGMA,
             "blur_taps": presets_mod.BLUR_TAPS,
             "presets_source": {m: (presets_mod.entry(m).source if presets_mod.entry(m) else

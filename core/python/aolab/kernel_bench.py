@@ -40,6 +40,7 @@ from pathlib import Path
 import aolab
 
 from . import files
+from .provenance import git_commit
 from . import presets as presets_module
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
@@ -272,8 +273,7 @@ def _need_perf() -> None:
 
 
 def _commit() -> str:
-    from .compare import _git_commit
-    return _git_commit(Path(__file__).resolve().parent) or "unknown"
+    return git_commit(Path(__file__).resolve().parent) or "unknown"
 
 
 def main(args) -> int:

@@ -36,6 +36,7 @@ import numpy as np
 import aolab
 
 from . import files
+from .provenance import git_commit
 
 LIMITS_DIR = "limits"          # reference_scenes/<scene>/limits/
 LIMITS_JSON = "limits.json"
@@ -105,7 +106,6 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
                   log=print) -> list[dict]:
     """Computes the missing or stale limits of one scene folder; returns its entries."""
     from .bridge.exr import write_gray
-    from .compare import _git_commit
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     digest = file_sha256(folder / "reference.exr")
@@ -136,7 +136,7 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
     images = aolab._core.screen_space_limit_thicknesses(
         g, {"radius": radius, "rays": rays, "seed": 0}, thickness, threads=threads)
     seconds = time.perf_counter() - t0
-    commit, date = _git_commit(folder), time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime())
+    commit, date = git_commit(folder), time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime())
     together = [name for _, name, _ in todo]
     for (t_r, name, want), t, ao in zip(todo, thickness, images):
         write_gray(str(out_dir / f"{name}.exr"), np.asarray(ao, np.float32))

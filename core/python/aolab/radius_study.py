@@ -37,6 +37,7 @@ import numpy as np
 import aolab
 
 from . import files
+from .provenance import machine_info
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
 DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
@@ -226,7 +227,6 @@ def main(args) -> int:
 
 def _main(args) -> int:
     from . import reference
-    from .compare import machine_info
     resolution = reference.parse_resolution(args.resolution)
     plans = study_plans(args.scenes, args.scales, resolution, args.spp,
                         Path(args.scenes_dir) if args.scenes_dir else None)

@@ -92,7 +92,7 @@ def _fmt(v) -> str:
     return repr(float(v))
 
 
-def _num(v):
+def number(v):
     try:
         f = float(v)
     except (TypeError, ValueError):
@@ -104,8 +104,8 @@ def metric(row: dict, column: str):
     """A row's value of a results.csv metric column such as ``occluded_mae``."""
     for region in REGIONS:
         if column.startswith(region + "_"):
-            return _num(row.get("metrics", {}).get(region, {}).get(column[len(region) + 1:]))
-    return _num(row.get(column))
+            return number(row.get("metrics", {}).get(region, {}).get(column[len(region) + 1:]))
+    return number(row.get(column))
 
 
 def pareto_front(points: list[tuple[float, float, str]], lower_is_better: bool) -> list[str]:
@@ -209,10 +209,10 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
     pts = []
     for s in series:
         for r in s["rows"]:
-            x, y = _num(r.get("total_ms")), metric(r, column)
+            x, y = number(r.get("total_ms")), metric(r, column)
             if x is not None and x > 0 and y is not None:
                 pts.append((s, r, x, y))
-    lines = [h for h in hlines if _num(h.get("value")) is not None]
+    lines = [h for h in hlines if number(h.get("value")) is not None]
     if not pts:
         return f'<p class="missing">No timed point has a value of {html.escape(label)}.</p>'
     xs = [p[2] for p in pts]
@@ -347,7 +347,7 @@ def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
 
 
 def _cell(v, fmt: str = ".4f") -> str:
-    v = _num(v)
+    v = number(v)
     if v is None:
         return "—"
     return format(v, fmt)
@@ -357,9 +357,9 @@ _KIND_ORDER = {"baseline": 0, "method": 1, "cycles": 2, "rtao": 3, "noise_floor"
                "eevee": 5, "limit": 6}
 
 
-def _row_order(r: dict):
+def row_order(r: dict):
     """Baseline, then methods by name and time, then peers by time (the Cycles ladder by spp)."""
-    t = _num(r.get("total_ms")) or 0.0
+    t = number(r.get("total_ms")) or 0.0
     if r["kind"] == "method":
         return (_KIND_ORDER["method"], r["method"], t, r["label"])
     return (_KIND_ORDER.get(r["kind"], 9), "", t, r["method"])
@@ -367,7 +367,7 @@ def _row_order(r: dict):
 
 def table(rows: list[dict], floor: dict | None) -> str:
     front = set(pareto_front([(r["total_ms"], metric(r, "all_mae"), r["key"]) for r in rows
-                              if r["kind"] in FRONT_KINDS and _num(r.get("total_ms"))
+                              if r["kind"] in FRONT_KINDS and number(r.get("total_ms"))
                               and metric(r, "all_mae") is not None], True))
     head = ("<tr><th>method</th><th>setting</th><th>method ms<br><small>median (min–max)</small>"
             "</th><th>blur ms</th><th>total ms</th><th>MAE</th><th>SSIM</th><th>RMSE</th>"
@@ -375,16 +375,16 @@ def table(rows: list[dict], floor: dict | None) -> str:
             + "".join(f"<th>MAE {r.replace('_', ' ')}</th>" for r in REGIONS[1:])
             + "<th>occl. MAE / AO≡1</th><th>occl. MAE vs limit</th><th>flag</th></tr>")
     body = []
-    ordered = sorted(rows, key=_row_order)
+    ordered = sorted(rows, key=row_order)
     for r in ordered:
-        t = _num(r.get("method_ms"))
+        t = number(r.get("method_ms"))
         if r["kind"] in ("method",) and t is not None:
             tms = f'{t:.1f} <small>({r["method_ms_min"]:.1f}–{r["method_ms_max"]:.1f})</small>'
         elif t is not None:
             tms = f"{t:.0f} <small>(render)</small>"
         else:
             tms = "—"
-        b = _num(r.get("blur_ms"))
+        b = number(r.get("blur_ms"))
         bms = f'{b:.1f}' if b is not None else "—"
         star = " ★" if r["key"] in front else ""
         flag = r.get("flag") or ""
@@ -452,7 +452,7 @@ def sequence_best(rows: list[dict], budget_ms: float) -> list[dict]:
     out = []
     for m in sorted({r["method"] for r in rows if r["kind"] == "method"}):
         mine = [r for r in rows if r["kind"] == "method" and r["method"] == m
-                and _num(r.get("total_ms")) is not None and metric(r, "all_mae") is not None]
+                and number(r.get("total_ms")) is not None and metric(r, "all_mae") is not None]
         fits = [r for r in mine if r["total_ms"] <= budget_ms]
         if fits:
             out.append(min(fits, key=lambda r: metric(r, "all_mae")))
@@ -525,12 +525,12 @@ def flicker_entries(rows: list[dict]) -> list[dict]:
     """A sequence's rows (means over its frames) that have a flicker, least first: the
     configuration, its flicker, MAE, time and the per-pixel noise settings it has on."""
     out = [{"key": r["key"], "kind": r["kind"], "method": r["method"], "label": r["label"],
-            "flicker": _num(r.get("flicker")), "mae": metric(r, "all_mae"),
-            "ms": _num(r.get("total_ms")),
+            "flicker": number(r.get("flicker")), "mae": metric(r, "all_mae"),
+            "ms": number(r.get("total_ms")),
             # rtao draws its rays from a per-pixel hash: a random pattern too, not a setting
             "noise": (["random rays per pixel"] if r["kind"] == "rtao" else
                       per_pixel_noise(r["method"], r.get("settings") or {}))}
-           for r in rows if _num(r.get("flicker")) is not None]
+           for r in rows if number(r.get("flicker")) is not None]
     return sorted(out, key=lambda e: (e["flicker"], e["method"], e["label"]))
 
 
@@ -594,7 +594,7 @@ def limit_mae(rows: list[dict], scenes: dict, column: str = "occluded_mae"):
     if scene != "ALL":
         r = best_limit(rows)
         return metric(r, column) if r is not None else None
-    got = [_num((info.get("limit") or {}).get(column)) for info in scenes.values()]
+    got = [number((info.get("limit") or {}).get(column)) for info in scenes.values()]
     got = [v for v in got if v is not None]
     return float(np.mean(got)) if got else None
 
@@ -611,15 +611,15 @@ def error_split(rows: list[dict], scenes: dict) -> list[dict]:
     for r in sorted(shown, key=lambda r: (r["kind"] != "method", r["method"],
                                           SPLIT_LABELS.index(r["label"])
                                           if r["label"] in SPLIT_LABELS else 0)):
-        total = _num(r.get("metrics", {}).get("occluded", {}).get("mae"))
+        total = number(r.get("metrics", {}).get("occluded", {}).get("mae"))
         if total is None:
             continue
-        definition = _num(r.get("occluded_mae_definition"))
+        definition = number(r.get("occluded_mae_definition"))
         out.append({"key": r["key"], "name": f'{r["method"]} {r["label"]}'
                     if r["kind"] == "method" else r["method"],
                     "total": total, "screen_space": loss,
                     "definition": definition,
-                    "approximation": _num(r.get("occluded_mae_vs_limit"))})
+                    "approximation": number(r.get("occluded_mae_vs_limit"))})
     return out
 
 
@@ -690,7 +690,7 @@ def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list
         limit = best_limit(rows)
         lim = metric(limit, "occluded_mae") if limit is not None else None
         pick = best.get(name)
-        mine = _num(pick["mae"]) if pick else None
+        mine = number(pick["mae"]) if pick else None
         if eevee is None or lim is None or mine is None:
             verdict = "unknown"
         elif lim >= eevee:
@@ -701,9 +701,9 @@ def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list
                     "limit_label": limit["label"] if limit else None, "tuned": mine,
                     "method": pick["method"] if pick else None,
                     "trial": pick["trial"] if pick else None,
-                    "ms": _num(pick["ms"]) if pick else None,
+                    "ms": number(pick["ms"]) if pick else None,
                     "within_budget": pick["within_budget"] if pick else None,
-                    "larger": _num(larger[name]["mae"]) if larger.get(name) else None,
+                    "larger": number(larger[name]["mae"]) if larger.get(name) else None,
                     "larger_method": larger[name]["method"] if larger.get(name) else None,
                     "verdict": verdict})
     return out
@@ -718,9 +718,9 @@ def eevee_releases(results: dict) -> list[dict]:
         for r in results["rows"]:
             if r["scene"] == name and r["kind"] == "eevee":
                 m = r["metrics"]["all"]
-                out.append({"scene": name, "peer": r["method"], "mae": _num(m.get("mae")),
-                            "bias": _num(m.get("bias")),
-                            "occluded_mae": _num(metric(r, "occluded_mae")),
+                out.append({"scene": name, "peer": r["method"], "mae": number(m.get("mae")),
+                            "bias": number(m.get("bias")),
+                            "occluded_mae": number(metric(r, "occluded_mae")),
                             "blender": (r.get("settings") or {}).get("blender_version")})
     return out
 
@@ -977,12 +977,12 @@ def rtao_ladder(rows: list[dict]) -> list[dict]:
     over all scored pixels, and the most accurate screen-space configuration (kind "method")
     whose time is within the rung's, with its time and MAE; ``winner`` says which is more
     accurate at that budget ("screen space", "rtao", or "" when no method fits)."""
-    methods = [r for r in rows if r["kind"] == "method" and _num(r.get("total_ms"))
+    methods = [r for r in rows if r["kind"] == "method" and number(r.get("total_ms"))
                and metric(r, "all_mae") is not None]
     out = []
     # In order of rays, not of time: at a few rays the packet sizes make the times close, and
     # a noisy run must not reorder the ladder.
-    rungs = sorted((r for r in rows if r["kind"] == "rtao" and _num(r.get("total_ms"))
+    rungs = sorted((r for r in rows if r["kind"] == "rtao" and number(r.get("total_ms"))
                     and metric(r, "all_mae") is not None),
                    key=lambda r: ((r.get("settings") or {}).get("rays") or 0, r["total_ms"]))
     for r in rungs:

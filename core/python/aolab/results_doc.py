@@ -32,7 +32,7 @@ reference's hard cut-off) versus what remains (structural error)._
 
 
 def _f(v, fmt=".4f"):
-    v = report._num(v)
+    v = report.number(v)
     return "—" if v is None else format(v, fmt)
 
 
@@ -41,12 +41,12 @@ def _table(rows: list[dict]) -> list[str]:
            "MAE occluded | occl. / AO≡1 | occl. vs limit | MAE depth edges | MAE grazing | "
            "MAE creases | MAE border | flag |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    rows = sorted(rows, key=report._row_order)
+    rows = sorted(rows, key=report.row_order)
     for r in rows:
         m = r.get("metrics")
         if not m:
             continue
-        t = report._num(r.get("total_ms"))
+        t = report.number(r.get("total_ms"))
         tms = "—" if t is None else (f"{t:.1f}" if r["kind"] in ("method", "rtao") else
                                      f"{t:.0f} (render)" if r["kind"] != "limit" else
                                      f"{t / 1000:.0f} s (oracle)")

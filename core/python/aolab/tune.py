@@ -898,7 +898,8 @@ def run(opts: Options) -> dict:
 
     import optuna
 
-    from .compare import _git_commit, find_scenes_dir, machine_info, resolve_scenes
+    from .compare import find_scenes_dir, resolve_scenes
+    from .provenance import git_commit, machine_info
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
     known = aolab.methods()
@@ -915,7 +916,7 @@ def run(opts: Options) -> dict:
     check_presets_file(presets_file)
     deadline = None if opts.timeout is None else time.monotonic() + opts.timeout
     scenes = load_scenes(folders, opts.crop)
-    meta = {"command": command_line(opts), "commit": _git_commit(folders[0]),
+    meta = {"command": command_line(opts), "commit": git_commit(folders[0]),
             "date": _git_date(), "machine": machine_info(opts.timing.threads),
             "scenes": [s.name for s in scenes],
             "size": sorted({f"{s.g.width}x{s.g.height}" for s in scenes}),
