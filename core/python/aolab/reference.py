@@ -269,7 +269,9 @@ def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path |
     return None
 
 
-def _progress_bar(enabled: bool, desc: str):
+def progress_bar(enabled: bool, desc: str):
+    """The tqdm bar render drives when its ``progress`` is True (None when tqdm is
+    missing or ``enabled`` is False)."""
     if not enabled:
         return None
     try:
@@ -284,9 +286,11 @@ class Stopped(Exception):
 
 
 def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
-           progress: bool = True, blender: str | None = None,
+           progress=True, blender: str | None = None,
            should_stop=None) -> tuple[Path, bool]:
     """Renders (or finds in the cache) the reference of `plan`. Returns (folder, cached).
+    ``progress`` is True (a tqdm bar), False (none), or an object with tqdm's
+    set_description, reset, n, total, refresh and close that the render drives instead.
     ``should_stop()``, when given, is asked at each line Blender prints: True stops the render
     (Blender killed, its temporary folder removed) with Stopped."""
     cache = Path(cache) if cache else default_cache()
@@ -330,7 +334,7 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     if plan.mesh_only:
         cmd.append("--mesh-only")
 
-    bar = _progress_bar(progress, s.name)
+    bar = progress_bar(progress, s.name) if isinstance(progress, bool) else progress
     tail, error = [], None
     try:
         env = dict(os.environ, **{PACKAGE_PATH_ENV: package_path()})

@@ -58,13 +58,12 @@ def main(argv) -> int:
 
     signal.signal(signal.SIGTERM, terminated)
     w, h = (int(v) for v in args.resolution.split("x"))
-    reference._progress_bar = lambda enabled, desc: LineBar()
     try:
         scene = reference.resolve_scene(args.scene)
         plan = reference.make_plan(scene, spp=args.spp, radius=args.radius,
                                    passes=args.passes.split(","), resolution=(w, h))
         folder, cached = reference.render(plan, Path(args.cache) if args.cache else None,
-                                          progress=True)
+                                          progress=LineBar())
     except (reference.ReferenceError, ValueError) as e:
         print(f"AOLAB_ERROR {e}", flush=True)
         return 2
