@@ -36,6 +36,7 @@ import aolab
 from .bridge.constants import PEERS_DIR
 from .compare import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
 from . import files
+from .options import check_paths, int_option
 from .report import write_generated_block
 
 #: The AO pass's samples: a Cycles rung the committed peers have (their 64-spp render), so
@@ -208,7 +209,6 @@ def update_doc(path: Path, version: str, body: str) -> None:
 
 
 def add_parser(sub):
-    from .cli import int_option
     p = sub.add_parser(
         "bridge-check", help="this Blender's G-buffer export and AO pass against the "
         "committed references",
@@ -234,7 +234,6 @@ def main(args) -> int:
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
     from . import reference
-    from .cli import check_paths
     reference.check_path_options(args)
     check_paths(edited={"--update-doc": args.update_doc})
     with files.output_lock(args.out, "aolab bridge-check"):

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import platform
 import re
@@ -46,145 +45,14 @@ import numpy as np
 import aolab
 
 from . import files
+from .options import (MAX_RUNS, MAX_SAMPLES, MAX_SIDE, MAX_THREADS, add_timing_options, check_paths,
+                      checked_type, float_option, int_list_option, int_option,
+                      size_option, threads_option)
 from .raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
 from .raytracing import RTAO_LADDER
 from .reference import parse_frames
 from .scoring import metrics_mask
 from .settings import describe_value, parse_assignments
-
-
-# --- option values, validated when the command line is read --------------------------------
-
-#: The largest analytic scene side and report image width (16384 = 16K; a 100000-pixel side
-#: would need tens of gigabytes).
-MAX_SIDE = 16384
-#: The most worker threads an option accepts (0 = all cores; a computation uses at most one
-#: per band of 4 rows).
-MAX_THREADS = 4096
-#: The most timed or warm-up runs per configuration.
-MAX_RUNS = 1000
-#: The most samples per pixel Cycles accepts.
-MAX_SAMPLES = 16777216
-
-
-def _shown(text: str) -> str:
-    """An option's text for a message: repr, shortened to keep the message one short line."""
-    return repr(text) if len(text) <= 60 else repr(text[:57]) + "..."
-
-
-def int_option(name: str, lo: int | None = None, hi: int | None = None, *,
-               odd: bool = False, what: str = ""):
-    """An argparse ``type=`` for an integer option in [lo, hi] (either end open when None),
-    odd if ``odd``: the int, or argparse.ArgumentTypeError naming the option and the text."""
-    if lo is not None and hi is not None:
-        need = f"an integer in [{lo}, {hi}]"
-    elif lo is not None:
-        need = f"an integer >= {lo}"
-    elif hi is not None:
-        need = f"an integer <= {hi}"
-    else:
-        need = "an integer"
-    need = ("an odd " + need[3:]) if odd else need
-    need += f" ({what})" if what else ""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text.strip())
-        except (ValueError, TypeError):   # also an integer of more than 4300 digits
-            raise argparse.ArgumentTypeError(
-                f"{name} must be {need}, got {_shown(text)}") from None
-        if ((lo is not None and value < lo) or (hi is not None and value > hi)
-                or (odd and value % 2 == 0)):
-            shown = str(value) if len(str(value)) <= 30 else f"{str(value)[:27]}..."
-            raise argparse.ArgumentTypeError(f"{name} must be {need}, got {shown}")
-        return value
-    parse.__name__ = name   # argparse's own messages name the type
-    return parse
-
-
-def checked_type(parse, name: str):
-    """An argparse ``type=`` from a parser that raises ValueError naming the option: argparse
-    then prints the usage line and ``argument NAME: <the message>`` (also batch.py's)."""
-    def convert(text: str):
-        try:
-            return parse(text)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
-    convert.__name__ = name
-    return convert
-
-
-def int_list_option(name: str, hi: int):
-    """An argparse ``type=`` for a comma-separated list of counts (rays or samples per pixel),
-    each in [1, hi], or 'none' (the empty tuple)."""
-    def convert(text: str) -> tuple[int, ...]:
-        if text.strip().lower() == "none":
-            return ()
-        try:
-            values = tuple(int(v) for v in text.split(","))
-            if values and all(1 <= v <= hi for v in values):
-                return values
-        except ValueError:
-            pass
-        raise argparse.ArgumentTypeError(f"{name} must be comma-separated integers in "
-                                         f"[1, {hi}] or 'none', got {text!r}")
-    convert.__name__ = name
-    return convert
-
-
-def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
-                 lo_inclusive: bool = False, allow_inf: bool = False, unit: str = ""):
-    """An argparse ``type=`` for a float option: finite (or +inf when ``allow_inf``), > lo
-    (>= lo when ``lo_inclusive``) and <= hi: the float, or argparse.ArgumentTypeError naming
-    the option and the text."""
-    unit = f" {unit}" if unit else ""
-    if math.isinf(hi):
-        need = f"{'>=' if lo_inclusive else '>'} {lo:g}{unit}"
-    else:
-        need = f"in {'[' if lo_inclusive else '('}{lo:g}, {hi:g}]{unit}"
-    need = f"a number {need}" + (" or inf" if allow_inf else "")
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text.strip())
-        except (ValueError, TypeError, OverflowError):
-            value = math.nan
-        ok = (value >= lo if lo_inclusive else value > lo) and value <= hi
-        if not ok or (math.isinf(value) and not allow_inf):
-            raise argparse.ArgumentTypeError(f"{name} must be {need}, got {_shown(text)}")
-        return value
-    parse.__name__ = name
-    return parse
-
-
-def size_option(name: str):
-    """An argparse ``type=`` for ``WxH`` with integers in [1, MAX_SIDE] (the analytic scenes'
-    range): (width, height), or argparse.ArgumentTypeError naming the option and the text."""
-    def parse(text: str) -> tuple[int, int]:
-        parts = str(text).strip().lower().split("x")
-        if len(parts) == 2 and all(p.strip().isascii() and p.strip().isdigit() for p in parts):
-            w, h = (int(p) for p in parts)
-            if 1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE:
-                return w, h
-        raise argparse.ArgumentTypeError(f"{name} must be WxH with integers in [1, {MAX_SIDE}], "
-                                         f"got {_shown(text)}")
-    parse.__name__ = name
-    return parse
-
-
-def threads_option():
-    return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
-
-
-def add_timing_options(q, *, repeat: int, warmup: int, repeat_help: str = "timed runs",
-                       warmup_help: str = "untimed runs before them") -> None:
-    """--threads, --repeat and --warmup with their ranges (bench, compare, tune)."""
-    q.add_argument("--threads", type=threads_option(), default=0,
-                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
-    q.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=repeat,
-                   help=f"{repeat_help}, 1 to {MAX_RUNS} (default {repeat})")
-    q.add_argument("--warmup", type=int_option("--warmup", 0, MAX_RUNS), default=warmup,
-                   help=f"{warmup_help}, 0 to {MAX_RUNS} (default {warmup})")
 
 
 # --- errors ---------------------------------------------------------------------------------
@@ -257,32 +125,6 @@ def _key_values(pairs: list[str] | None, method: str | None = None) -> dict:
 _OWN_OPTIONS = {"radius": "--radius", "threads": "--threads", "preset": "--preset",
                 "blur": "--blur / --no-blur", "blur_sigma": "--blur-sigma",
                 "blur_taps": "--blur-taps", "progress": "no option (it is not a setting)"}
-
-
-def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
-                inputs: dict = {}) -> None:
-    """Checks, before a command's work starts, the paths its options name ({option: path};
-    an option left unset is skipped), so that a mistyped path costs no hours of work: an
-    output file (``files``: its folder exists and is writable, the path is no folder or
-    special file), an output folder (``folders``: a folder, or one that can be made), a file
-    rewritten in place (``edited``: an existing regular file that can be replaced), an input
-    folder (``inputs``: an existing folder). A ValueError naming the option otherwise."""
-    from . import files as files_mod
-    for option, path in files.items():
-        if path:
-            files_mod.check_output_file(path, option)
-    for option, path in folders.items():
-        if path:
-            files_mod.check_output_folder(path, option)
-    for option, path in edited.items():
-        if path:
-            files_mod.regular_file(path, option)
-            files_mod.check_output_file(path, option)
-    for option, path in inputs.items():
-        if path and not Path(path).is_dir():
-            what = "does not exist" if not os.path.lexists(path) else "is not a folder"
-            raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
-                             f"{what}")
 
 
 def _load_input(spec: str, radius: float | None, width: int, height: int):

@@ -40,6 +40,7 @@ from pathlib import Path
 import aolab
 
 from . import files
+from .options import check_paths
 from .provenance import git_commit
 from . import presets as presets_module
 
@@ -277,7 +278,6 @@ def _commit() -> str:
 
 
 def main(args) -> int:
-    from .cli import check_paths
     size = SIZE
     if args.size:
         size = tuple(args.size)

@@ -36,6 +36,7 @@ import numpy as np
 import aolab
 
 from . import files
+from .options import MAX_THREADS, check_paths, checked_type, int_option, threads_option
 from .provenance import git_commit
 
 LIMITS_DIR = "limits"          # reference_scenes/<scene>/limits/
@@ -158,7 +159,6 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
 
 def main(args) -> int:
     """The ``aolab limits`` command (arguments from cli.py)."""
-    from .cli import check_paths
     from .compare import find_scenes_dir, resolve_scenes
     check_paths(inputs={"--scenes-dir": args.scenes_dir})
     thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
@@ -171,7 +171,6 @@ def main(args) -> int:
 
 
 def add_limits_parser(sub):
-    from .cli import MAX_THREADS, checked_type, int_option, threads_option
     p = sub.add_parser(
         "limits", help="compute the screen-space limit of each reference scene (committed)",
         description="Computes the screen_space_limit oracle on each reference scene at several "

@@ -37,6 +37,7 @@ import numpy as np
 import aolab
 
 from . import files
+from .options import MAX_SAMPLES, add_timing_options, float_option, int_option
 from .provenance import machine_info
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
@@ -257,7 +258,6 @@ def _main(args) -> int:
 
 
 def add_parser(sub):
-    from .cli import MAX_SAMPLES, add_timing_options, float_option, int_option
     p = sub.add_parser(
         "radius-study", help="HBAO, Pyramid HBAO and Scalable AO against the radius",
         description="Repeats the Pyramid HBAO paper's comparison (§4, Tables 1a-1c, Fig. 8): "

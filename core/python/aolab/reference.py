@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import files
+from .options import check_paths
 from .bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
                                RESULT_MESH, RESULT_MESH_JSON)
 from .bridge.passes import parse_passes, required_passes
@@ -593,7 +594,6 @@ def check_path_options(args) -> None:
     """--cache and --out of `aolab reference` and `aolab mesh` (and their callers'), checked
     before Blender starts: a --cache that is a file said "File exists" only once the render
     was to be stored, and a bad --out failed after the render."""
-    from .cli import check_paths
     check_paths(folders={"--cache": getattr(args, "cache", None),
                          "--out": getattr(args, "out", None)})
 

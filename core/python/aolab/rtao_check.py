@@ -28,6 +28,7 @@ from .compare import find_scenes_dir, load_renders, noise_floor_peer, resolve_sc
 from .bridge.constants import PEERS_DIR, PEERS_JSON
 from .regions import REGIONS, region_masks
 from . import files
+from .options import check_paths, int_option, threads_option
 from .report import with_generated_block, write_generated_block
 
 #: Rays per pixel of the check: the reference's own samples.
@@ -264,13 +265,11 @@ def update_doc(path: Path, table: str, meta: str) -> None:
 def check_doc(path: Path) -> None:
     """--update-doc before any trace: a file that can be rewritten and has the block to
     replace (update_doc's own checks), instead of an error after the whole check."""
-    from .cli import check_paths
     check_paths(edited={"--update-doc": path})
     with_generated_block(path, DOC_BEGIN, DOC_END, "")
 
 
 def add_parser(sub):
-    from .cli import int_option, threads_option
     p = sub.add_parser(
         "rtao-check", help="rtao at 1024 rays against the committed Cycles references",
         description="Traces every committed scene with rtao at 1024 rays per pixel (cached) "
@@ -295,7 +294,6 @@ def main(args) -> int:
     """The ``aolab rtao-check`` command (arguments from cli.py).
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
-    from .cli import check_paths
     check_paths(folders={"--out": args.out})
     if args.update_doc:
         check_doc(Path(args.update_doc))

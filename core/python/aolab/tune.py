@@ -39,6 +39,7 @@ import numpy as np
 import aolab
 
 from . import files
+from .options import add_timing_options, check_paths, float_option, int_option
 from . import presets as presets_mod
 from .settings import described
 
@@ -843,7 +844,6 @@ def check_store(out: Path) -> Path:
     have been opened (SQLite said "disk I/O error") and a stray file read as a database
     (SQLAlchemy's "file is not a database" and a web link), neither naming the file."""
     from . import files
-    from .cli import check_paths
     check_paths(folders={"--out": out})
     db = out / DB_NAME
     if os.path.lexists(db):
@@ -870,7 +870,6 @@ def check_presets_file(path: Path) -> None:
     a regular file that can be replaced and hold what aolab tune writes (presets.read_tuned),
     a new one a folder it can go in. A folder or a malformed file was refused only when the
     first method's presets were written, after its trials."""
-    from .cli import check_paths
     if os.path.lexists(path):
         check_paths(edited={"--presets-file": path})
         presets_mod.read_tuned(path)
@@ -964,7 +963,6 @@ def _progress(enabled: bool, opts: Options, methods: list[str]):
 
 
 def add_tune_parser(sub):
-    from .cli import add_timing_options, float_option, int_option
     max_trials = 100000
     t = sub.add_parser(
         "tune", help="search each method's settings: tuned presets per time budget",
@@ -1020,7 +1018,6 @@ def main(args) -> int:
         import optuna  # noqa: F401
     except ImportError:
         raise ValueError("aolab tune needs Optuna: apt-get install python3-optuna") from None
-    from .cli import check_paths
     check_paths(folders={"--out": opts.out})   # before the lock makes the folder
 
     _STOP.clear()
