@@ -179,7 +179,7 @@ def _common_settings(rs: SettingsRestorer, scene, view_layer, cam, radius: float
             rs.set(view_layer.cycles, attr, False)
 
 
-def _enable_only(rs: SettingsRestorer, view_layer, wanted: set[str]) -> None:
+def enable_only_passes(rs: SettingsRestorer, view_layer, wanted: set[str]) -> None:
     """Turns on the view-layer passes in `wanted` (property names) and off every other."""
     for attr in view_layer.bl_rna.properties.keys():
         if attr.startswith("use_pass_") and attr != "use_pass_combined":
@@ -208,7 +208,8 @@ def _keep_render_result(rs: SettingsRestorer) -> None:
     rs.set(slots, "active_index", index)
 
 
-def _render(rs: SettingsRestorer, scene, path: str) -> float:
+def render_to(rs: SettingsRestorer, scene, path: str) -> float:
+    """Renders the scene's frame to the still image `path`; the seconds it took."""
     rs.set(scene.render, "filepath", path)
     t0 = time.perf_counter()
     result = bpy.ops.render.render(write_still=True)
@@ -267,18 +268,18 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
 
         checkpoint("gbuffer")
         rs.set(scene.cycles, "samples", gbuffer_samples)
-        _enable_only(rs, view_layer, {PASSES[p][0] for p in passes if p in PASSES})
+        enable_only_passes(rs, view_layer, {PASSES[p][0] for p in passes if p in PASSES})
         gbuffer_path = os.path.join(tmp, "gbuffer.exr")
-        t_gbuffer = _render(rs, scene, gbuffer_path)
+        t_gbuffer = render_to(rs, scene, gbuffer_path)
 
         checkpoint("reference")
         rs.set(scene.cycles, "samples", spp)
-        _enable_only(rs, view_layer, {"use_pass_ambient_occlusion"})
+        enable_only_passes(rs, view_layer, {"use_pass_ambient_occlusion"})
         for obj in scene.objects:  # AO alone: no light is simulated
             if obj.type == "LIGHT":
                 rs.set(obj, "hide_render", True)
         reference_path = os.path.join(tmp, "reference.exr")
-        t_reference = _render(rs, scene, reference_path)
+        t_reference = render_to(rs, scene, reference_path)
 
         mesh_file = None
         if "mesh" in passes:

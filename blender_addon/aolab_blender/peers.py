@@ -31,8 +31,8 @@ from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
 
 from . import compat
-from .export import (BridgeError, Cancelled, _enable_only, _render, camera_record, content_hash,
-                     render_session, scene_camera)
+from .export import (BridgeError, Cancelled, camera_record, content_hash, enable_only_passes,
+                     render_session, render_to, scene_camera)
 from .state import SettingsRestorer
 
 
@@ -84,7 +84,7 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
         record = camera_record(scene, cam)
         scene_hash = content_hash(scene, cam)
         rs.set(scene.cycles, "seed", LADDER_SEED)
-        _enable_only(rs, view_layer, {"use_pass_ambient_occlusion", "use_pass_z"})
+        enable_only_passes(rs, view_layer, {"use_pass_ambient_occlusion", "use_pass_z"})
         for obj in scene.objects:  # AO alone, as the reference
             if obj.type == "LIGHT":
                 rs.set(obj, "hide_render", True)
@@ -92,7 +92,7 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
             checkpoint(f"cycles {spp} spp")
             rs.set(scene.cycles, "samples", int(spp))
             path = os.path.join(tmp, f"cycles_{spp}spp.exr")
-            seconds = _render(rs, scene, path)
+            seconds = render_to(rs, scene, path)
             name = f"cycles_{spp}spp"
             exr.write_gray(os.path.join(out_dir, name + ".exr"),
                            _ao_and_background(path, BACKGROUND_DEPTH))
@@ -103,7 +103,7 @@ def render_peers(scene, out_dir: str, *, radius: float, ladder=LADDER_SPP, eevee
             checkpoint("eevee")
             chosen = _eevee_settings(rs, scene, radius)
             path = os.path.join(tmp, "eevee.exr")
-            seconds = _render(rs, scene, path)
+            seconds = render_to(rs, scene, path)
             name = compat.eevee_peer_name()
             exr.write_gray(os.path.join(out_dir, name + ".exr"),
                            _ao_and_background(path, compat.eevee_background_depth(cam.data)))
