@@ -344,8 +344,15 @@ def cmd_bench_table(args) -> int:
 
 
 def cmd_reference(args) -> int:
+    """aolab reference: the plans rendered here, or on a Dask cluster with --workers N or
+    --scheduler ADDRESS (a ReferenceError is an `aolab: ...` message like any other)."""
     from . import reference
-    return reference.main(args)   # a ReferenceError is an `aolab: ...` message like any other
+    plans = reference.command_plans(args)
+    with reference.holding(args.out, "aolab reference"):
+        if args.scheduler or args.workers > 1:
+            from . import cluster
+            return cluster.run_plans(plans, args)
+        return reference.run_plans(plans, args)
 
 
 def cmd_mesh(args) -> int:

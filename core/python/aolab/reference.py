@@ -543,8 +543,10 @@ def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
     return out
 
 
-def main(args) -> int:
-    """The `aolab reference` command (arguments from cli.py)."""
+def command_plans(args) -> list[Plan]:
+    """The plans of an `aolab reference` command line (arguments from cli.py), every error
+    raised before any render. cli.py runs them here (run_plans) or on a cluster
+    (cluster.run_plans), so that this module never imports the cluster, which imports it."""
     check_path_options(args)
     resolution = parse_resolution(args.resolution) if args.resolution else None
     scenes = [resolve_scene(s) for s in args.scenes]  # every error before any render
@@ -561,12 +563,7 @@ def main(args) -> int:
     frames = args.frames
     if isinstance(frames, str):
         frames = parse_frames(frames)
-    plans = per_frame(plans, frames)
-    with _holding(args.out, "aolab reference"):
-        if getattr(args, "scheduler", None) or getattr(args, "workers", 1) > 1:
-            from . import cluster
-            return cluster.run_plans(plans, args)
-        return run_plans(plans, args)
+    return per_frame(plans, frames)
 
 
 def mesh_main(args) -> int:
@@ -580,11 +577,11 @@ def mesh_main(args) -> int:
              for s in scenes]
     for plan in plans:
         plan.mesh_only = True
-    with _holding(args.out, "aolab mesh"):
+    with holding(args.out, "aolab mesh"):
         return run_plans(plans, args)
 
 
-def _holding(out, owner: str):
+def holding(out, owner: str):
     """The --out folder held for this run (files.output_lock), so that two runs never
     interleave their copies of a result; nothing to hold without --out."""
     return files.output_lock(out, owner) if out else contextlib.nullcontext()
