@@ -697,8 +697,10 @@ def write_results(out: Path, results: dict) -> None:
     writer.writeheader()
     for row in results["rows"]:
         writer.writerow({k: _csv_value(v) for k, v in flat(row).items()})
-    files.write_text(out / "results.csv", buf.getvalue())
-    files.write_text(out / "results.json", json.dumps(_json_safe(results), indent=1))
+    # Together: a full disk never leaves a new results.csv beside the last run's JSON.
+    files.write_together([(out / "results.csv", buf.getvalue().encode()),
+                          (out / "results.json", json.dumps(_json_safe(results),
+                                                            indent=1).encode())])
 
 
 # ----------------------------------------------------------------------------------------

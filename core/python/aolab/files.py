@@ -4,10 +4,10 @@
 - **Reading**: :func:`regular_file` checks a path before anything opens or hashes it, so a
   FIFO never blocks a reader and a folder never gives a reader's obscure error;
   :func:`read_bytes` reads a file so checked.
-- **Writing**: :func:`write_bytes`, :func:`write_text`, :func:`write_together` and
-  :func:`copy_file` go through the core's durable write (core/io/files.h): a temporary file
-  beside the target, every write checked, fsync, close checked, rename, the folder synced. A
-  full disk raises OSError and leaves the earlier file and no temporary behind.
+- **Writing**: :func:`write_bytes`, :func:`write_text` and :func:`write_together` go through
+  the core's durable write (core/io/files.h): a temporary file beside the target, every write
+  checked, fsync, close checked, rename, the folder synced. A full disk raises OSError and
+  leaves the earlier file and no temporary behind.
 - **Checking before work**: :func:`check_output_file` and :func:`check_output_folder` refuse an
   output path that cannot be written before a long computation starts.
 - **Owning a folder**: :func:`output_lock` lets one run at a time write into an output folder.
@@ -68,17 +68,21 @@ def read_bytes(spec, what: str) -> bytes:
 def read_text(spec, what: str) -> str:
     """The UTF-8 text of the regular file ``spec``; a file that is not UTF-8 is a ValueError
     naming it."""
+    return _decoded(read_bytes(spec, what), spec, what)
+
+
+def _decoded(data: bytes, spec, what: str) -> str:
     try:
-        return read_bytes(spec, what).decode("utf-8-sig")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as e:
         raise ValueError(f"{what} file {spec} is not UTF-8 text ({e})") from None
 
 
-def read_json_object(spec, what: str) -> dict:
-    """The JSON object in the regular file ``spec``; anything else is a ValueError naming the
-    file."""
+def json_object(data: bytes, spec, what: str) -> dict:
+    """The JSON object in ``data``, the bytes of the file ``spec`` (for a caller that needs
+    the bytes too, e.g. to hash them); anything else is a ValueError naming the file."""
     try:
-        value = json.loads(read_text(spec, what))
+        value = json.loads(_decoded(data, spec, what))
     except json.JSONDecodeError as e:
         raise ValueError(f"{what} file {spec} is not valid JSON ({e})") from None
     if not isinstance(value, dict):
@@ -102,11 +106,6 @@ def write_together(files: list[tuple[object, bytes]]) -> None:
     """Files that belong together ([(path, bytes), ...]): all written and synced before any is
     renamed into place, so a failure never leaves a new file beside a stale partner."""
     _core.write_files_durably([(os.fspath(p), bytes(d)) for p, d in files])
-
-
-def copy_file(src, dst) -> None:
-    """Copies the regular file ``src`` to ``dst`` with :func:`write_bytes`."""
-    write_bytes(dst, read_bytes(src, "source"))
 
 
 def check_output_file(path, what: str) -> Path:

@@ -38,6 +38,8 @@ import types
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import files
+
 #: Preset names, cheapest first. ``--sweep quick`` (the default study) runs the first two
 #: beside the method's defaults and its tuned presets; ``high`` and ``ultra`` (the costly
 #: ones: HBAO's high alone took a fifth of the study) are in ``--sweep presets``, so that
@@ -246,7 +248,6 @@ def read_tuned(path: Path) -> dict:
     {"tuned-<ms>ms": {SETTING: value, ...}}}}}. Anything else is one ValueError naming the
     file and the first thing wrong, instead of a Python error from deep inside a lookup
     ("'list' object has no attribute 'get'") that names no file."""
-    from . import files
     where = f"tuned presets file {path}"
     try:
         data = json.loads(files.read_text(path, "tuned presets"))

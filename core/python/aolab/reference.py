@@ -156,8 +156,8 @@ def resolve_scene(spec: str) -> Scene:
         mpath = p / "manifest.json"
         if not mpath.exists():
             raise ReferenceError(f"{spec} is a folder without manifest.json")
-        manifest_bytes = files.read_bytes(mpath, "scene manifest")
-        manifest = files.read_json_object(mpath, "scene manifest")
+        manifest_bytes = files.read_bytes(mpath, "scene manifest")   # read once: parsed, hashed
+        manifest = files.json_object(manifest_bytes, mpath, "scene manifest")
         script = p / manifest.get("build", "build.py")
         if not script.exists():
             raise ReferenceError(f"{mpath} names the build script {script.name}, which is missing")
