@@ -12,5 +12,5 @@ out="${AOLAB_RESULTS_OUT:-$root/out/results}"
 "$root/scripts/build.sh" >/dev/null
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
 /usr/bin/python3 -m aolab compare --scenes-dir "$root/reference_scenes" --out "$out" "$@"
-/usr/bin/python3 -m aolab.results_doc "$out/results.json" "$root/docs"
+/usr/bin/python3 -m aolab.study.results_doc "$out/results.json" "$root/docs"
 echo "update_results: docs/results.md and docs/images/results_*.svg regenerated from $out"

@@ -23,7 +23,7 @@ on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
 
 Run as a file, not imported: it puts its own parent folder (blender_addon/, which holds this
 package) first on sys.path, and before it the folder of the aolab package that started
-Blender ($AOLAB_PACKAGE_PATH, set by aolab.reference), so that Blender uses that same build.
+Blender ($AOLAB_PACKAGE_PATH, set by aolab.render.reference), so that Blender uses that same build.
 """
 
 import json
@@ -39,9 +39,9 @@ if os.environ.get("AOLAB_PACKAGE_PATH"):
 import bpy  # noqa: E402
 from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
-from aolab.cli import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
-                       int_list_option, int_option)
-from aolab.reference import MAX_FRAME, parse_resolution  # noqa: E402
+from aolab.util.arguments import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
+                                  int_list_option, int_option)
+from aolab.render.reference import MAX_FRAME, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
 

@@ -26,7 +26,7 @@ import time
 import bpy
 import numpy as np
 
-from aolab import files
+from aolab.util import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.intrinsics import (SUPPORTED_CAMERA_TYPES, check_camera_to_world,

@@ -2,7 +2,7 @@
 
 Preview, Render Reference, Compare and Write Report share one pattern (_JobOperator):
 `prepare()` reads everything it needs from Blender on the main thread and checks what the
-user can fix (UserError); an aolab.bridge.jobs.Job runs the heavy part in a thread (aolab's
+user can fix (UserError); an aolab.addon.jobs.Job runs the heavy part in a thread (aolab's
 C++ with the GIL released, or a child process rendering the reference); `finish()` writes
 images and the results table on the main thread.
 
@@ -170,7 +170,7 @@ def _redraw(context) -> None:
 
 class _JobOperator:
     bl_options = {"REGISTER"}
-    task = ""   # the name of an aolab.bridge.jobs.*_task
+    task = ""   # the name of an aolab.addon.jobs.*_task
 
     @classmethod
     def poll(cls, context):
@@ -356,7 +356,7 @@ class AOLAB_OT_render_reference(_JobOperator, bpy.types.Operator):
 class AOLAB_OT_compare(_JobOperator, bpy.types.Operator):
     """Score the ticked methods against the cached reference: MAE, SSIM and time in the
     panel, signed error maps as images"""
-    bl_idname = "aolab.compare"
+    bl_idname = "aolab.study.compare"
     bl_label = "Compare"
     task = "compare_task"
 

@@ -26,7 +26,7 @@ import platform
 
 import bpy
 
-from aolab import files
+from aolab.util import files
 from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
 

@@ -24,7 +24,8 @@ try:
     import aolab
     from aolab import presets
     from aolab import settings as method_settings
-    from aolab.bridge import intrinsics, jobs, passes
+    from aolab.addon import jobs
+    from aolab.bridge import intrinsics, passes
 except ImportError as e:  # not built, or built for another Python
     aolab = presets = method_settings = intrinsics = jobs = passes = None
     IMPORT_ERROR = str(e)

@@ -104,7 +104,7 @@ def test_pass_names_are_checked():
 
 def checkout_env() -> dict:
     """Blender's environment for tests/blender scripts: the aolab this test imports first on
-    its path (tests/blender/common.py use_checkout, as aolab.reference does for batch.py)."""
+    its path (tests/blender/common.py use_checkout, as aolab.render.reference does for batch.py)."""
     return dict(os.environ, AOLAB_PACKAGE_PATH=str(Path(aolab.__file__).resolve().parents[1]))
 
 
@@ -362,7 +362,7 @@ def test_background_reference_is_one(tmp_path):
 def test_scene_key_covers_the_shared_helpers(tmp_path):
     """A reference scene's content hash (the cache key's scene part) covers its build.py,
     its manifest and reference_scenes/scene_kit.py, which every build.py imports."""
-    from aolab.reference import SCENE_KIT, resolve_scene
+    from aolab.render.reference import SCENE_KIT, resolve_scene
     scenes = tmp_path / "reference_scenes"
     shutil.copytree(ROOT / "reference_scenes" / "analytic", scenes / "analytic",
                     ignore=shutil.ignore_patterns("*.exr", "peers"))
@@ -419,7 +419,7 @@ def test_batch_out_under_a_file_is_a_message(tmp_path):
 def test_the_blender_release_is_in_the_cache_key(tmp_path):
     """Another Blender release samples Cycles differently: a reference cached by one is not
     handed out for another (docs/blender_bridge.md, "Across Blender releases")."""
-    from aolab.reference import blender_version, make_plan, resolve_scene
+    from aolab.render.reference import blender_version, make_plan, resolve_scene
     version = blender_version()
     assert re.fullmatch(r"\d+\.\d+(\.\d+)?", version) and \
         version.startswith("%d.%d" % BLENDER_VERSION)

@@ -8,9 +8,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from aolab import bridge_check
-from aolab.compare import find_scenes_dir
-from aolab.cli import MAX_SAMPLES, int_list_option
+from aolab.checks import bridge_check
+from aolab.study.compare import find_scenes_dir
+from aolab.util.arguments import MAX_SAMPLES, int_list_option
 
 
 @dataclass

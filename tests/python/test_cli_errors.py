@@ -370,7 +370,7 @@ def test_run_on_an_all_nan_ao_pass_says_so(capsys, tmp_path):
 def test_resolution_text_is_in_range_or_named(text):
     """aolab reference --resolution (and batch.py's): a size Blender renders as asked, or a
     ValueError naming the option."""
-    from aolab import reference
+    from aolab.render import reference
     try:
         w, h = reference.parse_resolution(text)
     except ValueError as e:

@@ -12,14 +12,14 @@ import subprocess
 import sys
 import threading
 import time
-import types
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, cluster, reference
+from aolab import cli
+from aolab.render import cluster, reference
 
 from test_bridge import ROOT, needs_blender
 
@@ -276,13 +276,12 @@ def run_many(monkeypatch, tmp_path, fast_until: int, interrupt_at: int):
 
     monkeypatch.setattr(cluster, "connect", connect)
     monkeypatch.setattr(sys, "stdout", stdout)
-    args = types.SimpleNamespace(cache=str(tmp_path / "cache"), force=False, out=None,
-                                 quiet=True, workers=2, scheduler=None)
+    delivery = reference.Delivery(cache=str(tmp_path / "cache"), quiet=True)
     # Should the run not reach its interrupt, a real SIGINT ends it and the asserts say so.
     watchdog = threading.Timer(60, os.kill, (os.getpid(), signal.SIGINT))
     watchdog.start()
     try:
-        status = cluster.run_plans(plans, args)
+        status = cluster.run_plans(plans, delivery, workers=2)
     finally:
         watchdog.cancel()
     return status, stdout.getvalue(), submissions, plans

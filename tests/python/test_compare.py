@@ -13,8 +13,10 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, presets, regions, results_doc
-from aolab import report as report_mod
+from aolab import scenes
+from aolab import cli, presets, regions
+from aolab.study import compare, results_doc
+from aolab.study import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
 
@@ -121,12 +123,12 @@ def test_limits_are_read_the_best_is_chosen_and_methods_are_measured_against_it(
     assert info["room"]["limits"] == list(SYNTHETIC_LIMITS) and "limit" not in info["grille"]
     # the approximation error: EEVEE's against the chosen limit, recomputed from the files
     g = aolab.load_gbuffer(ROOT / "reference_scenes" / "room" / "reference.exr")
-    crop = compare.parse_crop(CROP).fit(g.width, g.height)
-    scene = compare.load_scene(study["scenes"] / "room", compare.parse_crop(CROP))
+    crop = scenes.parse_crop(CROP).fit(g.width, g.height)
+    scene = scenes.load_scene(study["scenes"] / "room", scenes.parse_crop(CROP))
     occluded = scene.regions["occluded"]
-    eevee = compare.read_y_exr(study["scenes"] / "room" / "peers" / "eevee_gtao.exr")
-    limit = compare.read_y_exr(study["scenes"] / "room" / "limits" /
-                               "screen_space_limit_t0.25R.exr")
+    eevee = scenes.read_y_exr(study["scenes"] / "room" / "peers" / "eevee_gtao.exr")
+    limit = scenes.read_y_exr(study["scenes"] / "room" / "limits" /
+                              "screen_space_limit_t0.25R.exr")
     want = np.mean(np.abs(crop.apply(eevee)[occluded].astype(np.float64) -
                           crop.apply(limit)[occluded]))
     assert float(room["eevee_gtao"]["occluded_mae_vs_limit"]) == pytest.approx(want, rel=1e-6)
@@ -174,7 +176,7 @@ def test_the_definition_part_is_what_an_affine_fit_on_the_occluded_region_remove
 
 
 def test_the_check_against_eevee_states_each_verdict():
-    from aolab import report
+    from aolab.study import report
 
     def row(scene, kind, method, occluded):
         return {"scene": scene, "kind": kind, "method": method, "label": method,
@@ -243,7 +245,7 @@ def test_rtao_rays_option_is_checked_and_none_skips_it(tmp_path):
 
 def test_baseline_scores_no_occlusion(study):
     g = aolab.load_gbuffer(ROOT / "reference_scenes" / "grille" / "reference.exr")
-    crop = compare.parse_crop(CROP).fit(g.width, g.height)
+    crop = scenes.parse_crop(CROP).fit(g.width, g.height)
     ref = crop.apply(g.reference).astype(np.float64)
     valid = crop.apply(g.valid_mask()) & np.isfinite(ref)
     base = next(r for r in study["rows"] if r["scene"] == "grille" and r["kind"] == "baseline")
@@ -301,7 +303,7 @@ def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
     path = results_doc.write(study["out"] / "results.json", tmp_path)
     text = path.read_text()
     assert results_doc.GENERATED_BEGIN in text and "## What the results show" in text
-    for column, _, _ in __import__("aolab.report").report.PLOTS:
+    for column, _, _ in report_mod.PLOTS:
         svg = tmp_path / "images" / f"results_{column}.svg"
         assert f"images/results_{column}.svg" in text and "<style>" in svg.read_text()
     for method in studied_methods():
@@ -318,7 +320,7 @@ def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
 
 @pytest.fixture(scope="module")
 def room():
-    return compare.load_scene(ROOT / "reference_scenes" / "room", compare.parse_crop("240x135"))
+    return scenes.load_scene(ROOT / "reference_scenes" / "room", scenes.parse_crop("240x135"))
 
 
 def test_whole_frame_scores_equal_aolab_metrics(room):
@@ -575,7 +577,7 @@ def test_a_sidecar_without_ao_distance_is_refused_naming_the_scene_and_key(tmp_p
     small_scene(tmp_path / "scenes" / "a_good")
     small_scene(tmp_path / "scenes" / "no_radius", sidecar={"title": "no R"})
     with pytest.raises(ValueError, match=r"scene 'no_radius'.*'ao_distance'"):
-        compare.load_cropped(tmp_path / "scenes" / "no_radius")
+        scenes.load_cropped(tmp_path / "scenes" / "no_radius")
     out = tmp_path / "out"
     assert compare_cli(tmp_path / "scenes", out) == 2
     err = capsys.readouterr().err
@@ -590,13 +592,13 @@ def test_an_invalid_ao_distance_is_refused(tmp_path, value):
     side = json.loads((folder / "reference.json").read_text())
     (folder / "reference.json").write_text(json.dumps(dict(side, ao_distance=value)))
     with pytest.raises(ValueError, match=r"bad_r.*ao_distance|ao_distance.*bad_r"):
-        compare.load_cropped(folder)
+        scenes.load_cropped(folder)
 
 
 def test_an_all_nan_reference_is_refused_naming_the_scene(tmp_path, capsys):
     small_scene(tmp_path / "scenes" / "nan_ref", reference=np.full((36, 64), np.nan, np.float32))
     with pytest.raises(ValueError, match=r"scene 'nan_ref'.*no finite value on any geometry"):
-        compare.load_cropped(tmp_path / "scenes" / "nan_ref")
+        scenes.load_cropped(tmp_path / "scenes" / "nan_ref")
     assert compare_cli(tmp_path / "scenes", tmp_path / "out", "nan_ref") == 2
     err = capsys.readouterr().err
     assert "scene 'nan_ref'" in err and "NaN" in err
@@ -605,7 +607,7 @@ def test_an_all_nan_reference_is_refused_naming_the_scene(tmp_path, capsys):
     part = np.nan_to_num(part, nan=1.0).astype(np.float32)
     part[:, :32] = np.nan
     small_scene(tmp_path / "half_nan", reference=part)
-    g, ref, radius, _ = compare.load_cropped(tmp_path / "half_nan")
+    g, ref, radius, _ = scenes.load_cropped(tmp_path / "half_nan")
     assert radius == 0.25 and np.isnan(ref).any()
 
 

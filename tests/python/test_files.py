@@ -1,4 +1,4 @@
-"""Files (aolab.files, core/io/files.h; docs/conventions.md, "Files"): every write is durable
+"""Files (aolab.util.files, core/io/files.h; docs/conventions.md, "Files"): every write is durable
 and atomic, so a full disk is an error that keeps the earlier file and leaves no temporary;
 every read checks for a regular file first, so a FIFO never hangs a command; an output
 folder is owned by one run at a time.
@@ -18,7 +18,9 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, files, reference
+from aolab import cli
+from aolab.util import files
+from aolab.render import reference
 
 from test_hostile_outputs import FILES, compare_cli, small_scenes, snapshot
 
@@ -218,7 +220,7 @@ def test_two_compare_processes_into_one_folder_never_mix(tmp_path):
 def test_a_lock_left_by_a_killed_run_is_no_obstacle(tmp_path):
     """flock ends with its process: a run killed with SIGKILL leaves the file, not the lock."""
     out = tmp_path / "out"
-    code = ("import sys, time; from aolab import files\n"
+    code = ("import sys, time; from aolab.util import files\n"
             "with files.output_lock(sys.argv[1], 'killed run'):\n"
             "    print('held', flush=True); time.sleep(60)\n")
     p = subprocess.Popen([sys.executable, "-c", code, str(out)], stdout=subprocess.PIPE, text=True)

@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, reference
+from aolab import cli
+from aolab.study import compare
+from aolab.render import reference
 
 FILES = ["report.html", "results.csv", "results.json"]
 

@@ -9,7 +9,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import aolab
+from import_graph import find_cycles, import_graph, module_names
 
 ROOT = Path(__file__).resolve().parents[2]
 SOURCE = ROOT / "core" / "python" / "aolab"
@@ -61,7 +64,7 @@ def test_the_checker_finds_every_kind_of_import():
 
 def test_source_never_imports_blender_or_the_addon():
     files = source_files()
-    assert SOURCE / "bridge" / "jobs.py" in files  # the subpackage is walked too
+    assert SOURCE / "addon" / "jobs.py" in files  # the subpackages are walked too
     found = [f for path in files
              for f in forbidden_imports(path.read_text(), str(path.relative_to(ROOT)))]
     assert found == [], "aolab must not import Blender's modules or the add-on:\n" + \
@@ -101,5 +104,121 @@ def test_the_addon_is_not_beside_the_package():
     shadow the installed add-on of the same name); it records where its source is."""
     package_root = Path(aolab.__file__).resolve().parents[1]
     assert not (package_root / "aolab_blender").exists()
-    from aolab.reference import bridge_script
+    from aolab.render.reference import bridge_script
     assert bridge_script() == ROOT / "blender_addon" / "aolab_blender" / "batch.py"
+
+
+# --- One way inside the package and the add-on ------------------------------------------------
+
+ADDON = ROOT / "blender_addon" / "aolab_blender"
+
+#: The layers of `aolab`, lowest first (docs/architecture.md, "The aolab package"): a module
+#: imports modules of its own layer or below, never above. A name matches a module and every
+#: module below it; the first match counts.
+LAYERS = (
+    ("aolab._core", "aolab._build_info", "aolab.util"),
+    ("aolab.bridge",),
+    ("aolab.catalog",),
+    ("aolab.settings", "aolab.scoring", "aolab.regions", "aolab.raytracing",
+     "aolab.named_presets", "aolab.presets"),
+    ("aolab",),                      # the API: aolab/__init__.py
+    ("aolab.scenes",),
+    ("aolab.render",),
+    ("aolab.study",),
+    ("aolab.checks",),
+    ("aolab.addon",),
+    ("aolab.cli", "aolab.__main__"),
+)
+#: Modules outside the command line that may import argparse, and why. Nothing else reads an
+#: argparse Namespace.
+#: The package's compiled modules.
+EXTENSIONS = ("aolab._core",)
+ARGPARSE_OUTSIDE_CLI = {
+    "aolab.util.arguments": "the option types themselves, shared with the bridge's entry point",
+    "aolab.addon.reference_job": "a child process's own entry point (python3 -m)",
+}
+
+
+def layer_of(module: str) -> int:
+    for rank, names in enumerate(LAYERS):
+        if any(module == n or (n != "aolab" and module.startswith(n + ".")) for n in names):
+            return rank
+    raise AssertionError(f"{module} is in no layer of LAYERS: add it")
+
+
+def make_package(tmp_path: Path, files: dict) -> Path:
+    root = tmp_path / "pkg"
+    for rel, text in files.items():
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        (root / rel).write_text(text)
+    return root
+
+
+def test_the_graph_checker_finds_circles_at_any_depth(tmp_path):
+    root = make_package(tmp_path, {
+        "__init__.py": "from . import a\n",
+        "a.py": "from .sub import b\n",
+        "sub/__init__.py": "",
+        "sub/b.py": "def f():\n    from ..a import thing\n",     # inside a function
+        "c.py": "import pkg.sub.b\nfrom pkg import a\n",
+    })
+    graph = import_graph(root, "pkg")
+    assert graph["pkg.a"].imports.keys() == {"pkg.sub.b"}
+    assert graph["pkg.c"].imports.keys() == {"pkg.sub.b", "pkg.a"}
+    assert find_cycles(graph) == [["pkg.a", "pkg.sub.b"]]
+
+
+def test_the_graph_checker_finds_private_names(tmp_path):
+    root = make_package(tmp_path, {
+        "__init__.py": "",
+        "a.py": "_hidden = 1\n",
+        "b.py": "from .a import _hidden\nfrom . import _core\n",
+        "c.py": "from . import a\nx = a._hidden\ny = a.__name__\n",
+        "_core.py": "",
+    })
+    graph = import_graph(root, "pkg")
+    assert graph["pkg.b"].private == ["1: from pkg.a import _hidden"]   # _core: a module
+    assert graph["pkg.c"].private == ["2: a._hidden"]
+    assert find_cycles(graph) == []
+
+
+@pytest.mark.parametrize("where,package", [(SOURCE, "aolab"), (ADDON, "aolab_blender")])
+def test_no_import_circle(where, package):
+    cycles = find_cycles(import_graph(where, package, EXTENSIONS))
+    assert cycles == [], f"import circles in {package}:\n" + "\n".join(map(str, cycles))
+
+
+@pytest.mark.parametrize("where,package", [(SOURCE, "aolab"), (ADDON, "aolab_blender")])
+def test_no_module_takes_another_modules_private_name(where, package):
+    graph = import_graph(where, package, EXTENSIONS)
+    found = [f"{m.name}:{p}" for m in graph.values() for p in m.private]
+    assert found == [], "private names taken from another module:\n" + "\n".join(found)
+
+
+def test_aolab_imports_only_its_own_layer_or_below():
+    graph = import_graph(SOURCE, "aolab", EXTENSIONS)
+    wrong = [f"{m.name} (layer {layer_of(m.name)}) imports {t} (layer {layer_of(t)}), line {n}"
+             for m in graph.values() for t, n in m.imports.items()
+             if layer_of(t) > layer_of(m.name)]
+    assert wrong == [], "imports against the layers:\n" + "\n".join(wrong)
+
+
+def test_only_the_command_line_imports_the_command_line():
+    """Nothing in `aolab` outside aolab.cli, nor the add-on, imports aolab.cli; and only the
+    modules of ARGPARSE_OUTSIDE_CLI import argparse outside it."""
+    graph = import_graph(SOURCE, "aolab", EXTENSIONS)
+    wrong = [f"{m.name} imports {t}" for m in graph.values() for t in m.imports
+             if t.startswith("aolab.cli") and layer_of(m.name) != layer_of("aolab.cli")]
+    for path in sorted(ADDON.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            wrong += [f"{path.relative_to(ROOT)}:{node.lineno} imports {n}" for n in names
+                      if n == "aolab.cli" or n.startswith("aolab.cli.")]
+    for name, path in module_names(SOURCE, "aolab").items():
+        if layer_of(name) == layer_of("aolab.cli") or name in ARGPARSE_OUTSIDE_CLI:
+            continue
+        if any(isinstance(node, ast.Import) and any(a.name == "argparse" for a in node.names)
+               for node in ast.walk(ast.parse(path.read_text()))):
+            wrong.append(f"{name} imports argparse")
+    assert wrong == [], "\n".join(wrong)

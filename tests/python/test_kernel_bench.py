@@ -8,7 +8,7 @@ import sys
 import pytest
 
 import aolab
-from aolab import kernel_bench
+from aolab.checks import kernel_bench
 
 SMALL = (48, 27)
 

@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, limits
+from aolab import scenes
+from aolab import cli
+from aolab.study import limits
 
 RADIUS = 0.5
 RAYS = 16
@@ -38,7 +40,7 @@ def test_limits_equal_the_method_and_are_described(tmp_path):
         assert e["reference_sha256"] == limits.file_sha256(folder / "reference.exr")
         want = aolab.compute("screen_space_limit", g, radius=RADIUS, rays=RAYS,
                              thickness=thickness, threads=2)
-        got = compare.read_y_exr(folder / "limits" / e["file"])
+        got = scenes.read_y_exr(folder / "limits" / e["file"])
         np.testing.assert_allclose(got, want, atol=5e-4)    # stored as half floats
     on_disk = json.loads((folder / "limits" / "limits.json").read_text())["entries"]
     assert on_disk == entries
@@ -69,7 +71,7 @@ def test_the_limit_of_an_analytic_scene_matches_its_closed_form(tmp_path):
     folder = analytic_folder(tmp_path, scene="wall", width=64, height=36)
     (entry,) = limits.compute_scene(folder, (math.inf,), RAYS, 0, False, log=lambda m: None)
     g = aolab.load_gbuffer(folder / "reference.exr")
-    got = compare.read_y_exr(folder / "limits" / entry["file"]).astype(np.float64)
+    got = scenes.read_y_exr(folder / "limits" / entry["file"]).astype(np.float64)
     ref = np.asarray(g.reference, np.float64)
     valid = g.valid_mask() & (ref < 1.0)
     sd = np.sqrt(np.mean(ref[valid] * (1 - ref[valid])) / RAYS / valid.sum())
@@ -91,8 +93,8 @@ def test_command_line(tmp_path):
 def test_committed_limits_are_current():
     """Every committed limit names the reference it was computed from: a re-rendered
     reference without `aolab limits` afterwards would leave a stale limit in the study."""
-    scenes = compare.find_scenes_dir()
-    for folder in compare.resolve_scenes([], scenes):
+    folder_of_scenes = scenes.find_scenes_dir()
+    for folder in scenes.resolve_scenes([], folder_of_scenes):
         entries = limits.read_entries(folder)
         if not entries:
             continue

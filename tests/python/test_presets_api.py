@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, presets
+from aolab import scenes
+from aolab import cli, presets
 
 TUNED = {"samples": 6, "view_ray_pipes": False, "blur": True}
 
@@ -93,7 +94,7 @@ def test_the_command_line_offers_the_same_presets(tmp_path, tuned_file, capsys):
                      "--json", str(tmp_path / "r.json")]) == 0
     result = json.loads((tmp_path / "r.json").read_text())
     assert result["preset"] == "tuned-50ms"
-    ao = compare.read_y_exr(out.with_suffix(".exr"))
+    ao = scenes.read_y_exr(out.with_suffix(".exr"))
     want = aolab.compute("vao", aolab.analytic_scene("blocks", 64, 36, radius=0.5),
                          radius=0.5, preset="tuned-50ms")
     np.testing.assert_array_equal(ao, want)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, radius_study as rs
+from aolab import cli
+from aolab.study import radius_study as rs
 
 
 def test_pyramid_levels_follow_pyramid_hbaos_rule():

@@ -10,7 +10,8 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from aolab import cli, report, scoring
+from aolab import cli, scoring
+from aolab.study import report
 from compare_support import CROP, make_scenes, parse_report
 
 

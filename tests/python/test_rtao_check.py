@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import rtao_check
+from aolab.checks import rtao_check
 
 from test_bridge import ROOT, TINY, needs_blender
 

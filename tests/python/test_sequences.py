@@ -12,8 +12,10 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, results_doc
-from aolab import report as report_mod
+from aolab import scenes
+from aolab import cli
+from aolab.study import compare, results_doc
+from aolab.study import report as report_mod
 from compare_support import (ROOT, SEQUENCE_FRAMES, make_sequence, parse_report, read_csv)
 
 FRAMES = list(range(SEQUENCE_FRAMES["start"], SEQUENCE_FRAMES["end"] + 1,
@@ -36,7 +38,7 @@ def study(tmp_path_factory):
 
 
 def load_frames(folder: Path) -> list:
-    return [aolab.load_gbuffer(compare.frame_folder(folder, f) / "reference.exr") for f in FRAMES]
+    return [aolab.load_gbuffer(scenes.frame_folder(folder, f) / "reference.exr") for f in FRAMES]
 
 
 def test_the_flicker_is_the_formula_on_a_hand_made_pair():
@@ -71,7 +73,7 @@ def test_the_flicker_floor_is_the_binomial_noise_of_two_frames():
 
 def test_every_frame_is_scored_as_a_scene_of_its_own(study):
     rows = study["rows"]
-    names = [compare.frame_scene_name("pan", f) for f in FRAMES]
+    names = [scenes.frame_scene_name("pan", f) for f in FRAMES]
     assert names[0] == "pan@0001"
     configs = {(r["kind"], r["method"], r["label"]) for r in rows if r["scene"] == "pan"}
     assert {m for k, m, _ in configs if k == "method"} == set(METHODS)
@@ -110,7 +112,7 @@ def test_flicker_is_set_for_every_row_and_is_the_formula(study):
     by_key = {r["key"]: r for r in rows}
     for i in range(1, len(gs)):
         p, g = gs[i - 1], gs[i]
-        name = compare.frame_scene_name("pan", FRAMES[i])
+        name = scenes.frame_scene_name("pan", FRAMES[i])
         args = (p.reference, g.reference, p.valid_mask(), g.valid_mask())
         ones = np.ones_like(g.reference)
         assert float(by_key[f"{name}/baseline_one/AO=1"]["flicker"]) == \
@@ -188,23 +190,23 @@ def test_results_doc_has_a_temporal_stability_section(study):
 
 def test_sequence_errors_name_the_frame(tmp_path):
     folder = make_sequence(tmp_path / "scenes", "pan")
-    shutil.rmtree(compare.frame_folder(folder, FRAMES[2]))
+    shutil.rmtree(scenes.frame_folder(folder, FRAMES[2]))
     with pytest.raises(ValueError, match=r"scene 'pan': frame 5 has no reference.exr"):
-        compare.check_sequence(folder)
+        scenes.check_sequence(folder)
     manifest = json.loads((folder / "manifest.json").read_text())
     manifest["frames"] = {"start": 3, "end": 1, "step": 1}
     (folder / "manifest.json").write_text(json.dumps(manifest))
     with pytest.raises(ValueError, match=r'"frames" must be .* got \{.start.: 3'):
-        compare.frame_numbers(folder)
+        scenes.frame_numbers(folder)
 
 
 def test_an_unrendered_sequence_is_left_out_and_named_with_its_frame():
-    scenes = ROOT / "reference_scenes"
-    assert compare.frame_numbers(scenes / "flythrough") == list(range(1, 9))
-    if not (scenes / "flythrough" / "frames").exists():
-        assert "flythrough" not in [p.name for p in compare.resolve_scenes([], scenes)]
+    folder = ROOT / "reference_scenes"
+    assert scenes.frame_numbers(folder / "flythrough") == list(range(1, 9))
+    if not (folder / "flythrough" / "frames").exists():
+        assert "flythrough" not in [p.name for p in scenes.resolve_scenes([], folder)]
         with pytest.raises(ValueError, match=r"frames/0001/reference.exr \(a sequence"):
-            compare.resolve_scenes(["flythrough"], scenes)
+            scenes.resolve_scenes(["flythrough"], folder)
 
 
 def test_the_flythrough_build_moves_its_camera_in_blender():

@@ -15,7 +15,10 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import cli, compare, presets, tune
+from aolab import scenes
+from aolab import cli, presets
+from aolab.study import pareto
+from aolab.study import compare, tune
 
 optuna = pytest.importorskip("optuna")
 
@@ -119,10 +122,10 @@ def test_timing_counts_warmup_and_repeat():
 
 
 def test_occluded_mae_is_the_studys():
-    crop = compare.parse_crop("160x90")
+    crop = scenes.parse_crop("160x90")
     (sc,) = tune.load_scenes([SCENES / "room"], crop)
     got = tune.evaluate("vao", {"samples": 4}, True, [sc], tune.Timing(0, 1))["room"]
-    full = compare.load_scene(SCENES / "room", crop)
+    full = scenes.load_scene(SCENES / "room", crop)
     ao = aolab.compute("vao", full.g, radius=full.radius, samples=4, blur=True)
     want = compare.score(ao, full)["regions"]
     assert got["mae"] == pytest.approx(want["occluded"]["mae"], abs=1e-12)
@@ -149,23 +152,23 @@ TABLE = [
 
 
 def test_choice_within_a_budget_is_the_lowest_mean_error():
-    assert tune.choose(TABLE, list("ABC"), 100)["number"] == 2
-    assert tune.choose(TABLE, list("ABC"), 50)["number"] == 0
-    assert tune.choose(TABLE, list("ABC"), 20) is None
-    assert tune.choose(TABLE, list("ABC"), 1000)["number"] == 3
+    assert pareto.choose(TABLE, list("ABC"), 100)["number"] == 2
+    assert pareto.choose(TABLE, list("ABC"), 50)["number"] == 0
+    assert pareto.choose(TABLE, list("ABC"), 20) is None
+    assert pareto.choose(TABLE, list("ABC"), 1000)["number"] == 3
     tie = TABLE + [_trial(4, (40, 40, 40), (0.30, 0.30, 0.30))]   # same error, faster
-    assert tune.choose(tie, list("ABC"), 50)["number"] == 4
+    assert pareto.choose(tie, list("ABC"), 50)["number"] == 4
 
 
 def test_leave_one_scene_out_chooses_on_the_other_scenes_only():
-    held = tune.leave_one_scene_out(TABLE, list("ABC"), 100)
+    held = pareto.leave_one_scene_out(TABLE, list("ABC"), 100)
     # A held out: on B, C trial 3 is best and fast (60 ms); on A it takes 300 ms.
     assert held["A"] == {"trial": 3, "mae": 0.05, "ms": 300, "within_budget": False,
                          "train_mae": pytest.approx(0.05), "train_ms": 60}
     # B held out: on A, C trial 3 averages 180 ms, so trial 1 (0.25) beats 2 (0.275).
     assert held["B"]["trial"] == 1 and held["B"]["mae"] == 0.40
     assert held["C"]["trial"] == 1 and held["C"]["mae"] == 0.40
-    sel = tune.select(TABLE, list("ABC"), budgets=(20, 50, 100))
+    sel = pareto.select(TABLE, list("ABC"), budgets=(20, 50, 100))
     assert list(sel) == ["tuned-50ms", "tuned-100ms"]           # 20 ms: nobody fits
     assert sel["tuned-100ms"]["trial"] == 2 and sel["tuned-100ms"]["settings"] == {"n": 2}
     assert sel["tuned-100ms"]["mean_mae"] == pytest.approx(0.25)
@@ -187,12 +190,12 @@ def test_best_across_methods_is_chosen_on_the_other_scenes():
             "S": fold(7, 0.01, 0.15), "T": fold(8, 0.50, 0.12, ms=130.0), "U": None}}}},
         "c": {"selection": {"tuned-50ms": {"held_out": {"S": fold(9, 0.0, 0.0)}}}},
     }
-    best = tune.best_across_methods(methods, 100)
+    best = pareto.best_across_methods(methods, 100)
     assert best["S"] == {"method": "a", **fold(1, 0.30, 0.10)}     # not b's 0.01 on S
     assert best["T"]["method"] == "b" and best["T"]["within_budget"] is False
     assert best["U"] is None
-    assert tune.best_across_methods(methods, 50) == {"S": {"method": "c", **fold(9, 0.0, 0.0)}}
-    assert tune.best_across_methods({}, 100) == {}
+    assert pareto.best_across_methods(methods, 50) == {"S": {"method": "c", **fold(9, 0.0, 0.0)}}
+    assert pareto.best_across_methods({}, 100) == {}
 
 
 # ----------------------------------------------------------------------------------------
@@ -302,11 +305,11 @@ def test_timeout_keeps_the_study_and_writes_no_presets(tmp_path, capsys):
 
 def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     """A run on a crop or on some scenes writes beside its trials, never into the package."""
-    every = compare.resolve_scenes([], SCENES)
+    every = scenes.resolve_scenes([], SCENES)
     opts = tune.Options(out=tmp_path)
     assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
-    opts.crop = compare.parse_crop(CROP)
+    opts.crop = scenes.parse_crop(CROP)
     assert tune.default_presets_file(every, SCENES, opts) == tmp_path / presets.TUNED_FILE
 
 

@@ -38,7 +38,7 @@ import types
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import files
+from .util import files
 
 #: Preset names, cheapest first. ``--sweep quick`` (the default study) runs the first two
 #: beside the method's defaults and its tuned presets; ``high`` and ``ultra`` (the costly

@@ -12,7 +12,7 @@ import os
 import numpy as np
 import OpenImageIO as oiio
 
-from .. import files
+from ..util import files
 
 
 def read_channels(path: str) -> dict[str, np.ndarray]:

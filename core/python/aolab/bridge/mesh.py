@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import files
+from ..util import files
 
 MAGIC = b"AOLABMSH"
 VERSION = 1

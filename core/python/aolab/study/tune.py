@@ -20,7 +20,6 @@ scored on the held-out scene (:func:`leave_one_scene_out`).
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -38,10 +37,15 @@ import numpy as np
 
 import aolab
 
-from . import files
-from .options import add_timing_options, check_paths, float_option, int_option
-from . import presets as presets_mod
-from .settings import described
+from ..util import files
+from ..regions import occluded_pixels
+from ..scenes import find_scenes_dir, load_cropped, resolve_scenes
+from ..scoring import scored_mask
+from ..util.files import check_paths
+from ..util.provenance import git_commit, machine_info
+from . import pareto
+from .. import presets as presets_mod
+from ..settings import described
 
 #: The time budgets of the tuned presets, ms per frame (method + blur) at the scenes' size.
 BUDGETS_MS = (50, 100, 200, 500)
@@ -410,9 +414,6 @@ class TuneScene:
 def load_scenes(folders: list[Path], crop) -> list[TuneScene]:
     """The scenes as ``aolab compare`` loads them (compare.load_cropped), with the scored
     pixels and the occluded region of aolab.regions."""
-    from .compare import load_cropped
-    from .regions import occluded_pixels
-    from .scoring import scored_mask
     out = []
     for folder in folders:
         g, reference, radius, _ = load_cropped(folder, crop)
@@ -479,94 +480,6 @@ def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
         row["all_mae"] = float(np.mean(np.abs(d[sc.valid])))
         row["runs"] = len(times)
         out[sc.name] = row
-    return out
-
-
-# ----------------------------------------------------------------------------------------
-# Choosing within a budget, leave-one-scene-out
-
-
-def _mean(trial: dict, scenes: list[str], key: str) -> float:
-    return float(np.mean([trial["scenes"][s][key] for s in scenes]))
-
-
-def choose(table: list[dict], scenes: list[str], budget_ms: float) -> dict | None:
-    """The trial of ``table`` (dicts with "number" and "scenes": scene -> {"ms", "mae"}) with
-    the lowest mean MAE over ``scenes`` among those whose mean time over them is within
-    ``budget_ms``: the Pareto-optimal configuration at that budget (ties: the faster, then
-    the earlier trial). None when no trial fits."""
-    best, best_key = None, None
-    for t in table:
-        if not all(s in t["scenes"] for s in scenes):
-            continue
-        ms, mae = _mean(t, scenes, "ms"), _mean(t, scenes, "mae")
-        if ms > budget_ms or not math.isfinite(mae):
-            continue
-        key = (mae, ms, t["number"])
-        if best_key is None or key < best_key:
-            best, best_key = t, key
-    return best
-
-
-def leave_one_scene_out(table: list[dict], scenes: list[str], budget_ms: float) -> dict:
-    """For each scene: the trial chosen on the other scenes only (:func:`choose`) and its
-    score on the held-out scene — {"trial", "mae", "ms", "within_budget", "train_mae",
-    "train_ms"}, or None when nothing fits the budget on the other scenes (or there are
-    none)."""
-    out = {}
-    for held in scenes:
-        train = [s for s in scenes if s != held]
-        pick = choose(table, train, budget_ms) if train else None
-        if pick is None:
-            out[held] = None
-            continue
-        got = pick["scenes"][held]
-        out[held] = {"trial": pick["number"], "mae": got["mae"], "ms": got["ms"],
-                     "within_budget": got["ms"] <= budget_ms,
-                     "train_mae": _mean(pick, train, "mae"),
-                     "train_ms": _mean(pick, train, "ms")}
-    return out
-
-
-def select(table: list[dict], scenes: list[str], budgets=BUDGETS_MS) -> dict:
-    """Per budget the tuned preset: name -> {"settings" (with "blur"), "trial", "mean_ms",
-    "mean_mae" (over all scenes: how it was chosen), "held_out" (per scene, LOSO) and
-    "held_out_mean_mae" (mean over the scenes whose fold found a trial)}. A budget no trial
-    meets on the mean over all scenes is absent."""
-    out = {}
-    for b in budgets:
-        pick = choose(table, scenes, b)
-        if pick is None:
-            continue
-        held = leave_one_scene_out(table, scenes, b)
-        got = [h["mae"] for h in held.values() if h is not None]
-        out[f"{presets_mod.TUNED_PREFIX}{b:g}ms"] = {
-            "settings": dict(pick["settings"]), "trial": pick["number"],
-            "mean_ms": _mean(pick, scenes, "ms"), "mean_mae": _mean(pick, scenes, "mae"),
-            "held_out": held,
-            "held_out_mean_mae": float(np.mean(got)) if got else None,
-            "held_out_folds": len(got)}
-    return out
-
-
-def best_across_methods(methods: dict, budget_ms: float) -> dict:
-    """Leave one scene out across methods, from the tuned-presets JSON's ``methods``: for each
-    held-out scene S, the configuration with the lowest mean MAE on the other scenes among
-    every method's trials within ``budget_ms`` there — which is the method whose fold-S
-    choice (``selection[...]["held_out"][S]``) has the lowest ``train_mae`` — and its score
-    on S. Scene -> {"method", "trial", "mae", "ms", "within_budget", "train_mae"}, or None
-    when no method's fold found a trial. A method with no preset at this budget (none of its
-    trials fits it on all scenes) takes no part."""
-    name = f"{presets_mod.TUNED_PREFIX}{budget_ms:g}ms"
-    out: dict = {}
-    for method, entry in methods.items():
-        for scene, fold in entry.get("selection", {}).get(name, {}).get("held_out", {}).items():
-            out.setdefault(scene, None)
-            if fold is None:
-                continue
-            best = out[scene]
-            if best is None or (fold["train_mae"], method) < (best["train_mae"], best["method"]):
-                out[scene] = {"method": method, **fold}
     return out
 
 
@@ -684,7 +597,7 @@ def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadlin
         fail_running(study)
         raise
     return {"study": study, "space": space, "done": counted(study) >= opts.trials,
-            "selection": select(table(study), [s.name for s in scenes])}
+            "selection": pareto.select(table(study), [s.name for s in scenes], BUDGETS_MS)}
 
 
 # Ctrl-C and `kill` only ask to stop: a KeyboardInterrupt raised inside an Optuna or SQLite
@@ -843,7 +756,6 @@ def check_store(out: Path) -> Path:
     be made), and tune.db absent or a regular file that is an SQLite database. A FIFO would
     have been opened (SQLite said "disk I/O error") and a stray file read as a database
     (SQLAlchemy's "file is not a database" and a web link), neither naming the file."""
-    from . import files
     check_paths(folders={"--out": out})
     db = out / DB_NAME
     if os.path.lexists(db):
@@ -881,7 +793,6 @@ def default_presets_file(folders: list[Path], scenes_dir: Path | None, opts: Opt
     """The checkout's committed tuned presets for a run on every scene of the checkout at
     full size; DIR/tuned_presets.json for any other run (a crop, some scenes), so that a
     quick look never replaces the committed presets."""
-    from .compare import resolve_scenes
     if scenes_dir is not None and opts.crop is None:
         checkout = Path(scenes_dir).resolve().parent
         every = [f.resolve() for f in resolve_scenes([], scenes_dir)]
@@ -897,8 +808,6 @@ def run(opts: Options) -> dict:
 
     import optuna
 
-    from .compare import find_scenes_dir, resolve_scenes
-    from .provenance import git_commit, machine_info
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
     known = aolab.methods()
@@ -962,58 +871,9 @@ def _progress(enabled: bool, opts: Options, methods: list[str]):
                 file=sys.stderr)
 
 
-def add_tune_parser(sub):
-    max_trials = 100000
-    t = sub.add_parser(
-        "tune", help="search each method's settings: tuned presets per time budget",
-        description="Searches every setting of each method (and the shared blur) with "
-        "Optuna's multi-objective sampler for the Pareto front of occluded-region MAE against "
-        "time on the reference scenes, and writes the presets tuned-50ms ... tuned-500ms, "
-        "chosen within each budget on all scenes and scored leave-one-scene-out "
-        "(docs/tuning.md). Trials are kept in DIR/tune.db: Ctrl-C keeps them and the same "
-        "command resumes.")
-    t.add_argument("--methods", nargs="+", metavar="METHOD",
-                   help="methods to tune (default: every method that is not an oracle)")
-    t.add_argument("--trials", type=int_option("--trials", 1, max_trials),
-                   default=DEFAULT_TRIALS,
-                   help=f"trials each method's study should have, 1 to {max_trials} (a rerun "
-                   f"adds the missing ones; default {DEFAULT_TRIALS})")
-    t.add_argument("--scenes", nargs="+", metavar="SCENE",
-                   help="reference_scenes/<name> folders or names (default: every scene)")
-    t.add_argument("--out", default="out/tune", help="folder of tune.db (default out/tune)")
-    t.add_argument("--seed", type=int_option("--seed", 0, 2**32 - 1), default=0,
-                   help="the sampler's seed, 0 to 2^32 - 1 (default 0)")
-    t.add_argument("--timeout", type=float_option("--timeout", lo_inclusive=True, unit="s"),
-                   metavar="S", help="start no trial after S seconds, S >= 0 (all methods "
-                   "together)")
-    t.add_argument("--sampler", choices=("tpe", "nsga2"), default="tpe",
-                   help="Optuna's multi-objective TPE (default) or NSGA-II")
-    t.add_argument("--crop", metavar="WxH", help="tune on a centred crop of every scene "
-                   "(tests, quick looks: times are then not those of the full frame)")
-    t.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
-    t.add_argument("--presets-file", help="the tuned-presets JSON to update (default: the "
-                   "checkout's core/python/aolab/tuned_presets.json for a run on every scene "
-                   "at full size, else DIR/tuned_presets.json)")
-    add_timing_options(t, repeat=3, warmup=1, repeat_help="timed runs (their median)",
-                       warmup_help="untimed runs before the timed ones")
-    t.add_argument("--max-ms", type=float_option("--max-ms", unit="ms"), default=DEFAULT_MAX_MS,
-                   help="a configuration whose first run takes longer is timed by that run "
-                   f"alone (ms > 0; default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
-    t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar (default: when stderr is a terminal)")
-    return t
-
-
-def main(args) -> int:
-    """The ``aolab tune`` command (arguments from cli.py)."""
-    from .compare import parse_crop
-    opts = Options(methods=args.methods, trials=args.trials, scenes=args.scenes or [],
-                   out=Path(args.out), seed=args.seed, timeout=args.timeout,
-                   sampler=args.sampler, crop=parse_crop(args.crop),
-                   scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
-                   presets_file=Path(args.presets_file) if args.presets_file else None,
-                   timing=Timing(args.warmup, args.repeat, args.threads, args.max_ms),
-                   progress=args.progress if args.progress is not None else sys.stderr.isatty())
+def run_command(opts: Options) -> int:
+    """``aolab tune``: :func:`run` with its output folder held, Ctrl-C and `kill` keeping
+    the finished trials; the exit status."""
     try:
         import optuna  # noqa: F401
     except ImportError:

@@ -19,9 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import files
-from .regions import REGIONS
-from .scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
+from ..util import files
+from ..regions import REGIONS
+from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
+from . import pareto
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
@@ -671,14 +672,13 @@ def split_chart(plot_id: str, parts: list[dict]) -> str:
 
 def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list[dict]:
     """Per scene: the screen-space limit's, EEVEE's and the best tuned configuration's (within
-    ``budget_ms``, held out across methods: tune.best_across_methods) occluded MAE, and the
+    ``budget_ms``, held out across methods: pareto.best_across_methods) occluded MAE, and the
     verdict — "pass" where the limit is below EEVEE and the tuned configuration is too,
     "fail" where it is not, "limit" where even the limit is not below EEVEE (no screen-space
     method can be expected to beat it there), "unknown" where a number is missing."""
-    from .tune import best_across_methods
     tuned = results.get("tuned") or {}
-    best = best_across_methods(tuned.get("methods", {}), budget_ms) if tuned else {}
-    larger = (best_across_methods(tuned.get("methods", {}), LARGEST_TUNED_BUDGET_MS)
+    best = pareto.best_across_methods(tuned.get("methods", {}), budget_ms) if tuned else {}
+    larger = (pareto.best_across_methods(tuned.get("methods", {}), LARGEST_TUNED_BUDGET_MS)
               if tuned else {})
     out = []
     for name in results["meta"].get("scenes", []):
@@ -1118,29 +1118,6 @@ def render_html(results: dict, images: dict) -> str:
             "<title>AO Lab report</title>"
             f"<style>{CSS}</style><script>{CHECK_SCRIPT}</script></head><body>"
             + "\n".join(body) + "</body></html>\n")
-
-
-def with_generated_block(path: Path, begin: str, end: str, body: str, *,
-                         append_if_missing: bool = False) -> str:
-    """The text of the Markdown file `path` with `body` between the marker lines `begin` and
-    `end`, the rest as it was. A file without the markers is a ValueError naming them, or,
-    with `append_if_missing`, gets the block at its end. Called with an empty body before a
-    long run, it checks the file that write_generated_block will rewrite after it."""
-    text = files.read_text(path, "Markdown")
-    if begin in text and end in text:
-        return text[:text.index(begin) + len(begin)] + "\n\n" + body + "\n\n" + \
-            text[text.index(end):]
-    if append_if_missing:
-        return text.rstrip("\n") + "\n\n" + begin + "\n\n" + body + "\n\n" + end + "\n"
-    raise ValueError(f"{path} has no {begin!r} ... {end!r} block to replace")
-
-
-def write_generated_block(path: Path, begin: str, end: str, body: str, *,
-                          append_if_missing: bool = False) -> None:
-    """Replaces what lies between the marker lines `begin` and `end` of the Markdown file
-    `path` with `body`, atomically (with_generated_block)."""
-    text = with_generated_block(path, begin, end, body, append_if_missing=append_if_missing)
-    files.write_text(path, text)
 
 
 def write_report(path: Path, results: dict, images: dict) -> None:

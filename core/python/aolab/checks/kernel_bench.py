@@ -39,10 +39,10 @@ from pathlib import Path
 
 import aolab
 
-from . import files
-from .options import check_paths
-from .provenance import git_commit
-from . import presets as presets_module
+from ..util import files
+from ..util.files import check_paths
+from ..util.provenance import git_commit
+from .. import presets as presets_module
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
 SCENE = "blocks"
@@ -277,32 +277,34 @@ def _commit() -> str:
     return git_commit(Path(__file__).resolve().parent) or "unknown"
 
 
-def main(args) -> int:
-    size = SIZE
-    if args.size:
-        size = tuple(args.size)
+def run_table(methods: list[str] | None = None, *, preset: str | None = None, repeat: int = 5,
+              scaling: bool = False, radii: bool = False, size: tuple | None = None,
+              json_path: str | None = None, profile: str | None = None) -> int:
+    """``aolab bench-table``: the table printed (and written to ``json_path``), each
+    method's SIMD kernel profiled into ``profile`` if given; the exit status."""
+    size = tuple(size) if size else SIZE
     # Everything the command line names is checked before the first timing: the table takes
     # minutes, and a bad --json or --profile found after it would lose them.
-    methods = args.methods or default_methods()
+    methods = methods or default_methods()
     for method in methods:
-        bench_preset(method, args.preset)
-    check_paths(files={"--json": args.json}, folders={"--profile": args.profile})
-    if args.profile:
+        bench_preset(method, preset)
+    check_paths(files={"--json": json_path}, folders={"--profile": profile})
+    if profile:
         _need_perf()
-    preset = args.preset or f"{DEFAULT_BENCH_PRESET} (default where a method has none)"
+    shown = preset or f"{DEFAULT_BENCH_PRESET} (default where a method has none)"
     print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
-          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {preset}, "
-          f"median of {args.repeat} runs; {machine()}; SIMD target {simd_target()}")
-    print(header(args.scaling, args.radii))
-    rows = table(methods, preset=args.preset, repeat=args.repeat,
-                 scaling=args.scaling, radii=args.radii, size=size)
-    if args.json:
-        files.write_text(Path(args.json), json.dumps(rows, indent=2, default=float))
-    if args.profile:
+          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {shown}, "
+          f"median of {repeat} runs; {machine()}; SIMD target {simd_target()}")
+    print(header(scaling, radii))
+    rows = table(methods, preset=preset, repeat=repeat,
+                 scaling=scaling, radii=radii, size=size)
+    if json_path:
+        files.write_text(Path(json_path), json.dumps(rows, indent=2, default=float))
+    if profile:
         for row in rows:
             if row["method"] == BLUR_ROW:
                 continue
             print(f"\n## perf: {row['method']} ({row['preset']}, SIMD kernel, 2 threads)")
-            for line in profile(row["method"], row["settings"], Path(args.profile), size=size):
+            for line in profile(row["method"], row["settings"], Path(profile), size=size):
                 print(line)
     return 0

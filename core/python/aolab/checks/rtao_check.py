@@ -24,12 +24,13 @@ import numpy as np
 
 import aolab
 
-from .compare import find_scenes_dir, load_renders, noise_floor_peer, resolve_scenes
-from .bridge.constants import PEERS_DIR, PEERS_JSON
-from .regions import REGIONS, region_masks
-from . import files
-from .options import check_paths, int_option, threads_option
-from .report import with_generated_block, write_generated_block
+from ..scenes import find_scenes_dir, load_renders, noise_floor_peer, read_y_exr, resolve_scenes
+from ..bridge.constants import PEERS_DIR, PEERS_JSON
+from ..regions import REGIONS, region_masks
+from ..render.reference import default_cache
+from ..util import files
+from ..util.files import check_paths
+from ..util.markdown import with_generated_block, write_generated_block
 
 #: Rays per pixel of the check: the reference's own samples.
 CHECK_RAYS = 1024
@@ -67,7 +68,6 @@ def cache_dir() -> Path:
     """rtao's cached images: the folder rtao/ of the reference cache (reference.default_cache:
     $AOLAB_CACHE, else ~/.cache/aolab/references), so that $AOLAB_CACHE holds every cache of
     aolab and nothing is written beside it."""
-    from .reference import default_cache
     return default_cache() / "rtao"
 
 
@@ -95,7 +95,6 @@ def traced(folder: Path, g, mesh, rays: int, seed: int,
     where = cache_dir() / f"{folder.name}-{key}.exr"
     side = where.with_suffix(".json")
     if where.exists() and side.exists():
-        from .compare import read_y_exr
         return read_y_exr(where), json.loads(files.read_text(side, "rtao cache sidecar"))
     scene = aolab.ray_scene(mesh, g, threads=threads)
     t0 = time.perf_counter()
@@ -269,48 +268,29 @@ def check_doc(path: Path) -> None:
     with_generated_block(path, DOC_BEGIN, DOC_END, "")
 
 
-def add_parser(sub):
-    p = sub.add_parser(
-        "rtao-check", help="rtao at 1024 rays against the committed Cycles references",
-        description="Traces every committed scene with rtao at 1024 rays per pixel (cached) "
-        "and compares it with its Cycles 1024-spp reference: MAE and bias against the "
-        "reference's noise floor, per region, and where the largest difference sits "
-        "(docs/blender_bridge.md).")
-    p.add_argument("scenes", nargs="*", metavar="SCENE",
-                   help="reference_scenes/<name> folders or names (default: every scene with a "
-                   "reference.exr and a reference.mesh)")
-    p.add_argument("--rays", type=int_option("--rays", 1, 65536), default=CHECK_RAYS,
-                   help=f"rays per pixel (default {CHECK_RAYS})")
-    p.add_argument("--seed", type=int_option("--seed", 0, 2**31 - 1), default=0)
-    p.add_argument("--threads", type=threads_option(), default=0)
-    p.add_argument("--out", default="out/rtao_check", help="folder for agreement.md, "
-                   "agreement.json and the difference images (default out/rtao_check)")
-    p.add_argument("--update-doc", metavar="MD", help="also replace the generated block of this "
-                   "Markdown file (docs/blender_bridge.md) with the table")
-    return p
-
-
-def main(args) -> int:
-    """The ``aolab rtao-check`` command (arguments from cli.py).
+def run_check(scenes: list[str], *, rays: int = CHECK_RAYS, seed: int = 0, threads: int = 0,
+              out: str = "out/rtao_check", update_doc: str | None = None) -> int:
+    """``aolab rtao-check`` on ``scenes`` (none: every scene with a mesh); the exit status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
-    check_paths(folders={"--out": args.out})
-    if args.update_doc:
-        check_doc(Path(args.update_doc))
-    with files.output_lock(args.out, "aolab rtao-check"):
-        return _main(args)
+    check_paths(folders={"--out": out})
+    if update_doc:
+        check_doc(Path(update_doc))
+    with files.output_lock(out, "aolab rtao-check"):
+        return _check(scenes, rays=rays, seed=seed, threads=threads, out=out,
+                      update_doc=update_doc)
 
 
-def _main(args) -> int:
+def _check(scenes, *, rays, seed, threads, out, update_doc) -> int:
     scenes_dir = find_scenes_dir()
-    folders = resolve_scenes(args.scenes, scenes_dir)
-    if not args.scenes:
+    folders = resolve_scenes(scenes, scenes_dir)
+    if not scenes:
         folders = [f for f in folders if (f / "reference.mesh").exists()]
-    out = Path(args.out)
+    out = Path(out)
     results = []
     for folder in folders:
         t0 = time.perf_counter()
-        r = check_scene(folder, args.rays, args.seed, args.threads, out)
+        r = check_scene(folder, rays, seed, threads, out)
         print(f'{r["scene"]}: MAE {r["mae"]:.4f} (floor {r["noise_floor"]:.4f}), bias '
               f'{r["bias"]:+.5f} ± {r["bias_se"]:.1e}: '
               f'{verdict(r).strip("*")} ({time.perf_counter() - t0:.0f} s)',
@@ -318,12 +298,12 @@ def _main(args) -> int:
         results.append(r)
     table = markdown(results)
     info = results[0]["rtao"] if results else {}
-    meta = (f"`aolab rtao-check` at {args.rays} rays per pixel, seed {args.seed}, "
+    meta = (f"`aolab rtao-check` at {rays} rays per pixel, seed {seed}, "
             f"{info.get('threads', '?')} threads, on {time.strftime('%Y-%m-%d')}.")
     files.write_together([(out / "agreement.md", (meta + "\n\n" + table + "\n").encode()),
                           (out / "agreement.json", json.dumps(results, indent=1).encode())])
     print(table)
-    if args.update_doc:
-        update_doc(Path(args.update_doc), table, meta)
-        print(f"updated {args.update_doc}")
+    if update_doc:
+        update_doc(Path(update_doc), table, meta)
+        print(f"updated {update_doc}")
     return 0 if all(r["agrees"] or r["agrees_outside_coincident_faces"] for r in results) else 1

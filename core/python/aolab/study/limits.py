@@ -27,7 +27,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -35,12 +34,11 @@ import numpy as np
 
 import aolab
 
-from . import files
-from .options import MAX_THREADS, check_paths, checked_type, int_option, threads_option
-from .provenance import git_commit
+from ..scenes import LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes
+from ..util import files
+from ..util.files import check_paths
+from ..util.provenance import git_commit
 
-LIMITS_DIR = "limits"          # reference_scenes/<scene>/limits/
-LIMITS_JSON = "limits.json"
 LIMIT_METHOD = "screen_space_limit"
 #: Thicknesses of the committed limits as multiples of R. A height field (inf) counts
 #: everything behind a visible surface as solid and over-occludes; a thin shell (0.1 R) lets
@@ -106,7 +104,7 @@ def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
 def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: bool,
                   log=print) -> list[dict]:
     """Computes the missing or stale limits of one scene folder; returns its entries."""
-    from .bridge.exr import write_gray
+    from ..bridge.exr import write_gray
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     digest = file_sha256(folder / "reference.exr")
@@ -157,42 +155,14 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
     return read_entries(folder)
 
 
-def main(args) -> int:
-    """The ``aolab limits`` command (arguments from cli.py)."""
-    from .compare import find_scenes_dir, resolve_scenes
-    check_paths(inputs={"--scenes-dir": args.scenes_dir})
-    thickness = [parse_thickness(t) for t in args.thickness] if args.thickness else THICKNESS_R
-    scenes_dir = Path(args.scenes_dir) if args.scenes_dir else find_scenes_dir()
-    for folder in resolve_scenes(args.scenes, scenes_dir):
+def compute_scenes(specs: list[str], *, thickness: list[float] | None = None, rays: int = RAYS,
+                   threads: int = 0, force: bool = False, scenes_dir: Path | None = None) -> None:
+    """``aolab limits``: the limits of each scene of ``specs`` (names, folders; none: every
+    scene of ``scenes_dir``, default find_scenes_dir()) at ``thickness`` (multiples of R,
+    default THICKNESS_R), each scene's limits folder held while it is written."""
+    check_paths(inputs={"--scenes-dir": scenes_dir})
+    thickness = [parse_thickness(t) for t in thickness] if thickness else list(THICKNESS_R)
+    for folder in resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir()):
         # One run at a time per scene: two would each rewrite limits.json from what they read.
         with files.output_lock(folder / LIMITS_DIR, "aolab limits"):
-            compute_scene(folder, thickness, args.rays, args.threads, args.force)
-    return 0
-
-
-def add_limits_parser(sub):
-    p = sub.add_parser(
-        "limits", help="compute the screen-space limit of each reference scene (committed)",
-        description="Computes the screen_space_limit oracle on each reference scene at several "
-        "thicknesses (multiples of R) and writes reference_scenes/<scene>/limits/ "
-        "(limits.json and one EXR each), which aolab compare reads. Up-to-date entries are "
-        "kept; minutes per scene and thickness on 2 cores.")
-    p.add_argument("scenes", nargs="*", metavar="SCENE",
-                   help="reference_scenes/<name> folders or names (default: every scene)")
-    p.add_argument("--thickness", nargs="+", metavar="T",
-                   type=checked_type(parse_thickness, "--thickness"),
-                   help=f"thicknesses in multiples of R, in (0, {MAX_THICKNESS_R:g}], inf = "
-                   "height field (default "
-                   + " ".join(f"{t:g}" for t in THICKNESS_R) + ")")
-    p.add_argument("--rays", type=int_option("--rays", 1, 65536), default=RAYS,
-                   help=f"rays per pixel, 1 to 65536 (default {RAYS})")
-    p.add_argument("--threads", type=threads_option(), default=0,
-                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
-    p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
-    p.add_argument("--force", action="store_true", help="recompute even if up to date")
-    return p
-
-
-if __name__ == "__main__":
-    from .cli import main as cli_main
-    sys.exit(cli_main(["limits"] + sys.argv[1:]))
+            compute_scene(folder, thickness, rays, threads, force)

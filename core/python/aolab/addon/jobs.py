@@ -27,12 +27,12 @@ from pathlib import Path
 
 import aolab
 
-from .. import files
+from ..util import files
 from ..scoring import error_map, metrics_mask, nothing_to_score
-from .constants import RESULT_EXR, RESULT_JSON
+from ..bridge.constants import RESULT_EXR, RESULT_JSON
 
 PYTHON = "/usr/bin/python3"
-DRIVER = "aolab.bridge.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
+DRIVER = "aolab.addon.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
 TERMINATE_GRACE_S = 10.0
 # Share of the progress bar per stage of a reference render (G-buffer render, AO render).
 STAGE_SPAN = {"start": (0.0, 0.02), "prepare": (0.02, 0.03), "gbuffer": (0.03, 0.06),
@@ -174,7 +174,7 @@ def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
 def _child_env() -> dict:
     """The environment of reference_job.py: this aolab package first on its path, so that the
     child (and the Blender it starts) use the same build as the add-on."""
-    from ..reference import package_path
+    from ..render.reference import package_path
     paths = [package_path()] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
                                 if p]
     return dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
@@ -280,7 +280,7 @@ def compare_task(job: Job, plan: dict) -> dict:
 def report_task(job: Job, plan: dict) -> dict:
     """The comparison study (`aolab compare`, quick sweep) on one scene: the folder of its
     reference.exr, for the chosen methods; writes report.html, results.csv, results.json."""
-    from .. import compare
+    from ..study import compare
     job.report(0.05, "running the comparison study")
     out = Path(plan["out"])
     opts = compare.Options(scenes=[str(plan["folder"])], methods=list(plan["methods"]) or None,

@@ -1,16 +1,14 @@
-"""Option types shared by every ``aolab`` command: values validated when the command line is
-read (argparse's ``type=``), the bounds they share, and the check of the paths a command's
-options name before its work starts. It sits below the command modules and cli.py, which
-all import it; it imports no command."""
+"""Command-line values checked when they are read: argparse ``type=`` functions that name the
+option and the text they refuse, the bounds they share, and ``Parser``, argparse with two gaps
+closed. Shared by the ``aolab`` command (aolab.cli) and the bridge's entry point inside
+Blender (blender_addon/aolab_blender/batch.py), which must not import the command line.
+They parse text into values and read no parsed options: that is the command line's work."""
 
 from __future__ import annotations
 
 import argparse
 import math
-import os
-from pathlib import Path
-
-from . import files as files_mod
+import sys
 
 
 # --- option values, validated when the command line is read --------------------------------
@@ -132,41 +130,22 @@ def size_option(name: str):
     return parse
 
 
-def threads_option():
-    return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
+class Parser(argparse.ArgumentParser):
+    """argparse with two gaps closed: Python 3.11's argparse drops a value ``--`` given as
+    ``--OPT=--`` and stores an empty list without calling the option's ``type``, so the
+    range check never runs. Here ``--OPT=--`` is refused like any other bad value. And its
+    "unrecognized arguments" message shows them as typed, so a newline in one split the
+    message over lines; here it is one line. Subcommand parsers are of this class too
+    (add_subparsers makes them of the parent's class), each checking its own options."""
 
+    def error(self, message):
+        super().error(message.replace("\r", "\\r").replace("\n", "\\n"))
 
-def add_timing_options(q, *, repeat: int, warmup: int, repeat_help: str = "timed runs",
-                       warmup_help: str = "untimed runs before them") -> None:
-    """--threads, --repeat and --warmup with their ranges (bench, compare, tune)."""
-    q.add_argument("--threads", type=threads_option(), default=0,
-                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
-    q.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=repeat,
-                   help=f"{repeat_help}, 1 to {MAX_RUNS} (default {repeat})")
-    q.add_argument("--warmup", type=int_option("--warmup", 0, MAX_RUNS), default=warmup,
-                   help=f"{warmup_help}, 0 to {MAX_RUNS} (default {warmup})")
-
-
-def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
-                inputs: dict = {}) -> None:
-    """Checks, before a command's work starts, the paths its options name ({option: path};
-    an option left unset is skipped), so that a mistyped path costs no hours of work: an
-    output file (``files``: its folder exists and is writable, the path is no folder or
-    special file), an output folder (``folders``: a folder, or one that can be made), a file
-    rewritten in place (``edited``: an existing regular file that can be replaced), an input
-    folder (``inputs``: an existing folder). A ValueError naming the option otherwise."""
-    for option, path in files.items():
-        if path:
-            files_mod.check_output_file(path, option)
-    for option, path in folders.items():
-        if path:
-            files_mod.check_output_folder(path, option)
-    for option, path in edited.items():
-        if path:
-            files_mod.regular_file(path, option)
-            files_mod.check_output_file(path, option)
-    for option, path in inputs.items():
-        if path and not Path(path).is_dir():
-            what = "does not exist" if not os.path.lexists(path) else "is not a folder"
-            raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
-                             f"{what}")
+    def parse_known_args(self, args=None, namespace=None):
+        for text in sys.argv[1:] if args is None else args:
+            if text == "--":   # what follows is positional
+                break
+            option = text[:-3] if text.endswith("=--") else None
+            if option in self._option_string_actions:
+                self.error(f"argument {option}: expected one value, got '--'")
+        return super().parse_known_args(args, namespace)

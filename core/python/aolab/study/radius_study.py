@@ -36,9 +36,11 @@ import numpy as np
 
 import aolab
 
-from . import files
-from .options import MAX_SAMPLES, add_timing_options, float_option, int_option
-from .provenance import machine_info
+from ..util import files
+from ..render import reference
+from ..scenes import find_scenes_dir, load_scene
+from ..util.provenance import machine_info
+from .compare import score, timed
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
 DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
@@ -114,7 +116,6 @@ def configurations(scale: float, radius_px: float) -> list[dict]:
 
 def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: int,
              repeat: int) -> list[dict]:
-    from .compare import load_scene, score, timed
     scene = load_scene(folder)
     radius_px = median_projected_radius(scene.g, scene.radius)
     rows = []
@@ -197,8 +198,6 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -
     """(scene name, scale, reference.Plan) for every scene and scale; the passes are given
     (depth and normal, which all three methods read), so the plans do not depend on which
     methods are registered."""
-    from . import reference
-    from .compare import find_scenes_dir
     scenes_dir = scenes_dir or find_scenes_dir()
     if scenes_dir is None:
         raise ValueError("no reference_scenes folder found: give --scenes-dir")
@@ -215,68 +214,55 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -
     return plans
 
 
-def main(args) -> int:
-    """The ``aolab radius-study`` command (arguments from add_parser).
+def run_study(scenes: list[str] = DEFAULT_SCENES, *, scales=DEFAULT_SCALES,
+              resolution: str = "x".join(map(str, DEFAULT_RESOLUTION)), spp: int = DEFAULT_SPP,
+              threads: int = 0, warmup: int = 1, repeat: int = 5, cache: str | None = None,
+              scenes_dir: str | None = None, out: str = "out/radius_study",
+              quiet: bool = False) -> int:
+    """``aolab radius-study``: the exit status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first
     (--out was refused after the renders, 35 min)."""
-    from . import reference
-    reference.check_path_options(args)
-    with files.output_lock(args.out, "aolab radius-study"):
-        return _main(args)
+    reference.Delivery(cache=cache, out=out).check()
+    with files.output_lock(out, "aolab radius-study"):
+        size = reference.parse_resolution(resolution)
+        plans = study_plans(list(scenes), list(scales), size, spp,
+                            Path(scenes_dir) if scenes_dir else None)
+        started = time.time()
+        rows = measure(plans, cache, threads=threads, warmup=warmup, repeat=repeat,
+                       quiet=quiet)
+        result = {"command": "aolab radius-study " + " ".join(sys.argv[2:]),
+                  "machine": machine_info(threads), "resolution": list(size), "spp": spp,
+                  "repeat": repeat, "warmup": warmup,
+                  "seconds": round(time.time() - started, 1), "rows": rows}
+        write(result, Path(out))
+    return 0
 
 
-def _main(args) -> int:
-    from . import reference
-    resolution = reference.parse_resolution(args.resolution)
-    plans = study_plans(args.scenes, args.scales, resolution, args.spp,
-                        Path(args.scenes_dir) if args.scenes_dir else None)
-    started = time.time()
+def measure(plans, cache, *, threads: int, warmup: int, repeat: int, quiet: bool) -> list:
+    """Every reference of ``plans`` rendered (or cached) first, the renders being the long
+    part; then each method timed and scored at each radius."""
     rows = []
     for name, scale, plan in plans:   # every reference first: the renders are the long part
-        folder, cached = reference.render(plan, args.cache, progress=not args.quiet)
+        folder, cached = reference.render(plan, cache, progress=not quiet)
         print(f"{name} x{scale:g}: reference {'cached' if cached else 'rendered'} ({folder})",
               file=sys.stderr)
     for name, scale, plan in plans:
-        folder, _ = reference.render(plan, args.cache, progress=False)
-        rows += run_case(name, folder, scale, args.threads, args.warmup, args.repeat)
+        folder, _ = reference.render(plan, cache, progress=False)
+        rows += run_case(name, folder, scale, threads, warmup, repeat)
         print(f"{name} x{scale:g}: " + ", ".join(
             f"{r['label']} {r['median_ms']:.1f} ms MAE {r['mae']:.4f}" for r in rows[-5:]),
             file=sys.stderr)
-    out = Path(args.out)
+    return rows
+
+
+def write(result: dict, out: Path) -> None:
+    """radius_study.json and .md put in place together, the plot beside them, the table
+    printed."""
     out.mkdir(parents=True, exist_ok=True)
-    result = {"command": "aolab radius-study " + " ".join(sys.argv[2:]),
-              "machine": machine_info(args.threads), "resolution": list(resolution),
-              "spp": args.spp, "repeat": args.repeat, "warmup": args.warmup,
-              "seconds": round(time.time() - started, 1), "rows": rows}
+    rows = result["rows"]
     files.write_together([
         (out / "radius_study.json", (json.dumps(result, indent=1) + "\n").encode()),
         (out / "radius_study.md", table(rows).encode())])
     plot(rows, out / "radius_study.svg")
     print(table(rows))
-    return 0
-
-
-def add_parser(sub):
-    p = sub.add_parser(
-        "radius-study", help="HBAO, Pyramid HBAO and Scalable AO against the radius",
-        description="Repeats the Pyramid HBAO paper's comparison (§4, Tables 1a-1c, Fig. 8): "
-        "each scene at several multiples of its R, a cached Cycles reference per radius "
-        "(rendered on first use: about 35 min for the defaults on 2 cores), time without "
-        "filters and MAE/SSIM with them.")
-    p.add_argument("scenes", nargs="*", metavar="SCENE", default=list(DEFAULT_SCENES),
-                   help="reference_scenes names (default: " + " ".join(DEFAULT_SCENES) + ")")
-    p.add_argument("--scales", nargs="+", type=float_option("--scales", hi=64.0),
-                   default=list(DEFAULT_SCALES),
-                   help="multiples of each scene's R (default " +
-                   " ".join(f"{s:g}" for s in DEFAULT_SCALES) + ")")
-    p.add_argument("--resolution", default="x".join(map(str, DEFAULT_RESOLUTION)),
-                   help="WxH of the references (default %(default)s)")
-    p.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES), default=DEFAULT_SPP,
-                   help=f"reference samples (default {DEFAULT_SPP})")
-    add_timing_options(p, repeat=5, warmup=1)
-    p.add_argument("--cache", help="reference cache (default as aolab reference)")
-    p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
-    p.add_argument("--out", default="out/radius_study", help="output folder")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    return p

@@ -107,14 +107,17 @@ def window(threads: int) -> int:
     return max(MIN_WINDOW, WINDOW_PER_THREAD * threads)
 
 
-def run_plans(plans: list[reference.Plan], args) -> int:
-    """The plans as jobs on the cluster, a window of them at a time (``window``); their files
-    copied to --out as they finish."""
+def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
+              scheduler: str | None = None, workers: int = 1) -> int:
+    """The plans as jobs on the cluster at ``scheduler`` (None: a local one of ``workers``),
+    a window of them at a time (``window``); their files copied to ``delivery.out`` as they
+    finish. The exit status."""
     from distributed import Event, as_completed
-    cache = Path(args.cache).resolve() if args.cache else reference.default_cache()
+    cache = delivery.cache_folder().resolve()
     cache.mkdir(parents=True, exist_ok=True)
+    out = delivery.out
     several = len({p.scene.name for p in plans}) > 1
-    client, cluster = connect(getattr(args, "scheduler", None), args.workers)
+    client, cluster = connect(scheduler, workers)
     stop = Event(f"aolab-stop-{uuid.uuid4().hex}", client=client)
     # Jobs are submitted as earlier ones are collected, never all at once: submitting costs
     # the client a few milliseconds and its memory per job, so 100000 frames submitted up
@@ -127,7 +130,7 @@ def run_plans(plans: list[reference.Plan], args) -> int:
         while len(in_flight) < size and (plan := next(todo, None)) is not None:
             # pure=False: a key per submission, so that a second run re-submits; the cache
             # makes a finished job return at once.
-            f = client.submit(render_job, plan, str(cache), args.force, stop.name, pure=False,
+            f = client.submit(render_job, plan, str(cache), delivery.force, stop.name, pure=False,
                               key=f"aolab-reference-{plan.key()}-{uuid.uuid4().hex[:8]}")
             in_flight[f] = plan
             finished.add(f)
@@ -138,7 +141,7 @@ def run_plans(plans: list[reference.Plan], args) -> int:
     old = signal.signal(signal.SIGTERM, terminated)
     done = 0
     try:
-        quiet = args.quiet or not sys.stderr.isatty()
+        quiet = delivery.quiet or not sys.stderr.isatty()
         last = sized = -float("inf")
         size = MIN_WINDOW
         while True:
@@ -152,9 +155,9 @@ def run_plans(plans: list[reference.Plan], args) -> int:
                 plan = in_flight[f]
                 result = f.result()   # a job's error (a ReferenceError) is the command's
                 folder = Path(result["folder"])
-                if args.out:
+                if out:
                     reference.copy_result(plan, folder,
-                                          reference.output_folder(args.out, plan, several))
+                                          reference.output_folder(out, plan, several))
                 # Done once copied, before its line: a job interrupted earlier is still in
                 # flight, and counted there if it finished.
                 del in_flight[f]
@@ -163,7 +166,7 @@ def run_plans(plans: list[reference.Plan], args) -> int:
                 how = "cached" if result["cached"] else \
                     f"rendered in {result['seconds']:.1f} s on {result['worker']}"
                 print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
-                      + (f" (copied to {args.out})" if args.out else ""), flush=True)
+                      + (f" (copied to {out})" if out else ""), flush=True)
             now = time.monotonic()
             if not quiet and now - last >= PROGRESS_S:
                 running = _running(client, in_flight)
@@ -190,7 +193,7 @@ def run_plans(plans: list[reference.Plan], args) -> int:
         client.close()
         if cluster is not None:
             cluster.close()
-        reference._remove_stale_temporaries(cache)
+        reference.remove_stale_temporaries(cache)
     return 0
 
 

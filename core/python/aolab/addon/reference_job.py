@@ -1,4 +1,4 @@
-"""Run by the add-on as `/usr/bin/python3 -m aolab.bridge.reference_job --scene COPY.blend
+"""Run by the add-on as `/usr/bin/python3 -m aolab.addon.reference_job --scene COPY.blend
 ...` (no bpy; jobs.render_reference).
 
 `aolab reference` for one scene (aolab.reference: the same plan, cache and Blender batch
@@ -18,7 +18,7 @@ import signal
 import sys
 from pathlib import Path
 
-from .. import reference
+from ..render import reference
 
 
 class LineBar:

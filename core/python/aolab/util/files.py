@@ -26,7 +26,7 @@ import os
 import stat
 from pathlib import Path
 
-from . import _core
+from .. import _core
 
 #: The lock file :func:`output_lock` keeps in an output folder (hidden; it holds the owner).
 LOCK_NAME = ".aolab.lock"
@@ -199,3 +199,28 @@ def _locked(lock: Path, owner: str) -> int:
             os.pwrite(fd, f"{owner} (pid {os.getpid()})\n".encode(), 0)
             return fd
         os.close(fd)
+
+
+def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
+                inputs: dict = {}) -> None:
+    """Checks, before a command's work starts, the paths its options name ({option: path};
+    an option left unset is skipped), so that a mistyped path costs no hours of work: an
+    output file (``files``: its folder exists and is writable, the path is no folder or
+    special file), an output folder (``folders``: a folder, or one that can be made), a file
+    rewritten in place (``edited``: an existing regular file that can be replaced), an input
+    folder (``inputs``: an existing folder). A ValueError naming the option otherwise."""
+    for option, path in files.items():
+        if path:
+            check_output_file(path, option)
+    for option, path in folders.items():
+        if path:
+            check_output_folder(path, option)
+    for option, path in edited.items():
+        if path:
+            regular_file(path, option)
+            check_output_file(path, option)
+    for option, path in inputs.items():
+        if path and not Path(path).is_dir():
+            what = "does not exist" if not os.path.lexists(path) else "is not a folder"
+            raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
+                             f"{what}")

@@ -33,11 +33,12 @@ import numpy as np
 
 import aolab
 
-from .bridge.constants import PEERS_DIR
-from .compare import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
-from . import files
-from .options import check_paths, int_option
-from .report import write_generated_block
+from ..bridge.constants import PEERS_DIR
+from ..scenes import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
+from ..util import files
+from ..render import reference
+from ..util.files import check_paths
+from ..util.markdown import write_generated_block
 
 #: The AO pass's samples: a Cycles rung the committed peers have (their 64-spp render), so
 #: that its expected error is measured, not modelled; 1/16 of a reference's time.
@@ -156,7 +157,6 @@ def verdicts(r: dict) -> dict:
 
 def check_scene(label: str, folder: Path, frame: int | None, spp: int, cache: Path | None,
                 blender: str | None) -> dict:
-    from . import reference
     committed_dir = frame_folder(folder, frame) if frame is not None else folder
     committed = aolab.load_gbuffer(committed_dir / "reference.exr")
     scene = reference.resolve_scene(str(folder))
@@ -208,46 +208,25 @@ def update_doc(path: Path, version: str, body: str) -> None:
                           DOC_END.format(version=version), body, append_if_missing=True)
 
 
-def add_parser(sub):
-    p = sub.add_parser(
-        "bridge-check", help="this Blender's G-buffer export and AO pass against the "
-        "committed references",
-        description="Exports every committed scene again with the Blender at hand (G-buffer "
-        "and Cycles AO pass, cached) and compares it with the committed reference: "
-        "intrinsics exactly, depth and normals bit for bit or within a stated tolerance, the "
-        "AO pass statistically against the committed Cycles rung at the same samples "
-        "(docs/blender_bridge.md).")
-    p.add_argument("scenes", nargs="*", metavar="NAME",
-                   help="reference_scenes/<NAME> (default: every committed scene and frame)")
-    p.add_argument("--spp", type=int_option("--spp", 1, 65536), default=CHECK_SPP,
-                   help=f"samples of the AO pass (default {CHECK_SPP}, a committed rung)")
-    p.add_argument("--cache", help="reference cache folder (default: as aolab reference)")
-    p.add_argument("--out", default="out/bridge_check",
-                   help="folder for agreement.md and agreement.json (default out/bridge_check)")
-    p.add_argument("--update-doc", metavar="MD", help="also write the table into this Markdown "
-                   "file (docs/blender_bridge.md), in the block of this Blender release")
-    return p
-
-
-def main(args) -> int:
-    """The ``aolab bridge-check`` command (arguments from cli.py).
+def run_check(scenes: list[str], *, spp: int = CHECK_SPP, cache: str | None = None,
+              out: str = "out/bridge_check", update_doc: str | None = None) -> int:
+    """``aolab bridge-check`` on ``scenes`` (none: every committed scene and frame); the exit
+    status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
-    from . import reference
-    reference.check_path_options(args)
-    check_paths(edited={"--update-doc": args.update_doc})
-    with files.output_lock(args.out, "aolab bridge-check"):
-        return _main(args)
+    reference.Delivery(cache=cache, out=out).check()
+    check_paths(edited={"--update-doc": update_doc})
+    with files.output_lock(out, "aolab bridge-check"):
+        return _check(scenes, spp=spp, cache=cache, out=out, update_doc=update_doc)
 
 
-def _main(args) -> int:
-    from . import reference
-    items = committed_scenes(find_scenes_dir(), args.scenes)   # every error before a render
+def _check(scenes, *, spp, cache, out, update_doc) -> int:
+    items = committed_scenes(find_scenes_dir(), scenes)   # every error before a render
     blender = reference.find_blender()
     version = reference.blender_version(blender)
     results = []
     for label, folder, frame in items:
-        r = check_scene(label, folder, frame, args.spp, Path(args.cache) if args.cache else None,
+        r = check_scene(label, folder, frame, spp, Path(cache) if cache else None,
                         blender)
         print(f'{label}: G-buffer {"agrees" if r.get("gbuffer_agrees") else "DIFFERS"}, AO '
               f'MAE {r.get("ao_mae", math.nan):.4f} (3.4 rung '
@@ -257,15 +236,15 @@ def _main(args) -> int:
     table = markdown(results)
     meta = (f"`aolab bridge-check` with Blender {version} against the committed references "
             f"(Blender {results[0]['committed_blender'] if results else '?'}), AO pass at "
-            f"{args.spp} spp, on {time.strftime('%Y-%m-%d')}.")
-    out = Path(args.out)
+            f"{spp} spp, on {time.strftime('%Y-%m-%d')}.")
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     files.write_together([(out / "agreement.md", (meta + "\n\n" + table + "\n").encode()),
                           (out / "agreement.json", json.dumps(results, indent=1).encode())])
     print(meta + "\n\n" + table)
-    if args.update_doc:
-        update_doc(Path(args.update_doc), ".".join(version.split(".")[:2]), meta + "\n\n" + table)
-        print(f"updated {args.update_doc}")
+    if update_doc:
+        update_doc(Path(update_doc), ".".join(version.split(".")[:2]), meta + "\n\n" + table)
+        print(f"updated {update_doc}")
     ok = all(r.get("intrinsics_agree") and r.get("gbuffer_agrees") and r.get("ao_agrees")
              for r in results)
     return 0 if ok else 1

@@ -28,11 +28,11 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import files
-from .options import check_paths
-from .bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
-                               RESULT_MESH, RESULT_MESH_JSON)
-from .bridge.passes import parse_passes, required_passes
+from ..util import files
+from ..util.files import check_paths
+from ..bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
+                                RESULT_MESH, RESULT_MESH_JSON)
+from ..bridge.passes import parse_passes, required_passes
 
 SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build scripts
 #: Environment variable naming the folder that holds this aolab package, for Blender's
@@ -99,7 +99,7 @@ def bridge_script() -> Path:
     build writes that folder into aolab/_build_info.py. The add-on's package is never
     imported here (it needs bpy); only Blender runs it."""
     try:
-        from ._build_info import ADDON_SOURCE_DIR
+        from .._build_info import ADDON_SOURCE_DIR
     except ImportError:
         raise ReferenceError("this aolab package does not say where its Blender add-on's "
                              "sources are (no aolab/_build_info.py): build it with "
@@ -117,7 +117,7 @@ def recorded_source(path: Path) -> str:
     absolute for any other scene."""
     p = Path(path).resolve()
     try:
-        from ._build_info import ADDON_SOURCE_DIR
+        from .._build_info import ADDON_SOURCE_DIR
         return p.relative_to(Path(ADDON_SOURCE_DIR).resolve().parent).as_posix()
     except (ImportError, ValueError):
         return str(p)
@@ -301,7 +301,7 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
             return hit, True
     blender = blender or find_blender()
     cache.mkdir(parents=True, exist_ok=True)
-    _remove_stale_temporaries(cache)
+    remove_stale_temporaries(cache)
     key = plan.key(blender)
     final = cache / key
     tmp = cache / f".{key}.tmp-{os.getpid()}"
@@ -380,7 +380,7 @@ def _die_with_parent(cmd: list[str]) -> list[str]:
     """cmd run under util-linux's `setpriv --pdeathsig KILL` where it exists (Linux): if this
     process dies (a Dask worker killed, `kill -9`), the kernel kills Blender too, instead of
     leaving it rendering for nobody. Its temporary folder is then removed by the next render's
-    clean-up (_remove_stale_temporaries)."""
+    clean-up (remove_stale_temporaries)."""
     setpriv = shutil.which("setpriv")
     return [setpriv, "--pdeathsig", "KILL", "--"] + cmd if setpriv else cmd
 
@@ -394,7 +394,7 @@ def _xvfb() -> list[str]:
     return [path, "-a", "-s", "-screen 0 1280x1024x24"]
 
 
-def _remove_stale_temporaries(cache: Path) -> None:
+def remove_stale_temporaries(cache: Path) -> None:
     """Temporary folders (`.<key>.tmp-<pid>`) of renders whose process no longer exists (a
     killed machine, SIGKILL) are removed; those of running renders are left alone."""
     for tmp in cache.glob(".*.tmp-*"):
@@ -543,42 +543,65 @@ def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
     return out
 
 
-def command_plans(args) -> list[Plan]:
-    """The plans of an `aolab reference` command line (arguments from cli.py), every error
-    raised before any render. cli.py runs them here (run_plans) or on a cluster
-    (cluster.run_plans), so that this module never imports the cluster, which imports it."""
-    check_path_options(args)
-    resolution = parse_resolution(args.resolution) if args.resolution else None
-    scenes = [resolve_scene(s) for s in args.scenes]  # every error before any render
-    plans = [make_plan(s, spp=args.spp, radius=args.radius, methods=args.methods,
-                       passes=args.passes.split(",") if args.passes else None,
-                       resolution=resolution, camera=args.camera,
-                       gbuffer_samples=args.gbuffer_samples) for s in scenes]
-    if args.peers:
-        ladder = args.ladder if args.ladder is not None else LADDER_SPP
-        if not ladder and args.no_eevee:
+def command_plans(scenes: list[str], *, spp: int | None = None, radius: float | None = None,
+                  methods: list[str] | None = None, passes: str | None = None,
+                  resolution: str | None = None, camera: str | None = None,
+                  gbuffer_samples: int = 1, peers: bool = False,
+                  ladder: tuple[int, ...] | None = None, no_eevee: bool = False,
+                  frames=None) -> list[Plan]:
+    """The plans of an `aolab reference` call (its options by name), every error raised
+    before any render. The caller runs them here (run_plans) or on a cluster
+    (aolab.render.cluster.run_plans); this module never imports the cluster."""
+    size = parse_resolution(resolution) if resolution else None
+    found = [resolve_scene(s) for s in scenes]  # every error before any render
+    plans = [make_plan(s, spp=spp, radius=radius, methods=methods,
+                       passes=passes.split(",") if passes else None,
+                       resolution=size, camera=camera,
+                       gbuffer_samples=gbuffer_samples) for s in found]
+    if peers:
+        ladder = ladder if ladder is not None else LADDER_SPP
+        if not ladder and no_eevee:
             raise ReferenceError("--ladder none with --no-eevee leaves nothing to render")
         for plan in plans:
-            plan.peers, plan.ladder, plan.eevee = True, ladder, not args.no_eevee
-    frames = args.frames
+            plan.peers, plan.ladder, plan.eevee = True, ladder, not no_eevee
     if isinstance(frames, str):
         frames = parse_frames(frames)
     return per_frame(plans, frames)
 
 
-def mesh_main(args) -> int:
-    """The `aolab mesh` command: each scene's world-space triangles as Cycles renders them,
-    without rendering, at the resolution and camera a reference of it has (so that the
-    scene_hash of reference.mesh.json equals reference.json's)."""
-    check_path_options(args)
-    resolution = parse_resolution(args.resolution) if args.resolution else None
-    scenes = [resolve_scene(s) for s in args.scenes]  # every error before any export
-    plans = [make_plan(s, passes=["depth"], resolution=resolution, camera=args.camera)
-             for s in scenes]
+@dataclass(frozen=True)
+class Delivery:
+    """Where rendered plans go and how: the cache (None: default_cache()), a folder to copy
+    each result to (``out``, optional), rendering again what is cached (``force``) and the
+    progress bar off (``quiet``)."""
+    cache: str | None = None
+    out: str | None = None
+    force: bool = False
+    quiet: bool = False
+
+    def check(self) -> None:
+        """--cache and --out, checked before Blender starts: a --cache that is a file said
+        "File exists" only once the render was to be stored, and a bad --out failed after
+        the render."""
+        check_paths(folders={"--cache": self.cache, "--out": self.out})
+
+    def cache_folder(self) -> Path:
+        return Path(self.cache) if self.cache else default_cache()
+
+
+def export_meshes(scenes: list[str], delivery: Delivery, *, resolution: str | None = None,
+                  camera: str | None = None) -> int:
+    """`aolab mesh`: each scene's world-space triangles as Cycles renders them, without
+    rendering, at the resolution and camera a reference of it has (so that the scene_hash of
+    reference.mesh.json equals reference.json's); the exit status."""
+    delivery.check()
+    size = parse_resolution(resolution) if resolution else None
+    found = [resolve_scene(s) for s in scenes]  # every error before any export
+    plans = [make_plan(s, passes=["depth"], resolution=size, camera=camera) for s in found]
     for plan in plans:
         plan.mesh_only = True
-    with holding(args.out, "aolab mesh"):
-        return run_plans(plans, args)
+    with holding(delivery.out, "aolab mesh"):
+        return run_plans(plans, delivery)
 
 
 def holding(out, owner: str):
@@ -587,19 +610,13 @@ def holding(out, owner: str):
     return files.output_lock(out, owner) if out else contextlib.nullcontext()
 
 
-def check_path_options(args) -> None:
-    """--cache and --out of `aolab reference` and `aolab mesh` (and their callers'), checked
-    before Blender starts: a --cache that is a file said "File exists" only once the render
-    was to be stored, and a bad --out failed after the render."""
-    check_paths(folders={"--cache": getattr(args, "cache", None),
-                         "--out": getattr(args, "out", None)})
-
-
-def run_plans(plans: list[Plan], args) -> int:
-    """Renders (or takes from the cache) each plan in turn, copying its files to --out."""
+def run_plans(plans: list[Plan], delivery: Delivery) -> int:
+    """Renders (or takes from the cache) each plan in turn, copying its files to
+    ``delivery.out``; the exit status."""
     done = 0
     several = len({p.scene.name for p in plans}) > 1
-    cache = Path(args.cache) if args.cache else default_cache()
+    cache = delivery.cache_folder()
+    out = delivery.out
 
     def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
         raise KeyboardInterrupt
@@ -608,16 +625,16 @@ def run_plans(plans: list[Plan], args) -> int:
     try:
         for plan in plans:
             t0 = time.perf_counter()
-            folder, was_cached = render(plan, cache, force=args.force,
-                                        progress=not args.quiet and sys.stderr.isatty())
-            if args.out:
-                copy_result(plan, folder, output_folder(args.out, plan, several))
+            folder, was_cached = render(plan, cache, force=delivery.force,
+                                        progress=not delivery.quiet and sys.stderr.isatty())
+            if out:
+                copy_result(plan, folder, output_folder(out, plan, several))
             done += 1   # before its line: an interrupt while it prints has it done all the same
             verb = "exported" if plan.mesh_only else "rendered"
             how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
             what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
             print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
-                  + (f" (copied to {args.out})" if args.out else ""))
+                  + (f" (copied to {out})" if out else ""))
     except KeyboardInterrupt:
         # The cache's count as well as this run's: a render can finish between the last line
         # printed and the interrupt, and frames of an earlier run are not rendered again.

@@ -1,0 +1,22 @@
+"""Options several ``aolab`` commands share: --threads and the timing options, the input
+options of run, rtao and bench, and their --set values. The value types themselves are in
+aolab.util.arguments (the bridge's entry point inside Blender shares them)."""
+
+from __future__ import annotations
+
+from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option
+
+
+def threads_option():
+    return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
+
+
+def add_timing_options(q, *, repeat: int, warmup: int, repeat_help: str = "timed runs",
+                       warmup_help: str = "untimed runs before them") -> None:
+    """--threads, --repeat and --warmup with their ranges (bench, compare, tune)."""
+    q.add_argument("--threads", type=threads_option(), default=0,
+                   help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
+    q.add_argument("--repeat", type=int_option("--repeat", 1, MAX_RUNS), default=repeat,
+                   help=f"{repeat_help}, 1 to {MAX_RUNS} (default {repeat})")
+    q.add_argument("--warmup", type=int_option("--warmup", 0, MAX_RUNS), default=warmup,
+                   help=f"{warmup_help}, 0 to {MAX_RUNS} (default {warmup})")
