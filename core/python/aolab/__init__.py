@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
+from .bridge import mesh as mesh_file
 
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
@@ -190,8 +191,7 @@ def load_mesh(path):
     a ``Mesh`` with ``vertices`` float32 (V, 3) in world space, ``triangles`` uint32 (T, 3)
     and ``info``, its ``.mesh.json`` ({} without one). Every inconsistency is a ValueError
     naming the file (docs/file_formats.md, "Scene geometry")."""
-    from .bridge.mesh import read_mesh
-    return read_mesh(path)
+    return mesh_file.read_mesh(path)
 
 
 def mesh_for_gbuffer(g, *, allow_unknown_scene: bool = False):
@@ -199,8 +199,7 @@ def mesh_for_gbuffer(g, *, allow_unknown_scene: bool = False):
     beside ``g.path``, checked to be the same scene (its scene_hash equals the sidecar's;
     one without a scene_hash only with ``allow_unknown_scene``), else a ValueError saying how
     to export one."""
-    from .bridge.mesh import mesh_for_gbuffer as find
-    return find(g, allow_unknown_scene=allow_unknown_scene)
+    return mesh_file.mesh_for_gbuffer(g, allow_unknown_scene=allow_unknown_scene)
 
 
 def analytic_scene_names() -> list[str]:

@@ -27,9 +27,11 @@ from pathlib import Path
 
 import aolab
 
-from ..util import files
-from ..scoring import error_map, metrics_mask, nothing_to_score
 from ..bridge.constants import RESULT_EXR, RESULT_JSON
+from ..render.reference import package_path
+from ..scoring import error_map, metrics_mask, nothing_to_score
+from ..study import compare
+from ..util import files
 
 PYTHON = "/usr/bin/python3"
 DRIVER = "aolab.addon.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
@@ -174,7 +176,6 @@ def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
 def _child_env() -> dict:
     """The environment of reference_job.py: this aolab package first on its path, so that the
     child (and the Blender it starts) use the same build as the add-on."""
-    from ..render.reference import package_path
     paths = [package_path()] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
                                 if p]
     return dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
@@ -280,7 +281,6 @@ def compare_task(job: Job, plan: dict) -> dict:
 def report_task(job: Job, plan: dict) -> dict:
     """The comparison study (`aolab compare`, quick sweep) on one scene: the folder of its
     reference.exr, for the chosen methods; writes report.html, results.csv, results.json."""
-    from ..study import compare
     job.report(0.05, "running the comparison study")
     out = Path(plan["out"])
     opts = compare.Options(scenes=[str(plan["folder"])], methods=list(plan["methods"]) or None,

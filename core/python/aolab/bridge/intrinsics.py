@@ -8,6 +8,8 @@ shifts and non-square pixels.
 
 from __future__ import annotations
 
+from .. import _core
+
 SUPPORTED_CAMERA_TYPES = ("PERSP",)
 
 
@@ -52,7 +54,6 @@ def max_ray_coordinate() -> float:
     """The largest magnitude of a coordinate the ray tracers can take (Embree's FLT_LARGE,
     kMaxRayCoordinate in core/raytracing/ray_scene.h): Cycles, which traces with Embree, dies
     on a ray from beyond it, and rtao refuses it."""
-    from .. import _core
     return _core.MAX_RAY_COORDINATE
 
 
@@ -62,5 +63,4 @@ def check_camera_to_world(matrix) -> None:
     and neither its pinhole projection nor the move of triangles and normals into its view
     space holds. The ray tracer's own rule and tolerance (``RayScene``,
     core/raytracing/ray_scene.h), so that a camera the bridge renders from is one rtao takes."""
-    from .. import _core
     _core.check_camera_to_world(matrix)

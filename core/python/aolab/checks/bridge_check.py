@@ -34,9 +34,9 @@ import numpy as np
 import aolab
 
 from ..bridge.constants import PEERS_DIR
+from ..render import reference
 from ..scenes import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
 from ..util import files
-from ..render import reference
 from ..util.files import check_paths
 from ..util.markdown import write_generated_block
 

@@ -39,10 +39,10 @@ from pathlib import Path
 
 import aolab
 
+from .. import presets as presets_module
 from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit
-from .. import presets as presets_module
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
 SCENE = "blocks"

@@ -24,10 +24,10 @@ import numpy as np
 
 import aolab
 
-from ..scenes import find_scenes_dir, load_renders, noise_floor_peer, read_y_exr, resolve_scenes
 from ..bridge.constants import PEERS_DIR, PEERS_JSON
 from ..regions import REGIONS, region_masks
 from ..render.reference import default_cache
+from ..scenes import find_scenes_dir, load_renders, noise_floor_peer, read_y_exr, resolve_scenes
 from ..util import files
 from ..util.files import check_paths
 from ..util.markdown import with_generated_block, write_generated_block

@@ -28,11 +28,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..util import files
-from ..util.files import check_paths
+import aolab
+
 from ..bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
                                 RESULT_MESH, RESULT_MESH_JSON)
 from ..bridge.passes import parse_passes, required_passes
+from ..util import files
+from ..util.files import check_paths
 
 SCENE_KIT = "scene_kit.py"  # reference_scenes/scene_kit.py, shared by the build scripts
 #: Environment variable naming the folder that holds this aolab package, for Blender's
@@ -236,7 +238,6 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
     """What to render: explicit arguments first, then the scene's manifest, then defaults.
     Passes follow from the methods (all registered ones by default) and the manifest's
     effects unless given explicitly."""
-    import aolab
     m = scene.manifest
     if passes is None:
         names = aolab.methods() if methods is None else methods

@@ -35,16 +35,17 @@ import numpy as np
 
 import aolab
 
-from ..util import files
 from .. import presets as presets_mod
 from ..raytracing import RTAO_LADDER
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
-from ..util.provenance import git_commit, machine_info
 from ..regions import REGIONS
-from .report import WEAK_FRACTION
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
                       frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
                       resolve_scenes)
+from ..util import files
+from ..util.provenance import git_commit, machine_info
+from . import report
+from .report import WEAK_FRACTION
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -579,7 +580,6 @@ class Study:
     def write(self, partial: bool) -> dict:
         """results.csv, results.json and report.html into the staging folder, each atomically
         (publish() moves them into the output folder once the study is complete)."""
-        from . import report
         staging = self.staging
         staging.mkdir(parents=True, exist_ok=True)
         results = self.results(partial)

@@ -34,6 +34,7 @@ import numpy as np
 
 import aolab
 
+from ..bridge.exr import write_gray
 from ..scenes import LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes
 from ..util import files
 from ..util.files import check_paths
@@ -104,7 +105,6 @@ def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
 def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: bool,
                   log=print) -> list[dict]:
     """Computes the missing or stale limits of one scene folder; returns its entries."""
-    from ..bridge.exr import write_gray
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     digest = file_sha256(folder / "reference.exr")

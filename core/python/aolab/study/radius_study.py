@@ -36,9 +36,9 @@ import numpy as np
 
 import aolab
 
-from ..util import files
 from ..render import reference
 from ..scenes import find_scenes_dir, load_scene
+from ..util import files
 from ..util.provenance import machine_info
 from .compare import score, timed
 

@@ -19,9 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..util import files
+import aolab
+
 from ..regions import REGIONS
 from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
+from ..util import files
 from . import pareto
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
@@ -430,7 +432,6 @@ NOISE_SETTINGS = ("random_rotation", "jitter", "noise", "rotation", "random_dire
 def per_pixel_noise(method: str, settings: dict) -> list[str]:
     """The NOISE_SETTINGS that are on for ``method`` with a row's recorded ``settings`` (which
     name only what differs from the method's defaults: aolab.method_info gives the rest)."""
-    import aolab
     try:
         values = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]}
     except ValueError:      # a peer, the baseline or rtao: no method settings

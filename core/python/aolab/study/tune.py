@@ -37,15 +37,15 @@ import numpy as np
 
 import aolab
 
-from ..util import files
+from .. import presets as presets_mod
 from ..regions import occluded_pixels
 from ..scenes import find_scenes_dir, load_cropped, resolve_scenes
 from ..scoring import scored_mask
+from ..settings import described
+from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
 from . import pareto
-from .. import presets as presets_mod
-from ..settings import described
 
 #: The time budgets of the tuned presets, ms per frame (method + blur) at the scenes' size.
 BUDGETS_MS = (50, 100, 200, 500)
