@@ -141,7 +141,7 @@ def tick():
         elif step == 3:
             invoke(bpy.ops.aolab.render_reference)
         elif step == 4:
-            invoke(bpy.ops.aolab.study.compare)
+            invoke(bpy.ops.aolab.compare)
         elif step == 5:
             show_results()
             return 2.0

@@ -356,7 +356,7 @@ class AOLAB_OT_render_reference(_JobOperator, bpy.types.Operator):
 class AOLAB_OT_compare(_JobOperator, bpy.types.Operator):
     """Score the ticked methods against the cached reference: MAE, SSIM and time in the
     panel, signed error maps as images"""
-    bl_idname = "aolab.study.compare"
+    bl_idname = "aolab.compare"
     bl_label = "Compare"
     task = "compare_task"
 

@@ -171,7 +171,7 @@ def draw_panel(layout, context) -> None:
     col.enabled = not session.busy
     row = col.row(align=True)
     row.operator("aolab.render_reference", icon="RENDER_STILL")
-    row.operator("aolab.study.compare", icon="GRAPH")
+    row.operator("aolab.compare", icon="GRAPH")
     row = col.row(align=True)
     row.operator("aolab.write_report", icon="FILE_TEXT")
     if session.report_path:

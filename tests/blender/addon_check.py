@@ -79,7 +79,7 @@ getattr(s, "m_hbao").directions = 4  # a changed setting: passed to compute like
 r = {"methods": methods, "file": mod.__file__}
 
 # User errors first (each leaves nothing behind).
-r["compare_without_reference"] = call(bpy.ops.aolab.study.compare)
+r["compare_without_reference"] = call(bpy.ops.aolab.compare)
 for m in methods:
     getattr(s, "m_" + m).use_method = False
 r["nothing_selected"] = call(bpy.ops.aolab.preview)
@@ -171,7 +171,7 @@ r["cancel_diff"] = diff(before, scene_state(scene))
 r["cache_after_cancel"] = sorted(os.listdir(cache))
 s.reference_samples = 8
 
-r["compare"] = call(bpy.ops.aolab.study.compare)
+r["compare"] = call(bpy.ops.aolab.compare)
 r["compare_table"] = results_table()
 r["compare_folder"] = bpy.context.window_manager.aolab.gbuffer_folder
 np.save(os.path.join(out_dir, "error_hbao.npy"),
