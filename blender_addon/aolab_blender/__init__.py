@@ -1,9 +1,10 @@
 """AO Lab for Blender: compare screen-space AO methods with a Cycles AO reference, in Blender.
 
-This package holds only what needs bpy: the add-on (preferences, properties, operators, ui,
-images) and the bridge's Blender glue (state, export, peers, batch: the entry point
-`aolab reference` runs inside Blender). Everything else comes from the `aolab` package
-(`aolab.bridge` and the study's modules), which never imports this one. docs/blender_addon.md.
+This package holds only what needs bpy: the add-on (preferences, hooks, properties, inputs,
+operators, live, ui, images) and the bridge's Blender glue (state, scene_record, export,
+mesh_export, peers, batch: the entry point `aolab reference` runs inside Blender). Its
+modules import one way (docs/blender_addon.md, "Modules"). Everything else comes from the
+`aolab` package (`aolab.bridge` and the study's modules), which never imports this one.
 """
 
 import bpy

@@ -44,6 +44,7 @@ from aolab.util.arguments import (MAX_SAMPLES, Parser, checked_type, float_optio
 from aolab.render.reference import MAX_FRAME, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
+from aolab_blender.scene_record import BridgeError  # noqa: E402
 
 
 def _extra(text: str) -> dict:
@@ -106,7 +107,7 @@ def main(argv):
     radius = args.radius
     if radius is None:
         if scene.world is None:
-            raise export.BridgeError("the scene has no world, so no AO distance: pass --radius")
+            raise BridgeError("the scene has no world, so no AO distance: pass --radius")
         radius = scene.world.light_settings.distance
 
     if args.peers:
@@ -126,7 +127,7 @@ if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     try:
         main(argv)
-    except (export.BridgeError, ValueError, OSError) as e:
+    except (BridgeError, ValueError, OSError) as e:
         # OSError: an --out under a regular file, a full disk, a folder without write access
         print(f"AOLAB_ERROR {e if str(e) else type(e).__name__}", flush=True)
         sys.exit(2)

@@ -18,9 +18,9 @@ will see). The timer ends (returns None) when nothing is dirty or computing.
 The G-buffer is the one Preview uses: a cached render of this scene content at the
 Resolution. Live never exports one (that takes a Blender render): without it the panel says
 so and names the Preview button, and nothing is computed. The scene's content hash
-(export.content_hash, which reads every mesh) is computed at most once per scene, camera
-and size, and again only after the depsgraph reported a change to something other than
-the scene's own properties or an image.
+(inputs.scene_hash, which reads every mesh) is computed at most once per scene, camera and
+size, and again only after the depsgraph reported a change to something other than the
+scene's own properties or an image.
 """
 
 from __future__ import annotations
@@ -32,7 +32,8 @@ from pathlib import Path
 
 import bpy
 
-from . import images, operators, properties
+from . import hooks, images, properties
+from .inputs import UserError, find_reference, scene_hash, scene_inputs
 
 #: Changes closer together than this are coalesced into one compute (a preset sets every
 #: setting of its method; a dragged slider sends a change per mouse move).
@@ -190,23 +191,22 @@ def tick() -> float | None:
 
 
 def _scene_hash(context, scene, size) -> str:
-    from .export import content_hash
     context.evaluated_depsgraph_get()   # pending depsgraph updates reach _on_depsgraph first
     key = (scene.name, scene.camera.name, tuple(size))
     h = _state.hashes.get(key)
     if h is None:
-        h = _state.hashes[key] = content_hash(scene, scene.camera, size)
+        h = _state.hashes[key] = scene_hash(scene, size)
     return h
 
 
 def _find_gbuffer(inputs: dict) -> Path | None:
-    """operators.find_reference's G-buffer (any render of this content and size), the
+    """inputs.find_reference's G-buffer (any render of this content and size), the
     folder remembered: the lookup reads every sidecar of the cache."""
     key = (inputs["scene_hash"], tuple(inputs["size"]), tuple(inputs["passes"]),
            str(inputs["cache"]))
     folder = _state.folders.get(key)
     if folder is None or not (folder / properties.jobs.RESULT_EXR).exists():
-        folder = operators.find_reference(inputs, spp=None)
+        folder = find_reference(inputs, spp=None)
         if folder is not None:
             _state.folders[key] = folder
     return folder
@@ -221,10 +221,10 @@ def snapshot(context) -> dict | None:
     dirty, _state.dirty = _state.dirty, set()
     _state.stats["snapshots"] += 1
     try:
-        inputs = operators.scene_inputs(context, need_runs=False, hash_scene=False)
+        inputs = scene_inputs(context, need_runs=False, hash_scene=False)
         inputs["scene_hash"] = _scene_hash(context, scene, inputs["size"])
         folder = _find_gbuffer(inputs)
-    except operators.UserError as e:
+    except UserError as e:
         _set_message(session, str(e), error=True)
         return None
     w, h = inputs["size"]
@@ -399,13 +399,18 @@ def _compute(plan: dict, out: queue.Queue) -> None:
 # ---- registration ----
 
 def register() -> None:
+    """Live's handlers, and its functions as the hooks the properties' update= callbacks
+    call (hooks.py)."""
     _state.__init__()
     bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph)
     bpy.app.handlers.load_pre.append(_on_load)
+    hooks.register(live_toggled=on_toggle, setting_changed=on_setting,
+                   scene_setting_changed=on_scene_setting)
 
 
 def unregister() -> None:
-    """No timer, handler or computing thread is left behind."""
+    """No hook, timer, handler or computing thread is left behind."""
+    hooks.unregister()
     _state.closed = True
     if bpy.app.timers.is_registered(tick):
         bpy.app.timers.unregister(tick)

@@ -25,6 +25,7 @@ from aolab.bridge import mesh as mesh_file
 from aolab.bridge.constants import BRIDGE_VERSION
 
 from . import compat
+from .scene_record import camera_record, content_hash, evaluation_settings, scene_camera
 from .state import SettingsRestorer
 
 #: Object types that can have faces. In Blender 3.4 the faces of curves, text, surfaces and
@@ -43,18 +44,17 @@ def export_mesh(scene, out_mesh: str, camera_name: str | None = None, report=pri
     """Writes the evaluated world-space triangles of `scene` to `out_mesh` (+ .mesh.json)
     with the camera record and scene_hash a reference of this camera would have; returns the
     JSON. Every setting is restored, whatever happens."""
-    from . import export  # it imports this module for the reference's mesh pass
-    cam = export.scene_camera(scene, camera_name)
+    cam = scene_camera(scene, camera_name)
     view_layer = bpy.context.view_layer
     os.makedirs(os.path.dirname(os.path.abspath(out_mesh)), exist_ok=True)
     with SettingsRestorer() as rs:
         # Registered first, so it runs last: re-evaluate with the restored settings.
         rs.on_restore(view_layer.update)
         report("prepare")
-        export.evaluation_settings(rs, scene, cam)
+        evaluation_settings(rs, scene, cam)
         view_layer.update()
-        record = export.camera_record(scene, cam)
-        scene_hash = export.content_hash(scene, cam)
+        record = camera_record(scene, cam)
+        scene_hash = content_hash(scene, cam)
         report("mesh")
         info = write_scene_mesh(rs, scene, view_layer, out_mesh, record, scene_hash, extra)
     report("done")

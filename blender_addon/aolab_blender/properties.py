@@ -11,11 +11,13 @@
   method groups are built when the add-on is registered, from aolab.methods() at that time.
 - `window_manager.aolab` (this session only): the running job's progress, the last message,
   the results table (AOLAB_PG_result rows) of the last Preview, Compare or live update, and
-  the Live switch with its last update's times. Every setting's update= callback calls
-  live.py, which does nothing unless Live is on.
+  the Live switch with its last update's times. Every setting's update= callback calls a
+  hook (hooks.py) that live.py registers; Live does nothing unless it is on.
 """
 
 import bpy
+
+from . import hooks
 
 # `# noqa: F722` / `F821` below: pyflakes reads the strings in bpy property annotations
 # (`mae: bpy.props.FloatProperty(name="MAE")`) as forward references to types.
@@ -40,22 +42,18 @@ INT_LIMIT = 2**31 - 1
 FLOAT_LIMIT = 3.0e38
 
 
-# Every setting's update= callback tells Live (live.py) what changed.
-def _live():
-    from . import live   # imported when first needed: live imports this module
-    return live
-
-
+# Every setting's update= callback tells Live what changed, through the hook live.py
+# registers (hooks.py): this module does not import live, which imports it.
 def _live_toggled(self, context):
-    _live().on_toggle(self, context)
+    hooks.call("live_toggled", self, context)
 
 
 def _setting_changed(self, context):
-    _live().on_setting(self, context)
+    hooks.call("setting_changed", self, context)
 
 
 def _scene_setting_changed(self, context):
-    _live().on_scene_setting(self, context)
+    hooks.call("scene_setting_changed", self, context)
 
 
 class AOLAB_PG_result(bpy.types.PropertyGroup):

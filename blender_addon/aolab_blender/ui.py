@@ -3,7 +3,7 @@ show the same content (draw_panel)."""
 
 import bpy
 
-from . import operators, properties
+from . import inputs, properties
 
 RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
 WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
@@ -14,7 +14,7 @@ def _problems(context) -> list[str]:
     if not properties.available():
         return [properties.NOT_BUILT]
     out = []
-    problem = operators.camera_problem(scene)
+    problem = inputs.camera_problem(scene)
     if problem:
         out.append(problem)
     if properties.effective_radius(scene) is None:

@@ -20,6 +20,7 @@ use_checkout()
 import bpy  # noqa: E402
 
 from aolab_blender import export, mesh_export  # noqa: E402
+from aolab_blender.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 out_dir = tempfile.mkdtemp(prefix="aolab-mesh-")
@@ -31,7 +32,7 @@ def attempt(label, call):
     try:
         value = call()
         outcome = "ok"
-    except export.Cancelled:
+    except Cancelled:
         value, outcome = None, "cancelled"
     except Exception as e:
         value, outcome = None, f"failed: {type(e).__name__}: {e}"

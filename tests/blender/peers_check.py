@@ -11,7 +11,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E402
 
 use_checkout()
-from aolab_blender import export, peers  # noqa: E402
+from aolab_blender import peers  # noqa: E402
+from aolab_blender.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 before = scene_state(scene)
@@ -32,7 +33,7 @@ for i, stage in enumerate(STAGES):
         peers.render_peers(scene, folder, radius=0.75, ladder=(1, 4), report=reported.append,
                            cancel=lambda reported=reported, i=i: len(reported) == i)
         outcome = "ok"
-    except export.Cancelled:
+    except Cancelled:
         outcome = "cancelled"
     results[f"cancel_{stage}"] = {"outcome": outcome, "reported": reported,
                                   "diff": diff(before, scene_state(scene)),

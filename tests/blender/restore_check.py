@@ -15,6 +15,7 @@ use_checkout()
 import bpy  # noqa: E402
 
 from aolab_blender import export  # noqa: E402
+from aolab_blender.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 
@@ -39,7 +40,7 @@ def attempt(label, **kw):
                                 radius=0.5, spp=2, passes=kw.pop("passes", ["depth", "normal"]),
                                 report=lambda s: None, **kw)
         outcome = "ok"
-    except export.Cancelled:
+    except Cancelled:
         outcome = "cancelled"
     except Exception as e:  # a failed render
         outcome = f"failed: {type(e).__name__}"
@@ -63,7 +64,7 @@ for stage in STAGES:
                                 cancel=lambda reported=reported, stage=stage:
                                 len(reported) == STAGES.index(stage))
         outcome = "ok"
-    except export.Cancelled:
+    except Cancelled:
         outcome = "cancelled"
     results[f"cancel_{stage}"] = {"outcome": outcome, "reported": reported,
                                   "diff": diff(before, scene_state(scene))}
