@@ -42,7 +42,7 @@ def build_scene():
         bpy.data.objects.remove(obj)
     runpy.run_path(BUILD, run_name="__main__")
     addon_utils.enable(ADDON, default_set=True)
-    from aolab.presets import preset_names
+    from aolab.named_presets import preset_names
     prefs = bpy.context.preferences
     prefs.addons[ADDON].preferences.cache_dir = CACHE
     prefs.view.show_splash = False

@@ -24,7 +24,7 @@ from . import hooks
 
 try:
     import aolab
-    from aolab import presets
+    from aolab import named_presets as presets
     from aolab import settings as method_settings
     from aolab.addon import jobs
     from aolab.bridge import intrinsics, passes

@@ -124,7 +124,7 @@ def test_user_errors_are_reported(flow):
     assert r["cache_after_errors"] in (None, []), "a refused operation wrote into the cache"
     assert r["report"]["result"] == ["FINISHED"], r["report"]
     assert Path(r["report_path"]).name == "report.html" and Path(r["report_path"]).exists()
-    from aolab import presets
+    from aolab import named_presets as presets
     assert r["presets"]["hbao"] == ["default"] + presets.preset_names("hbao") + ["tuned-100ms"]
     values, blur = presets.preset_values("hbao", "low")
     for k, v in {**values, "blur": blur}.items():  # the preset's values, the rest defaults
@@ -277,7 +277,7 @@ def test_live_images_follow_the_settings_and_equal_compute(live):
     # A preset sets every setting: one compute of the preset's values.
     preset = r["preset"]
     assert grew(preset, "computes") == 1 and grew(preset, "applied") == 1
-    from aolab import presets
+    from aolab import named_presets as presets
     values, blur = presets.preset_values("hbao", "low")
     assert preset["hbao"]["blur"] == blur
     assert_live_image(r, work, "preset_hbao", "hbao", preset["hbao"])
@@ -412,7 +412,7 @@ def test_a_bad_tuned_presets_file_keeps_the_built_in_presets(hostile):
     r, work = hostile
     bad = r["bad_tuned"]
     assert bad["tuned_before"] == ["tuned-100ms"]
-    from aolab import presets
+    from aolab import named_presets as presets
     assert bad["menu"] == ["default"] + presets.preset_names("hbao")
     said = f"tuned presets file {work / 'tuned_bad.json'}: preset name 'tuned-xms'"
     assert bad["apply_message"].startswith("Preset: " + said), bad["apply_message"]

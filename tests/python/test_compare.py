@@ -14,7 +14,9 @@ import pytest
 
 import aolab
 from aolab import scenes
-from aolab import cli, presets, regions
+from aolab import cli, regions
+from aolab import named_presets as presets
+from aolab.catalog.kinds import MethodEntry
 from aolab.study import compare, results_doc
 from aolab.study import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
@@ -402,13 +404,13 @@ def test_full_sweep_runs_each_computation_once(monkeypatch, tmp_path):
     monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(tmp_path / "none.json"))
     for method in aolab.methods():
         configs = presets.settings_for(method, "full")
-        named = {presets._identity(method, c.settings, c.blur) for c in configs if c.preset}
-        grid = [presets._identity(method, c.settings, c.blur) for c in configs if not c.preset]
+        named = {presets.identity(method, c.settings, c.blur) for c in configs if c.preset}
+        grid = [presets.identity(method, c.settings, c.blur) for c in configs if not c.preset]
         assert len(set(grid)) == len(grid) and not set(grid) & named, method
         assert configs[0].label == "default" and configs[0].settings == {}
         runs = compare._method_runs(method, "full")
         assert sum(len(group) for _, group in runs) == len(configs)
-        assert len(runs) == len({presets._identity(method, c.compute_settings(), False)
+        assert len(runs) == len({presets.identity(method, c.compute_settings(), False)
                                  for c in configs})
     full = {c.label for c in presets.settings_for("hbao", "full")}
     assert {"default", "low", "medium", "high", "ultra"} <= full
@@ -420,8 +422,8 @@ def test_full_sweep_runs_each_computation_once(monkeypatch, tmp_path):
     assert len(full) == 4 * 4 * 3 * 2 + 1
     assert not [c for c in full if "attenuation=none" in c and "incremental_attenuation=1" in c]
     lsao = {c.label: c for c in presets.settings_for("lsao", "quick")}
-    assert presets._identity("lsao", lsao["default"].settings, False) == \
-        presets._identity("lsao", lsao["medium"].settings, False)
+    assert presets.identity("lsao", lsao["default"].settings, False) == \
+        presets.identity("lsao", lsao["medium"].settings, False)
     (run,) = [group for _, group in compare._method_runs("lsao", "quick")
               if "default" in [c.label for c in group]]
     assert [c.label for c in run] == ["default", "medium"]      # one run for both
@@ -444,7 +446,7 @@ def test_a_method_without_presets_runs_its_defaults_and_registering_is_checked()
     (only,) = presets.settings_for("some_future_method", "full")
     assert only.label == "default" and only.settings == {} and not only.blur
     with pytest.raises(ValueError, match="presets of x must be named"):
-        presets.register("x", presets={"best": {}}, sweep={})
+        MethodEntry("x", presets={"best": {}}, sweep={})
     with pytest.raises(ValueError, match="sweep"):
         presets.settings_for("hbao", "everything")
 

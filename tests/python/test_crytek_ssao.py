@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import aolab
-from aolab import presets
+from aolab import named_presets as presets
 
 
 def test_open_plane_is_half_published_and_one_rescaled():

@@ -12,7 +12,8 @@ import pytest
 
 import aolab
 from aolab import scenes
-from aolab import cli, presets
+from aolab import cli
+from aolab import named_presets as presets
 
 TUNED = {"samples": 6, "view_ray_pipes": False, "blur": True}
 

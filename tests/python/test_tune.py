@@ -16,7 +16,8 @@ import pytest
 
 import aolab
 from aolab import scenes
-from aolab import cli, presets
+from aolab import cli
+from aolab import named_presets as presets
 from aolab.study import pareto
 from aolab.study import compare, tune
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 import aolab
-from aolab import presets
+from aolab import named_presets as presets
 
 ROOT = Path(__file__).resolve().parents[2]
 

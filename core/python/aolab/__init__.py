@@ -13,8 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _core
+from . import _core, named_presets
 from .bridge import mesh as mesh_file
+# The ray-traced peer (raytracing.py): Embree against the scene's triangles.
+from .raytracing import (RayScene, RtaoRangeWarning, analytic_scene_mesh,  # noqa: F401
+                         ray_scene, rtao, rtao_range, rtao_settings)
 
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
@@ -76,7 +79,7 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     """
     _require_bool_or_none("blur", blur)
     if preset is not None:
-        values = presets.settings_of(method, preset)
+        values = named_presets.settings_of(method, preset)
         preset_blur = bool(values.pop("blur", False))
         values.update(settings)
         blur = preset_blur if blur is None else blur
@@ -223,10 +226,10 @@ def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> 
     return g
 
 
-# The ray-traced peer (raytracing.py): Embree against the scene's triangles.
-from .raytracing import (RayScene, RtaoRangeWarning, analytic_scene_mesh,  # noqa: E402,F401
-                         ray_scene, rtao, rtao_range, rtao_settings)
-
-# The named presets: ``aolab.presets(method)`` -> {name: settings} (the module answers the call:
-# presets.py).
-from . import presets  # noqa: E402
+def presets(method: str) -> dict:
+    """Every named preset of ``method`` as name -> settings, each with its "blur" switch:
+    "default" (every setting's default, R excepted), the study's presets cheapest first
+    (aolab.catalog; a builtin blur switch off where the shared blur replaces it) and the tuned
+    presets of tuned_presets.json cheapest first (``aolab tune``, docs/tuning.md). An unknown
+    method, or a tuned-presets file that is not what ``aolab tune`` writes, is a ValueError."""
+    return named_presets.presets_of(method)

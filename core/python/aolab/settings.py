@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _core
+
 #: Settings every method has and that callers set once for all methods (the panel's R, the
 #: scene's R in the study).
 SHARED = ("radius",)
@@ -28,8 +30,7 @@ def is_choice(s: dict) -> bool:
 
 def described(method: str, *, shared: bool = False) -> list[dict]:
     """The method's setting descriptions, without the SHARED ones unless ``shared``."""
-    import aolab
-    return [s for s in aolab.method_info(method)["settings"]
+    return [s for s in _core.method_info(method)["settings"]
             if shared or s["name"] not in SHARED]
 
 

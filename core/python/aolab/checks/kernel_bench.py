@@ -39,7 +39,8 @@ from pathlib import Path
 
 import aolab
 
-from .. import presets as presets_module
+from .. import catalog
+from .. import named_presets as presets_module
 from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit
@@ -56,18 +57,15 @@ BLUR_ROW = "shared blur"
 
 
 def samples_per_pixel(method: str, settings: dict) -> float | None:
-    """Depth reads per pixel that the method's settings fix (None where they do not: the
-    line sweeps' and Chebyshev's cost is per line and per kernel, Pyramid HBAO's depends on
-    the levels R spans)."""
+    """Depth reads per pixel that the method's settings fix (its catalog entry's rule; None
+    where they do not: the line sweeps' and Chebyshev's cost is per line and per kernel,
+    Pyramid HBAO's depends on the levels R spans)."""
+    entry = catalog.entry(method)
+    if entry is None or entry.samples_per_pixel is None:
+        return None
     full = {s["name"]: s["default"] for s in aolab.method_info(method)["settings"]}
     full.update(settings)
-    if method == "hbao":
-        return full["directions"] * full["steps"]
-    if method in ("gtao", "bitmask"):
-        return full["slices"] * 2 * full["steps"]
-    if method in ("vao", "vao_pp", "alchemy", "sao", "crytek_ssao"):
-        return full.get("samples")
-    return None
+    return entry.samples_per_pixel(full)
 
 
 def _median_ms(run, repeat: int) -> float:

@@ -35,7 +35,8 @@ import numpy as np
 
 import aolab
 
-from .. import presets as presets_mod
+from .. import catalog
+from .. import named_presets as presets_mod
 from ..raytracing import RTAO_LADDER
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from ..regions import REGIONS
@@ -535,7 +536,7 @@ def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
     or only in their names (the defaults and a preset equal to them), share one timed run."""
     groups: dict[tuple, tuple[dict, list]] = {}
     for s in presets_mod.settings_for(method, sweep):
-        key = presets_mod._identity(method, s.compute_settings(), False)
+        key = presets_mod.identity(method, s.compute_settings(), False)
         groups.setdefault(key, (s.compute_settings(), []))[1].append(s)
     return list(groups.values())
 
@@ -634,7 +635,7 @@ class Study:
             "machine": machine_info(opts.threads), "aolab_commit": git_commit(folders[0]),
             "weak_fraction": WEAK_FRACTION, "blur_sigma": presets_mod.BLUR_SIGMA,
             "blur_taps": presets_mod.BLUR_TAPS,
-            "presets_source": {m: (presets_mod.entry(m).source if presets_mod.entry(m) else
+            "presets_source": {m: (catalog.entry(m).source if catalog.entry(m) else
                                    "no presets registered: the method's defaults")
                                for m in methods},
         }

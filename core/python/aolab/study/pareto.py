@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..presets import TUNED_PREFIX
+from ..named_presets import TUNED_PREFIX
 
 
 def _mean(trial: dict, scenes: list[str], key: str) -> float:

@@ -31,13 +31,14 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 import aolab
 
-from .. import presets as presets_mod
+from .. import catalog
+from .. import named_presets as presets_mod
+from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
 from ..regions import occluded_pixels
 from ..scenes import find_scenes_dir, load_cropped, resolve_scenes
 from ..scoring import scored_mask
@@ -67,204 +68,10 @@ PACKAGE_PRESETS = Path("core/python/aolab") / presets_mod.TUNED_FILE
 # The search space
 
 
-@dataclass(frozen=True)
-class Param:
-    """One searched setting: an int or float range (log-uniform where it spans decades) or a
-    set of values; ``when`` (settings -> bool) makes it conditional on settings searched
-    before it (it is then absent, at its default, when false); ``why`` explains the bound."""
-    name: str
-    kind: str                         # "int", "float" or "set"
-    low: float = 0.0
-    high: float = 0.0
-    log: bool = False
-    step: int = 1
-    choices: tuple = ()
-    when: Callable | None = None
-    why: str = ""
-
-
-def _int(low, high, why, log=False, step=1, when=None):
-    return Param("", "int", low, high, log, step, (), when, why)
-
-
-def _float(low, high, why, log=False, when=None):
-    return Param("", "float", low, high, log, 1, (), when, why)
-
-
-def _set(choices, why, when=None):
-    return Param("", "set", choices=tuple(choices), when=when, why=why)
-
-
 #: Settings never searched, for every method, and why.
 NOT_SEARCHED = {
     "radius": "the scene's R (the reference's AO distance), not a quality choice",
     "seed": "kept at its default: every trial draws the same per-pixel randomness",
-}
-
-#: Settings of one method not searched (kept at the value given, None = its default), and why.
-#: A method's builtin switch for the shared Gaussian (presets.py builtin_blur) is added by
-#: search_space: it is off, and the shared blur is searched as `blur`, timed apart.
-FIXED = {
-    "vao_pp": {
-        "color_bleeding": (None, "an RGB result, which cannot be scored against grey AO"),
-        "bleeding_sample_step": (None, "applies to colour bleeding only"),
-        "luminance_sensitivity": (None, "an artistic effect (AO suppressed on bright "
-                                  "surfaces) that the reference's AO does not have"),
-        "luminance_threshold": (None, "applies with luminance_sensitivity only"),
-        "luminance_width": (None, "applies with luminance_sensitivity only"),
-        "luminance_sigma": (None, "applies with luminance_sensitivity only"),
-        "luminance_mode": (None, "applies with luminance_sensitivity only"),
-    },
-    "alchemy": {
-        "turns": (None, "0 = the SAO paper's low-discrepancy tau for s; other turns only "
-                  "line the taps up"),
-    },
-    "sao": {
-        "turns": (None, "0 = the paper's low-discrepancy tau for s; other turns only line "
-                  "the taps up"),
-    },
-    "gtao": {
-        "multi_bounce": (None, "models interreflections, which Cycles' AO pass has not"),
-        "albedo": (None, "applies with multi_bounce only"),
-    },
-}
-
-
-def _on(name):
-    return lambda v: bool(v[name])
-
-
-#: Bounds of the searched settings, per method ("*": every method that has the setting).
-#: The settings' own ranges (aolab.method_info) are far wider (up to 1e30, or 512 steps):
-#: each bound below keeps the search where a configuration can fit the largest budget,
-#: 500 ms at 1280x720 on 2 cores, or where the setting still changes the result. A setting
-#: that is in no table is searched over its own range when that range is small (bools,
-#: choices, ints spanning at most 64 values, floats spanning at most 1), else kept at its
-#: default (search_space says so).
-BOUNDS = {
-    "*": {
-        "power": _float(0.25, 4.0, "AO^p after the method: 1/4 to 4 covers the exponents of "
-                        "shipping SSAO (1 to 4) and their inverses; log scale", log=True),
-    },
-    "hbao": {
-        "directions": _int(2, 32, "N_d: 32 (the ultra preset) already costs ~6 s with 32 "
-                           "steps, far past 500 ms; log scale", log=True),
-        "steps": _int(2, 32, "N_s: the same span as N_d; log scale", log=True),
-        "incremental_attenuation": _set((False, True), "eq. 2 or eq. 3: only with the linear "
-                                        "attenuation (without any, both compute the same)",
-                                        when=lambda v: v["attenuation"] == "linear"),
-    },
-    "pyramid_hbao": {
-        "directions": _int(2, 32, "D: the paper's 8; 16 (ultra) costs ~1.4 s; log scale",
-                           log=True),
-        "samples": _int(1, 16, "S per level: presets 2-8 (Table 1 lost); log scale", log=True),
-        "levels": _int(0, 8, "L: 0 = from R (the paper); 8 levels of K >= 2 cover 256x "
-                       "the pixel, beyond any R on screen"),
-        "reduction": _int(2, 6, "K: the paper's 3, the sweep's 2-4; above 6 a level skips "
-                          "most of the depth buffer"),
-    },
-    "lsao": {
-        "template_size": _int(0, 4, "n: 0 = uniform directions; 4 = K 32, the ultra preset "
-                              "(~0.3 s); K = 8n is set from it (presets.py's constraint)"),
-        "directions": _int(4, 32, "K of uniform directions (template size 0 only): the span "
-                           "of the aligned sets; log scale", log=True,
-                           when=lambda v: v["template_size"] == 0),
-        "step": _float(1.0, 4.0, "D_S of uniform directions in px (template size 0 only): "
-                       "the paper's 2.43 inside; log scale", log=True,
-                       when=lambda v: v["template_size"] == 0),
-        "template_stride": _int(1, 3, "m (aligned sets only): the paper uses 1 and 2",
-                                when=lambda v: v["template_size"] > 0),
-        "line_spacing": _float(1.0, 4.0, "D_L in px: the paper's 1.64-2.46 inside; wider "
-                               "lines miss thin geometry; log scale", log=True),
-        "tangent_sin": _float(-1.0, 0.0, "sin t of the fixed tangent, its whole range",
-                              when=lambda v: v["tangent_strategy"] != "real"),
-        "gather_depth_tolerance": _float(0.01, 1.0, "relative: 0.1 the default, 1 = any "
-                                         "depth counts; log scale", log=True),
-        "hull_search": _int(0, 32, "stack entries: 16 removes the thin-geometry misses for "
-                            "~1.8x the time (docs/methods/lsao.md); 32 is twice that"),
-    },
-    "chebyshev": {
-        "kernel_radius": _int(1, 64, "fixed window half-width px (fixed mode only); log "
-                              "scale", log=True, when=lambda v: v["kernel_mode"] == "fixed"),
-        "max_kernel_radius": _int(4, 256, "adaptive cap px (adaptive mode only): presets "
-                                  "16-128; log scale", log=True,
-                                  when=lambda v: v["kernel_mode"] == "adaptive"),
-        "variance_bias": _float(1e-6, 1e-1, "b: the default 1e-4 two decades inside either "
-                                "way; log scale", log=True),
-    },
-    "gtao": {
-        "slices": _int(1, 16, "XeGTAO's quality levels use 1-9, the sweep 16; log scale",
-                       log=True),
-        "steps": _int(1, 16, "per side of a slice: XeGTAO 2-3, the sweep 8; log scale",
-                      log=True),
-    },
-    "bitmask": {
-        "slices": _int(1, 8, "EEVEE marches 2 per pixel, the presets 1-4; log scale",
-                       log=True),
-        "steps": _int(2, 32, "per side of a slice: EEVEE's 8, the presets 4-16; fewer leave "
-                      "gaps between the samples' sectors; log scale", log=True),
-        "sectors": _set((8, 16, 32, 64), "N: the paper's 32 (one uint), halved, quartered "
-                        "and doubled; the cost hardly depends on it"),
-        "thickness": _float(0.01, 100.0, "fraction of R: from a sheet to a height field "
-                            "(beyond 100 R nothing changes on the study's scenes); log scale",
-                            log=True),
-    },
-    "crytek_ssao": {
-        "samples": _int(4, 128, "N: CryEngine 2's 8-16 inside, twice the ultra preset at the "
-                        "top; log scale", log=True),
-    },
-    "alchemy": {
-        "samples": _int(2, 64, "s: the paper's 12 inside; 64 taps cost ~4x the ultra preset; "
-                        "log scale", log=True),
-        "intensity": _float(0.1, 10.0, "sigma in units of r: the default 1 a decade inside "
-                            "either way; log scale", log=True),
-        "contrast": _float(0.5, 4.0, "k: 1 the paper's; power (searched for every method) "
-                           "does the same, so a narrow span; log scale", log=True),
-        "bias": _float(1e-6, 1e-2, "beta per unit of depth: the paper's 1e-4 two decades "
-                       "inside; log scale", log=True),
-        "epsilon": _float(1e-6, 1e-1, "in units of r^2: the paper's 1e-4 inside; log scale",
-                          log=True),
-    },
-    "sao": {
-        "samples": _int(2, 64, "s: the reference's 9-20 inside; log scale", log=True),
-        "intensity": _float(0.1, 10.0, "sigma in units of r: the default 1 a decade inside "
-                            "either way; log scale", log=True),
-        "contrast": _float(0.5, 4.0, "k: 1 the paper's; log scale", log=True),
-        "bias": _float(1e-4, 0.2, "beta in units of r: the reference's 0.03 inside; log "
-                       "scale", log=True),
-        "epsilon": _float(1e-4, 0.5, "in units of r^2: the reference's 0.01 inside; log "
-                          "scale", log=True),
-        "log_max_offset": _int(0, 6, "q': the reference's 3; its note: below 3 taps share "
-                               "texels, above 5 the levels go unused"),
-        "max_mip_level": _int(0, 8, "L_max: the reference's 5; 8 levels reach 256 px"),
-        "filter_radius": _int(1, 8, "taps per side (filter on only): the reference's 4 "
-                              "inside", when=_on("filter")),
-        "filter_stride": _int(1, 4, "px between taps (filter on only): the reference's 2",
-                              when=_on("filter")),
-        "filter_sigma": _float(0.5, 8.0, "taps (filter on only): the reference's 3 inside; "
-                               "log scale", log=True, when=_on("filter")),
-        "edge_sharpness": _float(0.1, 10.0, "(filter on only) the reference's 1 a decade "
-                                 "inside either way; log scale", log=True, when=_on("filter")),
-    },
-    "vao": {
-        "samples": _int(2, 64, "n: VAO++ Table 1 measures 2-32, 64 is the method's most; "
-                        "log scale", log=True),
-    },
-    "vao_pp": {
-        "samples": _set((2, 4, 8, 16, 32), "a power of two from 2 to 32, as the method "
-                        "requires"),
-        "adaptive_min_diameter": _float(1e-3, 0.1, "image heights (adaptive sampling only): "
-                                        "the default 0.01 a decade inside; log scale",
-                                        log=True, when=_on("adaptive_sampling")),
-        "cull_threshold": _float(0.9, 1.0, "(culling on only) the default 0.998; below 0.9 "
-                                 "most occluded pixels are culled",
-                                 when=lambda v: v["culling"] != "off"),
-        "filter_taps": _int(1, 15, "odd, as the method requires (filter on only); 15 taps "
-                            "span +-7 px, past 2 sigma of the largest useful sigma", step=2,
-                            when=_on("filter")),
-        "filter_sigma": _float(0.5, 16.0, "px (filter on only): the default 4 inside; log "
-                               "scale", log=True, when=_on("filter")),
-    },
 }
 
 #: A bound for a setting in no table: ints spanning at most this many values.
@@ -276,7 +83,7 @@ BLUR_PARAM = "blur"
 @dataclass
 class Space:
     """The search space of one method: searched params (parents first), the settings kept
-    fixed (name -> value), the constraint rules of presets.py, and why each setting is
+    fixed (name -> value), the constraint rules of its catalog entry, and why each setting is
     searched as it is or not searched."""
     method: str
     params: list
@@ -289,25 +96,26 @@ class Space:
 
 def _generic(s: dict) -> Param | None:
     if s["type"] == "bool":
-        return _set((False, True), "false or true")
+        return choice_bound((False, True), "false or true")
     if s["type"] == "choice":
-        return _set(s["choices"], "every choice")
+        return choice_bound(s["choices"], "every choice")
     lo, hi = s.get("min"), s.get("max")
     if s["type"] == "int" and lo is not None and hi is not None and hi - lo <= SMALL_INT_SPAN:
-        return _int(int(lo), int(hi), "the setting's own range")
+        return int_bound(int(lo), int(hi), "the setting's own range")
     if s["type"] == "float" and lo is not None and hi is not None and hi - lo <= 1:
-        return _float(float(lo), float(hi), "the setting's own range")
+        return float_bound(float(lo), float(hi), "the setting's own range")
     return None
 
 
 def search_space(method: str) -> Space:
-    """The search space of ``method`` from its description and the tables above."""
-    entry = presets_mod.entry(method)
-    fixed_table = dict(FIXED.get(method, {}))
+    """The search space of ``method`` from its description and its catalog entry's
+    tune_bounds and tune_fixed (aolab.catalog)."""
+    entry = catalog.entry(method)
+    fixed_table = dict(entry.tune_fixed) if entry is not None else {}
     if entry is not None and entry.builtin_blur:
         fixed_table[entry.builtin_blur] = (False, "the method's own Gaussian is the shared "
                                            "blur, searched as `blur` and timed apart")
-    bounds = {**BOUNDS["*"], **BOUNDS.get(method, {})}
+    bounds = {**SHARED_BOUNDS, **(entry.tune_bounds if entry is not None else {})}
     params, fixed, notes, defaults = [], {}, {}, {}
     for s in described(method, shared=True):
         name = s["name"]
@@ -323,7 +131,7 @@ def search_space(method: str) -> Space:
             p = bounds.get(name) or _generic(s)
             if p is None:
                 notes[name] = (f"not searched (default): its range [{s['min']:g}, "
-                               f"{s['max']:g}] has no bound in aolab.tune.BOUNDS")
+                               f"{s['max']:g}] has no bound in its catalog entry (tune_bounds)")
                 continue
             params.append(Param(name, p.kind, p.low, p.high, p.log, p.step, p.choices,
                                 p.when, p.why))
@@ -350,7 +158,7 @@ def _describe(p: Param) -> str:
 
 def suggest(trial, space: Space) -> tuple[dict, bool]:
     """The settings and blur switch of a trial: each active param suggested, the fixed ones
-    set, presets.py's constraint rules applied (a rule refusing the point: ValueError)."""
+    set, the catalog entry's constraint rules applied (a rule refusing the point: ValueError)."""
     values = dict(space.defaults)
     chosen = {}
     for p in space.params:
@@ -365,7 +173,7 @@ def suggest(trial, space: Space) -> tuple[dict, bool]:
         values[p.name] = chosen[p.name] = v
     blur = bool(chosen.pop(BLUR_PARAM))
     chosen.update(space.fixed)
-    # presets.py's rules read whole points: give them every setting (defaults for those not
+    # The entry's rules read whole points: give them every setting (defaults for those not
     # chosen) and keep what was chosen and what a rule changed.
     full = {**space.defaults, **chosen}
     for rule in space.rules:
