@@ -5,7 +5,7 @@ settings fix (``MethodEntry``, catalog/kinds.py). The radius is never set here: 
 runs with the scene's R. Settings not named keep the method's defaults.
 
 Adding a method to the study is one file, ``catalog/<name>.py`` with its ``ENTRY``, and its
-module in ``_MODULES`` below (in the order of aolab.methods()). A method of aolab.methods()
+module in ``MODULES`` below (in the order of aolab.methods()). A method of aolab.methods()
 without an entry runs once, at its defaults. The API reads the entries for
 ``aolab.presets``; the study (aolab.study) and aolab bench-table read them too."""
 
@@ -15,10 +15,10 @@ from . import (alchemy, bitmask, chebyshev, crytek_ssao, gtao, hbao, lsao, pyram
                vao, vao_pp)
 from .kinds import MethodEntry
 
-_MODULES = (hbao, pyramid_hbao, lsao, chebyshev, vao, vao_pp, gtao, bitmask, alchemy, sao,
+MODULES = (hbao, pyramid_hbao, lsao, chebyshev, vao, vao_pp, gtao, bitmask, alchemy, sao,
             crytek_ssao)
 #: Every method's entry by name.
-ENTRIES: dict[str, MethodEntry] = {m.ENTRY.method: m.ENTRY for m in _MODULES}
+ENTRIES: dict[str, MethodEntry] = {m.ENTRY.method: m.ENTRY for m in MODULES}
 
 
 def entry(method: str) -> MethodEntry | None:

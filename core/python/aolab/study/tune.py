@@ -60,7 +60,7 @@ DEFAULT_MAX_MS = 2.0 * BUDGETS_MS[-1]
 #: The SQLite file of the studies in --out, and each method's study name.
 DB_NAME = "tune.db"
 STUDY_PREFIX = "aolab-tune-"
-#: The committed tuned presets, relative to the checkout (presets.TUNED_FILE).
+#: The committed tuned presets, relative to the checkout (named_presets.TUNED_FILE).
 PACKAGE_PRESETS = Path("core/python/aolab") / presets_mod.TUNED_FILE
 
 
@@ -587,7 +587,7 @@ def store_error(db: Path, e: BaseException) -> str:
 
 def check_presets_file(path: Path) -> None:
     """The tuned-presets file the run will update, before any trial: an existing one must be
-    a regular file that can be replaced and hold what aolab tune writes (presets.read_tuned),
+    a regular file that can be replaced and hold what aolab tune writes (named_presets.read_tuned),
     a new one a folder it can go in. A folder or a malformed file was refused only when the
     first method's presets were written, after its trials."""
     if os.path.lexists(path):
