@@ -18,9 +18,6 @@
 #define HWY_TARGET_INCLUDE "core/methods/vao/vao_simd.cpp"
 #include "core/methods/vao/vao_simd.h"
 
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -33,13 +30,6 @@
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using DU = hn::RebindToUnsigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
 
 // pixel_random(seed, x, y, stream) for the columns x of the lanes (any columns): bit for bit
 // the scalar value, as PixelRandom for consecutive ones.
