@@ -25,7 +25,7 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
-#include "core/methods/alchemy/obscurance_simd.h"
+#include "core/methods/alchemy/alchemy_shared.h"
 #include "core/methods/hbao/hbao.h"
 
 HWY_BEFORE_NAMESPACE();

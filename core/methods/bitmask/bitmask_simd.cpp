@@ -28,6 +28,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/bitmask/bitmask.h"
+#include "core/methods/bitmask/bitmask_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/gtao/gtao_slice_simd-inl.h"
 

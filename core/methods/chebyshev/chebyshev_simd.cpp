@@ -35,7 +35,7 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
-#include "core/methods/chebyshev/chebyshev_internal.h"
+#include "core/methods/chebyshev/chebyshev_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {

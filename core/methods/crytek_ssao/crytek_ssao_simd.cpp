@@ -36,6 +36,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/crytek_ssao/crytek_ssao.h"
+#include "core/methods/crytek_ssao/crytek_ssao_shared.h"
 
 #ifndef AOLAB_CRYTEK_SSAO_SIMD_TABLES_
 #define AOLAB_CRYTEK_SSAO_SIMD_TABLES_

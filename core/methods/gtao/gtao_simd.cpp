@@ -22,6 +22,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/gtao/gtao.h"
+#include "core/methods/gtao/gtao_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/gtao/gtao_slice_simd-inl.h"
 

@@ -29,6 +29,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/methods/hbao/hbao_shared.h"
 #include "core/methods/hbao/hbao_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();

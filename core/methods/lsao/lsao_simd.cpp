@@ -37,6 +37,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/lsao/lsao.h"
+#include "core/methods/lsao/lsao_shared.h"
 
 #ifndef AOLAB_LSAO_SIMD_SHARED_
 #define AOLAB_LSAO_SIMD_SHARED_

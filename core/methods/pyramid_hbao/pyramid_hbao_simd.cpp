@@ -31,6 +31,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
+#include "core/methods/pyramid_hbao/pyramid_hbao_shared.h"
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 

@@ -6,7 +6,6 @@
 // docs/methods/sao.md, "SIMD kernel", gives the tolerances.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/sao/sao_simd.cpp"
-#include "core/methods/sao/sao_simd.h"
 
 #include <algorithm>
 #include <bit>
@@ -19,6 +18,7 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/methods/sao/sao_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {

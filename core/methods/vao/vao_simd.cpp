@@ -16,7 +16,6 @@
 // - a sample's depth, and where pixels use different sets its disc point, is a gather.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/vao/vao_simd.cpp"
-#include "core/methods/vao/vao_simd.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +24,7 @@
 #include <numbers>
 
 #include "core/base/simd-inl.h"
+#include "core/methods/vao/vao_shared.h"
 #include "core/sampling/random.h"
 
 HWY_BEFORE_NAMESPACE();

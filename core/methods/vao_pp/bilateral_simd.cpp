@@ -15,6 +15,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/vao_pp/bilateral.h"
+#include "core/methods/vao_pp/vao_pp_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
