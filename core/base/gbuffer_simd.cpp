@@ -6,20 +6,17 @@
 // prepared_normal itself.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/base/gbuffer_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <cstddef>
 
 #include "core/base/gbuffer.h"
+#include "core/base/simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
 
 void PreparedNormalsRow(const GBuffer& g, int y, float* HWY_RESTRICT out) {
-  const hn::ScalableTag<float> df;
-  using VF = hn::Vec<decltype(df)>;
+  const DF df;
   const int w = g.width(), n = int(hn::Lanes(df));
   const float* depth = &g.depth(0, y);
   const bool interleaved = g.has_normal() && g.normal.channels == 3;

@@ -1,12 +1,34 @@
-// Highway helpers every SIMD kernel shares: the unit roundoff and 1/sqrt by estimate and Newton
-// step, per-pixel random numbers for a vector of pixels, the background rule, a row of pixels
-// in vectors with its tail, and atan2 (Highway 1.0 has
-// only atan). Included once per target by a kernel's own foreach_target pass, so it has
-// Highway's per-target include guard instead of #pragma once.
+// The preamble and helpers every Highway file shares (the SIMD kernels, prepared normals,
+// cosine directions): the per-target passes, the vector types, the unit roundoff and 1/sqrt by
+// estimate and Newton step, per-pixel random numbers for a vector of pixels, the background
+// rule, a row of pixels in vectors with its tail, and atan2 (Highway 1.0 has only atan).
+//
+// A Highway file opens with the same two lines and includes this header among its others:
+//
+//     #undef HWY_TARGET_INCLUDE
+//     #define HWY_TARGET_INCLUDE "core/methods/<name>/<name>_simd.cpp"  // the file itself
+//     ...
+//     #include "core/base/simd-inl.h"
+//
+// Its kernels stand between HWY_BEFORE_NAMESPACE(); namespace aolab::HWY_NAMESPACE { and
+// } HWY_AFTER_NAMESPACE();, where hn and the vector types below are in scope, and its
+// HWY_EXPORT and HWY_DYNAMIC_DISPATCH in an #if HWY_ONCE block at its end. The include of
+// foreach_target.h below, outside the include guard, compiles the file once per target: it
+// includes the file again with each HWY_TARGET (its own guard makes it a no-op inside those
+// passes), and then leaves the static target for the rest of the first pass. A Highway file
+// includes no Highway header itself, and every -inl.h of the project includes this one first,
+// so foreach_target.h comes before highway.h whatever the order of a file's includes (which
+// clang-format sorts). The rest is included once per target, so it has Highway's per-target
+// include guard instead of #pragma once.
 //
 // The kernels put consecutive pixels of one row in the lanes of a vector. A pixel's lanes
 // never interact, and a row is always cut into vectors from x = 0, so a pixel's value does not
 // depend on the thread count or on which band computed it.
+#ifndef HWY_TARGET_INCLUDE
+#error "define HWY_TARGET_INCLUDE as the including file's path before including simd-inl.h"
+#endif
+#include <hwy/foreach_target.h>
+
 #if defined(AOLAB_BASE_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef AOLAB_BASE_SIMD_INL_H_
 #undef AOLAB_BASE_SIMD_INL_H_
@@ -23,6 +45,23 @@
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+
+/// The vectors the kernels compute in: float lanes, and int32 and uint32 lanes of the same
+/// count (indices, counters, hashes), with their masks.
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using VU = hn::Vec<DU>;
+using MF = hn::Mask<DF>;
+using MI = hn::Mask<DI>;
+/// Double lanes, and the float and int32 lanes of the same count (the halves of a float
+/// vector), for the kernels that compute a step in double.
+using DD = hn::ScalableTag<double>;
+using DFH = hn::Rebind<float, DD>;
+using DIH = hn::Rebind<std::int32_t, DD>;
+using VD = hn::Vec<DD>;
 
 /// The float unit roundoff, 2^-24: the kernels' rounding tolerances are multiples of it.
 constexpr float kUnitRoundoff = 1.0f / 16777216.0f;

@@ -5,8 +5,6 @@
 // of a vector is drawn at once.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/sampling/cosine_hemisphere_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <cmath>
 #include <numbers>
@@ -16,13 +14,11 @@
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
 
 void CosineDirections(const CosineStrata& strata, std::uint32_t pixel, const glm::vec3& n,
                       float* HWY_RESTRICT dx, float* HWY_RESTRICT dy, float* HWY_RESTRICT dz) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToUnsigned<decltype(df)> du;
-  using VF = hn::Vec<decltype(df)>;
+  const DF df;
+  const DU du;
   glm::vec3 t, b;
   tangent_frame(n, t, b);
   const int lanes = int(hn::Lanes(df));
@@ -39,7 +35,7 @@ void CosineDirections(const CosineStrata& strata, std::uint32_t pixel, const glm
     const auto s1 = hn::Add(index, index);
     const auto h1 = PcgHash(du, hn::Add(base, hn::Mul(s1, stream_step)));
     const auto h2 = PcgHash(du, hn::Add(base, hn::Mul(hn::Add(s1, hn::Set(du, 1u)), stream_step)));
-    const hn::RebindToSigned<decltype(df)> di;
+    const DI di;
     const VF r1 = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<8>(h1))), scale);
     const VF r2 = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<8>(h2))), scale);
     const VF u1 = hn::Mul(hn::Add(hn::LoadU(df, &strata.column[std::size_t(k)]), r1), inv_columns);

@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/methods/lsao/lsao.h"
+#include "core/methods/lsao/lsao_shared.h"
 #include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
 

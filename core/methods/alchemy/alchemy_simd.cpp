@@ -16,8 +16,6 @@
 //   tolerance, come from the hardware's reciprocal and 1/sqrt estimates.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/alchemy/alchemy_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -27,19 +25,12 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
-#include "core/methods/alchemy/obscurance_simd.h"
+#include "core/methods/alchemy/alchemy_shared.h"
 #include "core/methods/hbao/hbao.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
-using MI = hn::Mask<DI>;
 
 constexpr int kChunk = 16;  // taps gathered before they are tested
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/methods/bitmask/bitmask_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
 

@@ -174,10 +174,4 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& settings, const RunOption
 /// The registry entry.
 Method bitmask_method();
 
-struct SliceFrame;
-
-/// The SIMD kernel (bitmask_simd.cpp): the same algorithm as the scalar per-pixel code for
-/// every setting, on consecutive pixels of a row at once. bitmask() runs it for Kernel::Simd.
-Image bitmask_simd(const SliceFrame& f, const BitmaskSettings& s, int threads, Progress* progress);
-
 }  // namespace aolab

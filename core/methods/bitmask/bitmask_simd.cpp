@@ -16,8 +16,6 @@
 //   X/t = D/t + u, so no square of a huge t is ever formed.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/bitmask/bitmask_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,17 +26,16 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
 #include "core/methods/bitmask/bitmask.h"
+#include "core/methods/bitmask/bitmask_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/gtao/gtao_slice_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
 using namespace slice_simd;
-using DU = hn::RebindToUnsigned<DF>;
-using VU = hn::Vec<DU>;
 
 // A slice's mask on every lane: sectors 0–31 in lo, 32–63 in hi (zero unless kWide).
 struct Mask {

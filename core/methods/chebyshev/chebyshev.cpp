@@ -14,7 +14,7 @@
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
-#include "core/methods/chebyshev/chebyshev_internal.h"
+#include "core/methods/chebyshev/chebyshev_shared.h"
 
 namespace aolab {
 

@@ -20,8 +20,6 @@
 #pragma GCC optimize("fp-contract=off")
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/chebyshev/chebyshev_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <atomic>
@@ -37,20 +35,11 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
-#include "core/methods/chebyshev/chebyshev_internal.h"
+#include "core/methods/chebyshev/chebyshev_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using DD = hn::ScalableTag<double>;
-using DFH = hn::Rebind<float, DD>;  // the floats of one double vector
-using DIH = hn::Rebind<std::int32_t, DD>;
-using VD = hn::Vec<DD>;
 
 // `count` floats of `row` from `x` on, as a vector, 0 outside [0, w): the taps of a border
 // vector that reach past the row's ends (those lanes are masked by the caller).

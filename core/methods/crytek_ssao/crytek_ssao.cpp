@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/crytek_ssao/crytek_ssao_shared.h"
 #include "core/sampling/random.h"
 
 namespace aolab {

@@ -119,16 +119,6 @@ std::vector<glm::vec3> crytek_ssao_kernel(int samples, CrytekSsaoDistribution di
 /// vector of pixel (x, y) is a uniform unit vector from the streams 303 and 304 at (x, y).
 constexpr std::uint32_t kCrytekSsaoPixelStream = 303;
 
-/// The SIMD kernel (crytek_ssao_simd.cpp): the scalar per-pixel code's algorithm for every
-/// setting on consecutive pixels of a row at once. It reads the G-buffer's depth as it is
-/// (background tested where it is read, not replaced by NaN); `normals` are the prepared
-/// normals (3 per pixel), null unless the hemisphere variant; `kernel` is
-/// crytek_ssao_kernel()'s and `tile` the 16 reflection vectors of `rotation = tiled4x4`
-/// (pixel (x, y) reads tile[(x & 3) + 4 (y & 3)]). crytek_ssao() runs it for Kernel::Simd.
-Image crytek_ssao_simd(const GBuffer& g, const float* normals, const CrytekSsaoSettings& s,
-                       const std::vector<glm::vec3>& kernel, const glm::vec3 (&tile)[16],
-                       int threads, Progress* progress);
-
 /// Crytek SSAO of a G-buffer. Returns a 1-channel image in [0, 1]; background = 1.
 /// Throws std::invalid_argument for invalid settings or an invalid G-buffer; Cancelled if
 /// cancelled.

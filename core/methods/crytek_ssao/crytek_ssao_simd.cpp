@@ -24,8 +24,6 @@
 // - every test is a mask and the depth read a gather: no branch per point.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/crytek_ssao/crytek_ssao_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -38,6 +36,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/crytek_ssao/crytek_ssao.h"
+#include "core/methods/crytek_ssao/crytek_ssao_shared.h"
 
 #ifndef AOLAB_CRYTEK_SSAO_SIMD_TABLES_
 #define AOLAB_CRYTEK_SSAO_SIMD_TABLES_
@@ -78,12 +77,6 @@ struct CrytekSimdFrame {
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
 
 // What every point of a row shares.
 struct RowConstants {

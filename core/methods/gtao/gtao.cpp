@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/gtao/gtao_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/hbao/hbao.h"
 

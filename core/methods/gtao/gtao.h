@@ -115,10 +115,4 @@ Image gtao(const GBuffer& g, const GtaoSettings& settings, const RunOptions& opt
 /// The registry entry.
 Method gtao_method();
 
-struct SliceFrame;
-
-/// The SIMD kernel (gtao_simd.cpp): the same algorithm as the scalar per-pixel code for every
-/// setting, on consecutive pixels of a row at once. gtao() runs it for Kernel::Simd.
-Image gtao_simd(const SliceFrame& f, const GtaoSettings& s, int threads, Progress* progress);
-
 }  // namespace aolab

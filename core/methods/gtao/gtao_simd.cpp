@@ -14,22 +14,21 @@
 //   per normalisation, HBAO's division-free prefilter before the tangent test).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/gtao/gtao_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstddef>
 #include <numbers>
 
 #include "core/base/parallel.h"
+#include "core/base/simd-inl.h"
 #include "core/methods/gtao/gtao.h"
+#include "core/methods/gtao/gtao_shared.h"
 #include "core/methods/gtao/gtao_slice.h"
 #include "core/methods/gtao/gtao_slice_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
 using namespace slice_simd;
 
 // Eq. 7 of one side from its horizon cosine c (side_arc): h = acos c on side 0, −acos c on

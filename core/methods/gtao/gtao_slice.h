@@ -23,14 +23,9 @@
 
 namespace aolab {
 
-/// The view-space inputs a slice method marches over: depth with background as NaN (so every
-/// test on it fails) and the prepared normals, 3 per pixel.
-struct SliceFrame {
-  const float* depth;
-  const float* normals;
-  int width, height;
-  CameraIntrinsics cam;
-};
+/// The view-space inputs a slice method marches over: HBAO's, depth with background as NaN (so
+/// every test on it fails) and the prepared normals, 3 per pixel.
+using SliceFrame = HbaoFrame;
 
 /// One slice of one pixel: the plane through P spanned by the view vector v and the
 /// back-projected screen direction (the plane through the camera that holds the screen line).

@@ -23,8 +23,6 @@
 #define AOLAB_GTAO_SLICE_SIMD_INL_H_
 #endif
 
-#include <hwy/highway.h>
-
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -39,12 +37,6 @@
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace slice_simd {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
 
 /// What every vector of a row shares.
 struct Row {

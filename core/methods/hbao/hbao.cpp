@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/methods/hbao/hbao_shared.h"
 #include "core/sampling/random.h"
 
 namespace aolab {

@@ -145,17 +145,14 @@ Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& opt
 Method hbao_method();
 
 /// What the HBAO kernels read of a frame: depth with background as NaN (so every comparison
-/// with it fails), prepared normals (3 floats per pixel), the size and the camera.
+/// with it fails), prepared normals (3 floats per pixel), the size and the camera; GTAO's
+/// slices march over the same (SliceFrame).
 struct HbaoFrame {
   const float* depth;
   const float* normals;
   int width, height;
   CameraIntrinsics cam;
 };
-
-/// The SIMD kernel (hbao_simd.cpp): the same algorithm as the scalar per-pixel code for every
-/// setting, on consecutive pixels of a row at once. hbao() runs it for Kernel::Simd.
-Image hbao_simd(const HbaoFrame& f, const HbaoSettings& s, int threads, Progress* progress);
 
 // ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
 // texels; the oracle re-derives everything else in double precision. ----

@@ -9,8 +9,6 @@
 #define AOLAB_HBAO_SIMD_INL_H_
 #endif
 
-#include <hwy/highway.h>
-
 #include <limits>
 
 #include "core/base/simd-inl.h"

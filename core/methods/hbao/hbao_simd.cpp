@@ -18,8 +18,6 @@
 //   square root.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/hbao/hbao_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -31,17 +29,12 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/methods/hbao/hbao_shared.h"
 #include "core/methods/hbao/hbao_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
 
 // The receiver P of each lane (hbao_receiver).
 struct Receiver {

@@ -8,6 +8,7 @@
 
 #include "core/base/check.h"
 #include "core/base/parallel.h"
+#include "core/methods/lsao/lsao_shared.h"
 #include "core/sampling/random.h"
 
 namespace aolab {

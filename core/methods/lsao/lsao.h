@@ -174,9 +174,6 @@ Image lsao(const GBuffer& g, const LsaoSettings& settings, const RunOptions& opt
 /// The registry entry.
 Method lsao_method();
 
-/// Throws std::invalid_argument unless `s` is valid (ranges, and K = 8n for aligned sets).
-void validate_lsao_settings(const LsaoSettings& s);
-
 /// ρ and 1 − ρ of a falloff; 1 − ρ is computed without cancellation.
 struct LsaoWeight {
   float rho;
@@ -328,22 +325,5 @@ inline double lsao_gather_radius(const SweepDirection& d, double line_spacing) {
 /// within the radius are taken without the tests; a pixel with none gets 1.
 Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
                   const RunOptions& options = {});
-
-/// lsao() with Kernel::Simd: lsao_sweep_simd then lsao_gather_simd, the depth prepared once.
-Image lsao_simd_kernel(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {});
-
-/// The SIMD sweep (lsao_simd.cpp, Kernel::Simd): Algorithm 1 on a vector of parallel lines at
-/// once; lsao_sweep's buffer within the tolerance of tests/cpp/methods/lsao/lsao_simd_test.cpp
-/// (the same samples and depths; the values rounded differently).
-/// keep_buffer = false leaves `buffer` empty where lsao_gather_simd reads texel_runs instead.
-LsaoSweep lsao_sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options = {},
-                          bool keep_buffer = true);
-
-/// The SIMD gather (lsao_simd.cpp, Kernel::Simd): lsao_gather's result within the tolerance
-/// of tests/cpp/methods/lsao/lsao_simd_test.cpp (it picks the same samples; the weighted sums
-/// are rounded in float). It reads sweep.texel_runs, which lsao_sweep_simd makes for aligned
-/// sets with sampling = snap; otherwise it is lsao_gather.
-Image lsao_gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
-                       const RunOptions& options = {});
 
 }  // namespace aolab

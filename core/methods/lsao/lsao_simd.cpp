@@ -25,8 +25,6 @@
 #pragma GCC optimize("fp-contract=off")
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/lsao/lsao_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cmath>
@@ -39,6 +37,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/lsao/lsao.h"
+#include "core/methods/lsao/lsao_shared.h"
 
 #ifndef AOLAB_LSAO_SIMD_SHARED_
 #define AOLAB_LSAO_SIMD_SHARED_
@@ -121,10 +120,6 @@ struct SweepScratch {
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using VF = hn::Vec<DF>;
-using MF = hn::Mask<DF>;
 using lsao_simd::Axis;
 using lsao_simd::Inputs;
 using lsao_simd::Scratch;
@@ -274,9 +269,6 @@ void GatherBand(const Inputs& in, int band, Scratch& s, float* out_image) {
 
 // ---- The sweep: Algorithm 1 on Lanes lines of one direction at once ----
 
-using DI = hn::RebindToSigned<DF>;
-using VI = hn::Vec<DI>;
-using MI = hn::Mask<DI>;
 using lsao_simd::SweepInputs;
 using lsao_simd::SweepScratch;
 
@@ -386,9 +378,9 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       const SweepDirection& dir = plan.directions[std::size_t(lines.direction)];
       // Lanes of doubles along the line: lsao_sample_position's operations (a multiply, then
       // an add) and an exact floor, so the same texels; the depths gathered.
-      const hn::ScalableTag<double> dd;
-      const hn::Rebind<float, decltype(dd)> dh;
-      const hn::Rebind<std::int32_t, decltype(dd)> dih;
+      const DD dd;
+      const DFH dh;
+      const DIH dih;
       const int m = int(hn::Lanes(dd));
       HWY_ALIGN float bx[hn::MaxLanes(dd)], by[hn::MaxLanes(dd)], bd[hn::MaxLanes(dd)];
       const auto ox = hn::Set(dd, line.origin_x), oy = hn::Set(dd, line.origin_y);

@@ -10,6 +10,7 @@
 #include "core/base/parallel.h"
 #include "core/filters/blur.h"
 #include "core/methods/hbao/hbao.h"
+#include "core/methods/pyramid_hbao/pyramid_hbao_shared.h"
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 

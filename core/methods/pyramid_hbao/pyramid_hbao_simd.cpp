@@ -20,8 +20,6 @@
 //   passes it — on open surfaces no lane does.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/pyramid_hbao/pyramid_hbao_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -33,6 +31,7 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
+#include "core/methods/pyramid_hbao/pyramid_hbao_shared.h"
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 
@@ -55,12 +54,6 @@ struct Frame {
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
 using pyramid_simd::Frame;
 using Level = GatherPyramidLevel;
 

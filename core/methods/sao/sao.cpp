@@ -11,7 +11,7 @@
 #include "core/base/parallel.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/sao/sao_blur.h"
-#include "core/methods/sao/sao_simd.h"
+#include "core/methods/sao/sao_shared.h"
 #include "core/sampling/random.h"
 
 namespace aolab {

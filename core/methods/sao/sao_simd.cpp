@@ -6,10 +6,6 @@
 // docs/methods/sao.md, "SIMD kernel", gives the tolerances.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/sao/sao_simd.cpp"
-#include "core/methods/sao/sao_simd.h"
-
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <bit>
@@ -22,10 +18,10 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/methods/sao/sao_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
 
 // One output row of a filter pass (sao_blur.cpp's filter_pass): centre values a0 and depths z0
 // of the row, and for each tap j the values and depths of its pixels (taps[j], depths[j],
@@ -35,7 +31,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 void SaoFilterRow(const float* HWY_RESTRICT a0_row, const float* HWY_RESTRICT z0_row,
                   const float* const* taps, const float* const* depths, const float* gauss,
                   int radius, float inv_edge, int width, bool clamp, float* HWY_RESTRICT out) {
-  using DF = hn::ScalableTag<float>;
   const DF df;
   const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
   const auto v_inv_edge = hn::Set(df, inv_edge);

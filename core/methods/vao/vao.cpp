@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "core/base/parallel.h"
-#include "core/methods/vao/vao_simd.h"
+#include "core/methods/vao/vao_shared.h"
 #include "core/sampling/random.h"
 
 namespace aolab {

@@ -5,8 +5,6 @@
 // depth test as the scalar code's bounds test does.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/vao_pp/bilateral_simd.cpp"
-#include <hwy/foreach_target.h>  // must come before highway.h
-#include <hwy/highway.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,15 +15,10 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/methods/vao_pp/bilateral.h"
+#include "core/methods/vao_pp/vao_pp_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
-namespace {
-namespace hn = hwy::HWY_NAMESPACE;
-using DF = hn::ScalableTag<float>;
-using VF = hn::Vec<DF>;
-using MF = hn::Mask<DF>;
-}  // namespace
 
 // One output row: taps at row offsets (dy = 1) or column offsets (dy = 0). `depth_taps[t]`
 // and `value_taps[t]` point at the tap's row shifted so that index x reads the tap of pixel x

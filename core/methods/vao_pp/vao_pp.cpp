@@ -1,14 +1,14 @@
 #include "core/methods/vao_pp/vao_pp.h"
 
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/vao/vao_simd.h"
+#include "core/methods/vao/vao_shared.h"
 #include "core/methods/vao_pp/bilateral.h"
+#include "core/methods/vao_pp/vao_pp_shared.h"
 #include "core/sampling/poisson_disk.h"
 #include "core/sampling/random.h"
 
@@ -37,6 +37,11 @@ int vao_pp_adaptive_samples(float diameter, float min_diameter, int max_samples)
 }
 
 namespace {
+
+using vao_pp_detail::Counters;
+using vao_pp_detail::cull_prepass_simd;
+using vao_pp_detail::occlusion_pass_simd;
+using vao_pp_detail::Pass;
 
 constexpr int kSetSizes[] = {2, 4, 8, 16, 32};
 
@@ -128,43 +133,6 @@ bool occlusion_nearby(const Image& low, int x, int y, float threshold) {
   return false;
 }
 
-// occlusion_nearby's four fetches, made once per corner of the pixel grid: corner (x, y)
-// "exhibits occlusion" (the same arithmetic, so the same decisions). What depends on x alone
-// (the texel columns and the weight tu) is made once per run.
-struct CornerColumns {
-  std::vector<int> i0, i1;  // the clamped texel columns of u = x/8 − 0.5
-  std::vector<float> tu;
-  CornerColumns(int w, int lw) {
-    for (int x = 0; x <= w; ++x) {
-      const float u = float(x) / float(kVaoPpCullFactor) - 0.5f;
-      const float fu = std::floor(u);
-      const int i = int(fu);
-      i0.push_back(std::clamp(i, 0, lw - 1));
-      i1.push_back(std::clamp(i + 1, 0, lw - 1));
-      tu.push_back(u - fu);
-    }
-  }
-};
-
-void occluded_corners(const Image& low, const CornerColumns& cols, int y, int w, float threshold,
-                      std::vector<char>& out) {
-  const int lh = low.height();
-  const float v = float(y) / float(kVaoPpCullFactor) - 0.5f;
-  const float fv = std::floor(v);
-  const int j = int(fv);
-  const float tv = v - fv;
-  const float* row0 = low.data() + std::size_t(std::clamp(j, 0, lh - 1)) * low.width();
-  const float* row1 = low.data() + std::size_t(std::clamp(j + 1, 0, lh - 1)) * low.width();
-  out.resize(std::size_t(w) + 1);
-  for (std::size_t x = 0; x <= std::size_t(w); ++x) {
-    const int i0 = cols.i0[x], i1 = cols.i1[x];
-    const float tu = cols.tu[x];
-    const float top = row0[i0] + tu * (row0[i1] - row0[i0]);
-    const float bottom = row1[i0] + tu * (row1[i1] - row1[i0]);
-    out[x] = top + tv * (bottom - top) < threshold;
-  }
-}
-
 // The setting that makes VAO++ read colour ("" = none); colour bleeding is named first.
 std::string color_setting(bool color_bleeding, bool luminance_sensitivity) {
   if (color_bleeding) return "color_bleeding";
@@ -186,30 +154,8 @@ void validate_vao_pp(const GBuffer& g, const VaoPpSettings& s) {
     require_color(g, "vao_pp", setting);
 }
 
-// What the passes of one run share.
-struct Pass {
-  const GBuffer& g;
-  const VaoPpSettings& s;
-  const VaoFrame& frame;
-  const SampleSets& sets;
-  VaoPixelOptions po;  // without colour bleeding (the pre-pass)
-  VaoPpCulling culling;
-  int threads;
-  Progress* progress;
-
-  bool geometry(int x, int y) const {
-    const float d = frame.depth[std::size_t(y) * frame.width + x];
-    return d == d;
-  }
-};
-
-// VaoPpStats as the threads add to it.
-struct Counters {
-  std::atomic<std::int64_t> prepass_pixels{0}, pixels{0}, culled{0}, samples{0};
-};
-
 // §4.2: AO at 1/8 resolution, 8 samples, at the pixel nearest each low-res texel's centre.
-Image cull_prepass(const Pass& r, Counters& counters) {
+Image cull_prepass(const Pass& r, const SampleSets& sets, Counters& counters) {
   const int w = r.frame.width, h = r.frame.height;
   const int lw = (w + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
   const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
@@ -224,7 +170,7 @@ Image cull_prepass(const Pass& r, Counters& counters) {
             const int x = std::min(i * kVaoPpCullFactor + kVaoPpCullFactor / 2, w - 1);
             const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
             if (!r.geometry(x, y)) continue;
-            const VaoKernel& k = r.sets.get(kVaoPpCullSamples, x, y, scratch);
+            const VaoKernel& k = sets.get(kVaoPpCullSamples, x, y, scratch);
             low(i, j) =
                 vao_pixel(r.frame, r.po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size()).ao();
             ++count;
@@ -255,7 +201,7 @@ int pixel_samples(const Pass& r, const Image& low, int x, int y, bool& culled) {
 
 // Pass 1 (§3): occlusion, and with colour bleeding the bleed colour B, into a working image
 // of 1 or 4 channels (A, B_r, B_g, B_b).
-Image occlusion_pass(const Pass& r, const Image& low, Counters& counters) {
+Image occlusion_pass(const Pass& r, const SampleSets& sets, const Image& low, Counters& counters) {
   const VaoPpSettings& s = r.s;
   const int w = r.frame.width, h = r.frame.height;
   Image work(w, h, s.color_bleeding ? 4 : 1, 1.0f);
@@ -274,7 +220,7 @@ Image occlusion_pass(const Pass& r, const Image& low, Counters& counters) {
             const int n = pixel_samples(r, low, x, y, culled);
             band_culled += culled;
             if (n == 0) continue;  // greedy culling: left at 1 (and white)
-            const VaoKernel& k = r.sets.get(n, x, y, scratch);
+            const VaoKernel& k = sets.get(n, x, y, scratch);
             const VaoPixelSums sums =
                 vao_pixel(r.frame, full_po, x, y, k.x.data(), k.y.data(), k.h.data(), k.size());
             band_samples += n;
@@ -288,81 +234,6 @@ Image occlusion_pass(const Pass& r, const Image& low, Counters& counters) {
         counters.samples += band_samples;
       },
       r.progress);
-  return work;
-}
-
-// The SIMD kernel's passes 0 and 1: the pre-pass and occlusion_pass, vao_simd_span on rows.
-Image cull_prepass_simd(const Pass& r, const VaoSimdSets& sets, Counters& counters) {
-  const int w = r.frame.width, h = r.frame.height;
-  const int lw = (w + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
-  const int lh = (h + kVaoPpCullFactor - 1) / kVaoPpCullFactor;
-  Image low(lw, lh, 1, 1.0f);
-  VaoSimdCounts counts;
-  counts.samples = kVaoPpCullSamples;
-  parallel_for_rows(
-      lh, r.threads,
-      [&](int j0, int j1) {
-        VaoSimdStats stats;
-        for (int j = j0; j < j1; ++j) {
-          const int y = std::min(j * kVaoPpCullFactor + kVaoPpCullFactor / 2, h - 1);
-          vao_simd_span(r.frame, r.po, sets, counts, y, 0, lw, kVaoPpCullFactor,
-                        kVaoPpCullFactor / 2, &low(0, j), 1, &stats);
-        }
-        counters.prepass_pixels += stats.pixels;
-      },
-      r.progress);
-  return low;
-}
-
-Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& low,
-                          Counters& counters) {
-  const VaoPpSettings& s = r.s;
-  const int w = r.frame.width, h = r.frame.height;
-  const int channels = s.color_bleeding ? 4 : 1;
-  Image work(w, h, channels, 1.0f);
-  VaoPixelOptions full_po = r.po;
-  full_po.bleeding_step = s.color_bleeding ? s.bleeding_sample_step : 0;
-  VaoSimdCounts base;
-  base.samples = s.samples;
-  base.adaptive = s.adaptive_sampling;
-  base.adaptive_min_diameter = s.adaptive_min_diameter;
-  base.greedy = r.culling == VaoPpCulling::Greedy;
-  base.careful = kVaoPpCarefulSamples;
-  const CornerColumns columns(w, r.culling != VaoPpCulling::Off ? low.width() : 1);
-  parallel_for_rows(
-      h, r.threads,
-      [&](int y0, int y1) {
-        VaoSimdStats stats;
-        std::vector<char> top, bottom;
-        // The band's rows of §4.2's decisions (1 = culled), then its tiles.
-        std::vector<float> culled(std::size_t(y1 - y0) * w, 0.0f);
-        VaoSimdCounts counts = base;
-        for (int y = y0; y < y1; ++y) {
-          if (r.culling != VaoPpCulling::Off) {
-            // Corner row y is row y − 1's bottom one.
-            if (y == y0) occluded_corners(low, columns, y, w, s.cull_threshold, bottom);
-            std::swap(top, bottom);
-            occluded_corners(low, columns, y + 1, w, s.cull_threshold, bottom);
-            for (int x = 0; x < w; ++x)
-              culled[std::size_t(y - y0) * w + std::size_t(x)] =
-                  (top[std::size_t(x)] | top[std::size_t(x) + 1] | bottom[std::size_t(x)] |
-                   bottom[std::size_t(x) + 1])
-                      ? 0.0f
-                      : 1.0f;
-          }
-        }
-        for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
-          for (int y = y0; y < y1; ++y) {
-            counts.culled = culled.data() + std::size_t(y - y0) * w;
-            if (r.culling == VaoPpCulling::Off) counts.culled = nullptr;
-            vao_simd_span(r.frame, full_po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns),
-                          1, 0, &work(0, y, 0), channels, &stats);
-          }
-        counters.pixels += stats.pixels;
-        counters.culled += stats.culled;
-        counters.samples += stats.samples;
-      },
-      r.progress, kVaoBandRows);
   return work;
 }
 
@@ -409,7 +280,7 @@ Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options
   const int threads = resolve_threads(options.threads);
   const VaoFrame frame = vao_frame(g, s.color_bleeding, threads);
   const SampleSets sets(s.poisson_samples, s.seed);
-  Pass r{g, s, frame, sets, {}, VaoPpCulling(s.culling), threads, options.progress};
+  Pass r{g, s, frame, {}, VaoPpCulling(s.culling), threads, options.progress};
   r.po.radius = s.radius;
   r.po.view_ray_pipes = s.view_ray_pipes;
   r.po.range_check = s.range_check;
@@ -424,8 +295,8 @@ Image vao_pp(const GBuffer& g, const VaoPpSettings& s, const RunOptions& options
     const Image low = culling ? cull_prepass_simd(r, simd_sets, counters) : Image();
     work = occlusion_pass_simd(r, simd_sets, low, counters);
   } else {
-    const Image low = culling ? cull_prepass(r, counters) : Image();
-    work = occlusion_pass(r, low, counters);
+    const Image low = culling ? cull_prepass(r, sets, counters) : Image();
+    work = occlusion_pass(r, sets, low, counters);
   }
   // Pass 2 (§4.6): the cross-bilateral low-pass, depth threshold R.
   if (s.filter)

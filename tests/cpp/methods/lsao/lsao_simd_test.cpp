@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/methods/lsao/lsao.h"
+#include "core/methods/lsao/lsao_shared.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {

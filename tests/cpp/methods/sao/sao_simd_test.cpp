@@ -3,8 +3,6 @@
 // scenes and on committed reference scenes; the same bits for any thread count; hard sizes and
 // inputs; the pyramid texel for texel; the filter alone. The known-answer tests of
 // sao_test.cpp and conformance_test.cpp run the SIMD path too (it is the default).
-#include "core/methods/sao/sao_simd.h"
-
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
@@ -18,6 +16,7 @@
 
 #include "core/methods/sao/sao.h"
 #include "core/methods/sao/sao_blur.h"
+#include "core/methods/sao/sao_shared.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {

@@ -13,6 +13,7 @@
 #include "core/methods/vao/vao.h"
 #include "core/methods/vao_pp/bilateral.h"
 #include "core/methods/vao_pp/vao_pp.h"
+#include "core/methods/vao_pp/vao_pp_shared.h"
 #include "tests/cpp/test_support.h"
 
 namespace aolab {

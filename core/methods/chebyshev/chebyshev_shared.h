@@ -1,6 +1,7 @@
-// What the scalar code (chebyshev.cpp) and the SIMD kernel (chebyshev_simd.cpp) share: the
-// frame as the passes read it and the plan of window sizes (levels), with the rows and columns
-// each level's two passes cover. Not part of the library's interface.
+// What Chebyshev AO's scalar code (chebyshev.cpp) and its SIMD kernel (chebyshev_simd.cpp)
+// share: the frame as the passes read it and the plan of window sizes (levels), with the rows
+// and columns each level's two passes cover, and the SIMD kernel's entry. Private to
+// core/methods/chebyshev/ (docs/architecture.md, "Two kernels per method").
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,8 @@
-// The SIMD kernel of VAO and VAO++ (vao_simd.cpp): vao_pixel on Lanes pixels of a row at
-// once, the one sample loop both methods run. The scalar vao_pixel stays the oracle it is
-// tested against (docs/methods/vao.md, "SIMD kernel").
+// What VAO's scalar code (vao.cpp) and its SIMD kernel (vao_simd.cpp) share: the SIMD kernel,
+// vao_pixel on Lanes pixels of a row at once, with the sample sets and counts it reads. VAO++
+// runs the same sample loop (vao_pp.cpp). The scalar vao_pixel stays the oracle it is
+// tested against (docs/methods/vao.md, "SIMD kernel"). Private to core/methods/vao/ and VAO++
+// (docs/architecture.md, "Two kernels per method").
 #pragma once
 
 #include <cstdint>

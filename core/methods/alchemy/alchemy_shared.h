@@ -1,7 +1,9 @@
-// The SIMD kernel of the obscurance estimator (obscurance_estimator.h) that Alchemy AO and SAO
-// share: obscurance_estimate on consecutive pixels of a row at once (Highway, every target,
-// dispatched at run time; alchemy_simd.cpp). The scalar code stays the oracle it is tested
-// against; docs/methods/alchemy.md, "SIMD kernel", says where the two differ.
+// What Alchemy AO's scalar code (alchemy.cpp) and its SIMD kernel (alchemy_simd.cpp) share:
+// the SIMD kernel of the obscurance estimator (obscurance_estimator.h) that Alchemy AO and SAO
+// share, obscurance_estimate on consecutive pixels of a row at once, and what it reads. The
+// scalar code stays the oracle it is tested against; docs/methods/alchemy.md, "SIMD kernel",
+// says where the two differ. Private to core/methods/alchemy/ and SAO (docs/architecture.md,
+// "Two kernels per method").
 #pragma once
 
 #include <bit>
