@@ -39,8 +39,8 @@
 #include "core/methods/lsao/lsao.h"
 #include "core/methods/lsao/lsao_shared.h"
 
-#ifndef AOLAB_LSAO_SIMD_SHARED_
-#define AOLAB_LSAO_SIMD_SHARED_
+#ifndef AOLAB_LSAO_SIMD_ONCE_
+#define AOLAB_LSAO_SIMD_ONCE_
 namespace aolab::lsao_simd {
 
 // One texel offset of an axis's stencil.
@@ -115,7 +115,7 @@ struct SweepScratch {
 };
 
 }  // namespace aolab::lsao_simd
-#endif  // AOLAB_LSAO_SIMD_SHARED_
+#endif  // AOLAB_LSAO_SIMD_ONCE_
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {

@@ -35,8 +35,8 @@
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 
-#ifndef AOLAB_PYRAMID_HBAO_SIMD_TYPES_
-#define AOLAB_PYRAMID_HBAO_SIMD_TYPES_
+#ifndef AOLAB_PYRAMID_HBAO_SIMD_ONCE_
+#define AOLAB_PYRAMID_HBAO_SIMD_ONCE_
 namespace aolab::pyramid_simd {
 
 // What the kernel reads of a frame.
@@ -49,7 +49,7 @@ struct Frame {
 };
 
 }  // namespace aolab::pyramid_simd
-#endif  // AOLAB_PYRAMID_HBAO_SIMD_TYPES_
+#endif  // AOLAB_PYRAMID_HBAO_SIMD_ONCE_
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
