@@ -12,14 +12,17 @@
 //
 // Its kernels stand between HWY_BEFORE_NAMESPACE(); namespace aolab::HWY_NAMESPACE { and
 // } HWY_AFTER_NAMESPACE();, where hn and the vector types below are in scope, and its
-// HWY_EXPORT and HWY_DYNAMIC_DISPATCH in an #if HWY_ONCE block at its end. The include of
-// foreach_target.h below, outside the include guard, compiles the file once per target: it
-// includes the file again with each HWY_TARGET (its own guard makes it a no-op inside those
-// passes), and then leaves the static target for the rest of the first pass. A Highway file
-// includes no Highway header itself, and every -inl.h of the project includes this one first,
-// so foreach_target.h comes before highway.h whatever the order of a file's includes (which
-// clang-format sorts). The rest is included once per target, so it has Highway's per-target
-// include guard instead of #pragma once.
+// HWY_EXPORT and HWY_DYNAMIC_DISPATCH in an #if HWY_ONCE block at its end. What both of those
+// read (the file's own types and tables) stands before the kernels in an
+// #ifndef AOLAB_<NAME>_SIMD_ONCE_ block, since the file is compiled once per target.
+//
+// The include of foreach_target.h below, outside the include guard, compiles the file once per
+// target: it includes the file again with each HWY_TARGET (its own guard makes it a no-op
+// inside those passes), and then leaves the static target for the rest of the first pass. A
+// Highway file includes no Highway header itself, and every -inl.h of the project includes this
+// one first, so foreach_target.h comes before highway.h whatever the order of a file's includes
+// (which clang-format sorts). The rest is included once per target, so it has Highway's
+// per-target include guard instead of #pragma once.
 //
 // The kernels put consecutive pixels of one row in the lanes of a vector. A pixel's lanes
 // never interact, and a row is always cut into vectors from x = 0, so a pixel's value does not

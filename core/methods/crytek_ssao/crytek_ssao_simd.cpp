@@ -38,8 +38,8 @@
 #include "core/methods/crytek_ssao/crytek_ssao.h"
 #include "core/methods/crytek_ssao/crytek_ssao_shared.h"
 
-#ifndef AOLAB_CRYTEK_SSAO_SIMD_TABLES_
-#define AOLAB_CRYTEK_SSAO_SIMD_TABLES_
+#ifndef AOLAB_CRYTEK_SSAO_SIMD_ONCE_
+#define AOLAB_CRYTEK_SSAO_SIMD_ONCE_
 namespace aolab {
 namespace {
 
@@ -72,7 +72,7 @@ struct CrytekSimdFrame {
 
 }  // namespace
 }  // namespace aolab
-#endif  // AOLAB_CRYTEK_SSAO_SIMD_TABLES_
+#endif  // AOLAB_CRYTEK_SSAO_SIMD_ONCE_
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {

@@ -39,8 +39,8 @@
 #include "core/methods/lsao/lsao.h"
 #include "core/methods/lsao/lsao_shared.h"
 
-#ifndef AOLAB_LSAO_SIMD_SHARED_
-#define AOLAB_LSAO_SIMD_SHARED_
+#ifndef AOLAB_LSAO_SIMD_ONCE_
+#define AOLAB_LSAO_SIMD_ONCE_
 namespace aolab::lsao_simd {
 
 // One texel offset of an axis's stencil.
@@ -115,7 +115,7 @@ struct SweepScratch {
 };
 
 }  // namespace aolab::lsao_simd
-#endif  // AOLAB_LSAO_SIMD_SHARED_
+#endif  // AOLAB_LSAO_SIMD_ONCE_
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -333,76 +333,84 @@ HWY_INLINE EvalV Select(MF m, const EvalV& a, const EvalV& b) {
           hn::Or(hn::And(m, a.zero), hn::AndNot(m, b.zero))};
 }
 
-// Lines [l0, l1) of plan.lines[li] (at most Lanes of them): sampled once, swept in each
-// direction that uses them, their records written.
-void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch& sc,
-                    LsaoTexelRun* run) {
-  const DF df;
-  const DI di;
-  const int N = int(hn::Lanes(df));
+// A batch's lines laid out for the sweep: their samples transposed (row r of lane l at r·N + l)
+// and aligned at their ends: lane l's sample i is on row steps − n_l + i, the rows before it
+// are background. The forward sweep walks the rows up, the opposite one down: both read the
+// same rows.
+struct BatchLayout {
+  const LsaoLines* lines;
+  int li, l0, lanes;  // plan.lines[li], lines [l0, l0 + lanes)
+  int N;              // Lanes
+  int steps;          // rows: the longest line's samples
+
+  HWY_INLINE const LsaoLine& Line(int lane) const { return lines->lines[std::size_t(l0 + lane)]; }
+  // The row of lane `lane`'s sample i.
+  HWY_INLINE std::size_t RowOf(int lane, int i) const {
+    return std::size_t(steps - Line(lane).count + i);
+  }
+};
+
+// lsao_line_samples with snapping, the n samples of `line` into x, y, d (N floats apart): the
+// containing texel's centre and depth. Lanes of doubles along the line: lsao_sample_position's
+// operations (a multiply, then an add) and an exact floor, so the same texels; the depths
+// gathered.
+HWY_INLINE void SnapLineSamples(const SweepInputs& in, const SweepDirection& dir,
+                                const LsaoLine& line, int n, int N, float* x, float* y, float* d) {
+  const DD dd;
+  const DFH dh;
+  const DIH dih;
+  const int m = int(hn::Lanes(dd));
+  HWY_ALIGN float bx[hn::MaxLanes(dd)], by[hn::MaxLanes(dd)], bd[hn::MaxLanes(dd)];
+  const auto ox = hn::Set(dd, line.origin_x), oy = hn::Set(dd, line.origin_y);
+  const auto sx = hn::Set(dd, dir.step_x), sy = hn::Set(dd, dir.step_y);
+  const auto width = hn::Set(dd, double(in.plan->width));
+  const auto half = hn::Set(dh, 0.5f);
+  for (int i0 = 0; i0 < n; i0 += m) {
+    const int count = std::min(m, n - i0);
+    const auto j = hn::Iota(dd, double(line.first + i0));
+    const auto tx = hn::Floor(hn::Add(ox, hn::Mul(j, sx)));
+    const auto ty = hn::Floor(hn::Add(oy, hn::Mul(j, sy)));
+    const auto valid = hn::FirstN(dih, std::size_t(count));
+    const auto index =
+        hn::IfThenElseZero(valid, hn::DemoteTo(dih, hn::Add(hn::Mul(ty, width), tx)));
+    hn::Store(hn::Add(hn::DemoteTo(dh, tx), half), dh, bx);
+    hn::Store(hn::Add(hn::DemoteTo(dh, ty), half), dh, by);
+    hn::Store(hn::GatherIndex(dh, in.depth, index), dh, bd);
+    for (int k = 0; k < count; ++k) {
+      const std::size_t at = std::size_t(i0 + k) * std::size_t(N);
+      x[at] = bx[k], y[at] = by[k], d[at] = bd[k];
+    }
+  }
+}
+
+// Lines [l0, l1) of plan.lines[li] sampled into the scratch, laid out as BatchLayout says (and
+// their depths into the buffer's records, if any).
+HWY_INLINE BatchLayout LayOutSamples(const SweepInputs& in, int li, int l0, int l1,
+                                     SweepScratch& sc) {
   const LsaoPlan& plan = *in.plan;
-  const LsaoSettings& set = *in.s;
-  const LsaoLines& lines = plan.lines[std::size_t(li)];
-  const int lanes = l1 - l0;
+  BatchLayout b{&plan.lines[std::size_t(li)], li, l0, l1 - l0, int(hn::Lanes(DF())), 0};
+  const int N = b.N;
   const std::size_t stride = std::size_t(plan.stride[std::size_t(li)]);
-  const LsaoSampling sampling = LsaoSampling(set.sampling);
-  const LsaoTangent strategy = LsaoTangent(set.tangent_strategy);
-  const LsaoFalloff falloff = LsaoFalloff(set.falloff);
-  // The samples of the lines, transposed (row r of lane l at r·N + l) and aligned at their
-  // ends: lane l's sample i is on row steps − n_l + i, the rows before it are background. The
-  // forward sweep walks the rows up, the opposite one down: both read the same rows.
-  int steps = 0;
-  for (int lane = 0; lane < lanes; ++lane)
-    steps = std::max(steps, lines.lines[std::size_t(l0 + lane)].count);
-  const std::size_t size = std::size_t(steps) * std::size_t(N);
+  const LsaoSampling sampling = LsaoSampling(in.s->sampling);
+  for (int lane = 0; lane < b.lanes; ++lane) b.steps = std::max(b.steps, b.Line(lane).count);
+  const std::size_t size = std::size_t(b.steps) * std::size_t(N);
   for (auto* v : {&sc.x, &sc.y, &sc.d, &sc.value, &sc.value2})
     if (v->size() < size) v->resize(size);
   if (sc.link.size() < size) sc.link.resize(size);
-  auto row_of = [&](int lane, int i) {
-    return std::size_t(steps - lines.lines[std::size_t(l0 + lane)].count + i);
-  };
   for (int lane = 0; lane < N; ++lane) {
-    const int n = lane < lanes ? lines.lines[std::size_t(l0 + lane)].count : 0;
-    for (int r = 0; r < steps - n; ++r) {
+    const int n = lane < b.lanes ? b.Line(lane).count : 0;
+    for (int r = 0; r < b.steps - n; ++r) {
       const std::size_t at = std::size_t(r) * std::size_t(N) + std::size_t(lane);
       sc.x[at] = 0.5f, sc.y[at] = 0.5f, sc.d[at] = kNaN;
     }
     if (n == 0) continue;
-    const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
+    const LsaoLine& line = b.Line(lane);
     float* records = in.buffer ? in.buffer + plan.depth_index(li, line.offset) : nullptr;
-    float* x = sc.x.data() + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
+    float* x = sc.x.data() + b.RowOf(lane, 0) * std::size_t(N) + std::size_t(lane);
     float* y = sc.y.data() + (x - sc.x.data());
     float* d = sc.d.data() + (x - sc.x.data());
     if (sampling == LsaoSampling::Snap) {
-      // lsao_line_samples with snapping: the containing texel's centre and depth.
-      const SweepDirection& dir = plan.directions[std::size_t(lines.direction)];
-      // Lanes of doubles along the line: lsao_sample_position's operations (a multiply, then
-      // an add) and an exact floor, so the same texels; the depths gathered.
-      const DD dd;
-      const DFH dh;
-      const DIH dih;
-      const int m = int(hn::Lanes(dd));
-      HWY_ALIGN float bx[hn::MaxLanes(dd)], by[hn::MaxLanes(dd)], bd[hn::MaxLanes(dd)];
-      const auto ox = hn::Set(dd, line.origin_x), oy = hn::Set(dd, line.origin_y);
-      const auto sx = hn::Set(dd, dir.step_x), sy = hn::Set(dd, dir.step_y);
-      const auto width = hn::Set(dd, double(plan.width));
-      const auto half = hn::Set(dh, 0.5f);
-      for (int i0 = 0; i0 < n; i0 += m) {
-        const int count = std::min(m, n - i0);
-        const auto j = hn::Iota(dd, double(line.first + i0));
-        const auto tx = hn::Floor(hn::Add(ox, hn::Mul(j, sx)));
-        const auto ty = hn::Floor(hn::Add(oy, hn::Mul(j, sy)));
-        const auto valid = hn::FirstN(dih, std::size_t(count));
-        const auto index =
-            hn::IfThenElseZero(valid, hn::DemoteTo(dih, hn::Add(hn::Mul(ty, width), tx)));
-        hn::Store(hn::Add(hn::DemoteTo(dh, tx), half), dh, bx);
-        hn::Store(hn::Add(hn::DemoteTo(dh, ty), half), dh, by);
-        hn::Store(hn::GatherIndex(dh, in.depth, index), dh, bd);
-        for (int k = 0; k < count; ++k) {
-          const std::size_t at = std::size_t(i0 + k) * std::size_t(N);
-          x[at] = bx[k], y[at] = by[k], d[at] = bd[k];
-        }
-      }
+      SnapLineSamples(in, plan.directions[std::size_t(b.lines->direction)], line, n, N, x, y, d);
     } else {
       lsao_line_samples(plan, in.depth, sampling, li, l0 + lane, sc.samples);
       for (int i = 0; i < n; ++i) {
@@ -415,222 +423,317 @@ void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch&
       for (int i = 0; i < n; ++i)
         records[std::size_t(i) * stride] = d[std::size_t(i) * std::size_t(N)];
   }
-  const CameraIntrinsics& cam = plan.camera;
-  const float fixed = set.tangent_sin;
-  const VF inv_r = hn::Set(df, in.inv_r), fixed_v = hn::Set(df, fixed);
-  const VI lane_index = hn::Iota(di, 0), n_v = hn::Set(di, N);
+  return b;
+}
 
-  for (int k : in.directions_of[std::size_t(li)]) {
-    const SweepDirection& dir = plan.directions[std::size_t(k)];
-    const bool reversed = plan.reversed[std::size_t(k)];
-    // make_slice, as lsao.cpp computes it.
-    const double ox = dir.step_x / cam.fx, oy = -dir.step_y / cam.fy;
-    const double len = std::hypot(ox, oy);
-    const float sdx = float(ox / len), sdy = float(oy / len), sex = -sdy, sey = sdx;
-    SliceV s;
-    s.dx = hn::Set(df, sdx), s.dy = hn::Set(df, sdy), s.ex = hn::Set(df, sex);
-    s.ey = hn::Set(df, sey);
-    s.along_fx = hn::Set(df, float(double(sdx) / cam.fx));
-    s.along_fy = hn::Set(df, float(-double(sdy) / cam.fy));
-    s.cx = hn::Set(df, cam.cx), s.cy = hn::Set(df, cam.cy);
-    HWY_ALIGN float c_line[hn::MaxLanes(df)], kappa[hn::MaxLanes(df)];
-    for (int lane = 0; lane < N; ++lane) {
-      const LsaoLine& line = lines.lines[std::size_t(l0 + std::min(lane, lanes - 1))];
-      const double c =
-          (line.origin_x - cam.cx) / cam.fx * sex - (line.origin_y - cam.cy) / cam.fy * sey;
-      c_line[lane] = float(c), kappa[lane] = float(std::sqrt(1.0 + c * c));
+// make_slice of direction `dir`, as lsao.cpp computes it, for the batch's lines (a lane past
+// the batch repeats its last line).
+HWY_INLINE SliceV MakeSlice(DF df, const CameraIntrinsics& cam, const BatchLayout& b,
+                            const SweepDirection& dir) {
+  const double ox = dir.step_x / cam.fx, oy = -dir.step_y / cam.fy;
+  const double len = std::hypot(ox, oy);
+  const float sdx = float(ox / len), sdy = float(oy / len), sex = -sdy, sey = sdx;
+  SliceV s;
+  s.dx = hn::Set(df, sdx), s.dy = hn::Set(df, sdy), s.ex = hn::Set(df, sex);
+  s.ey = hn::Set(df, sey);
+  s.along_fx = hn::Set(df, float(double(sdx) / cam.fx));
+  s.along_fy = hn::Set(df, float(-double(sdy) / cam.fy));
+  s.cx = hn::Set(df, cam.cx), s.cy = hn::Set(df, cam.cy);
+  HWY_ALIGN float c_line[hn::MaxLanes(df)], kappa[hn::MaxLanes(df)];
+  for (int lane = 0; lane < b.N; ++lane) {
+    const LsaoLine& line = b.Line(std::min(lane, b.lanes - 1));
+    const double c =
+        (line.origin_x - cam.cx) / cam.fx * sex - (line.origin_y - cam.cy) / cam.fy * sey;
+    c_line[lane] = float(c), kappa[lane] = float(std::sqrt(1.0 + c * c));
+  }
+  s.c_line = hn::Load(df, c_line), s.kappa = hn::Load(df, kappa);
+  return s;
+}
+
+// The receiver p of each lane at row offset t: its sample, o_p·D and û.
+HWY_INLINE ReceiverV LoadReceiver(DF df, const SliceV& s, const SweepScratch& sc, std::size_t t) {
+  ReceiverV p;
+  p.x = hn::LoadU(df, sc.x.data() + t), p.y = hn::LoadU(df, sc.y.data() + t);
+  p.d = hn::LoadU(df, sc.d.data() + t);
+  p.o_along =
+      hn::Add(hn::Mul(hn::Sub(p.x, s.cx), s.along_fx), hn::Mul(hn::Sub(p.y, s.cy), s.along_fy));
+  const VF ua = hn::Neg(p.o_along);
+  const VF norm = hn::Sqrt(hn::Add(hn::Mul(ua, ua), hn::Mul(s.kappa, s.kappa)));
+  p.ua = hn::Div(ua, norm), p.uz = hn::Div(s.kappa, norm);
+  return p;
+}
+
+// real_tangent_sin at each lane's sample texel (geometry lanes; fixed_v elsewhere): sin t of
+// the obscurance's tangent.
+HWY_INLINE VF RealTangentSin(DF df, const SweepInputs& in, const SliceV& s, const ReceiverV& p,
+                             MI geometry_i, VF fixed_v) {
+  const DI di;
+  const VI texel =
+      hn::Add(hn::Mul(hn::ConvertTo(di, p.y), hn::Set(di, in.plan->width)), hn::ConvertTo(di, p.x));
+  const VI at = hn::IfThenElseZero(geometry_i, hn::Mul(texel, hn::Set(di, 3)));
+  const VF n0 = hn::GatherIndex(df, in.normals, at);
+  const VF n1 = hn::GatherIndex(df, in.normals + 1, at);
+  const VF n2 = hn::GatherIndex(df, in.normals + 2, at);
+  const VF na = hn::Add(hn::Mul(n0, s.dx), hn::Mul(n1, s.dy));
+  const VF nz = hn::Div(
+      hn::Sub(n2, hn::Mul(s.c_line, hn::Add(hn::Mul(n0, s.ex), hn::Mul(n1, s.ey)))), s.kappa);
+  const VF ne = hn::Add(hn::Mul(hn::Neg(na), p.uz), hn::Mul(nz, p.ua));
+  const VF nu = hn::Max(hn::Zero(df), hn::Add(hn::Mul(na, p.ua), hn::Mul(nz, p.uz)));
+  const VF den = hn::Sqrt(hn::Add(hn::Mul(ne, ne), hn::Mul(nu, nu)));
+  const MF open = hn::Gt(den, hn::Zero(df));
+  return hn::IfThenElse(open, hn::Div(hn::Neg(ne), hn::IfThenElse(open, den, hn::Set(df, 1.0f))),
+                        fixed_v);
+}
+
+// Every lane's stack, as a linked list through the rows: an entry is the sample of the row where
+// it was pushed (its position is already in x, y, d), and link[row] names the row of the entry
+// below it. A push is then a contiguous store of the links, not a scatter of positions;
+// reaching an entry under the top takes one more gather.
+struct StackV {
+  VI sp;          // stack sizes
+  VI top_row;     // row of the top entry
+  VF tx, ty, td;  // its position
+};
+
+// The rows of the samples, and the links between the stacks' entries, for the gathers.
+struct Rows {
+  const float *x, *y, *d;
+  const std::int32_t* link;
+  VI n_v, lane_index;
+
+  HWY_INLINE VI At(VI row) const { return hn::Add(hn::Mul(row, n_v), lane_index); }
+  // The row under `row` where m, else 0.
+  HWY_INLINE VI Below(MI m, VI row) const {
+    return hn::IfThenElseZero(m, hn::GatherIndex(DI(), link, At(hn::IfThenElseZero(m, row))));
+  }
+};
+
+// What every evaluation of one step shares: evaluate() from p against the slice.
+struct StepV {
+  const SliceV& s;
+  const ReceiverV& p;
+  VF sin_t_hull, inv_r;
+  LsaoFalloff falloff;
+
+  HWY_INLINE EvalV Eval(DF df, VF qx, VF qy, VF qd) const {
+    return Evaluate(df, s, p, qx, qy, qd, sin_t_hull, inv_r, falloff);
+  }
+};
+
+// A top at p's own position is no occluder: p replaces it. Pops such tops (on the geometry
+// lanes) and returns the evaluation of the top left.
+HWY_INLINE EvalV DropCoincidentTops(DF df, const StepV& e, const Rows& rows, MI geometry_i,
+                                    StackV& st) {
+  const DI di;
+  EvalV top = e.Eval(df, st.tx, st.ty, st.td);
+  for (;;) {
+    const MI nonempty = hn::And(geometry_i, hn::Gt(st.sp, hn::Zero(di)));
+    const MI zero = hn::And(nonempty, hn::RebindMask(di, top.zero));
+    if (hn::AllFalse(di, zero)) break;
+    st.sp = hn::IfThenElse(zero, hn::Sub(st.sp, hn::Set(di, 1)), st.sp);
+    st.top_row = hn::IfThenElse(zero, rows.Below(zero, st.top_row), st.top_row);
+    const VI at = rows.At(st.top_row);
+    const MF z = hn::RebindMask(df, zero);
+    st.tx = hn::IfThenElse(z, hn::GatherIndex(df, rows.x, at), st.tx);
+    st.ty = hn::IfThenElse(z, hn::GatherIndex(df, rows.y, at), st.ty);
+    st.td = hn::IfThenElse(z, hn::GatherIndex(df, rows.d, at), st.td);
+    top = Select(z, e.Eval(df, st.tx, st.ty, st.td), top);
+  }
+  return top;
+}
+
+// Algorithm 1, lines 12–18, on the lanes `has` (a stack): pop while the top casts less than
+// the point below it and lies below it.
+HWY_INLINE void PopHull(DF df, const StepV& e, const Rows& rows, MI has, StackV& st, EvalV& top) {
+  const DI di;
+  for (;;) {
+    const MI two = hn::And(has, hn::Gt(st.sp, hn::Set(di, 1)));
+    if (hn::AllFalse(di, two)) break;
+    const VI below_row = rows.Below(two, st.top_row);
+    const VI at = rows.At(below_row);
+    const VF bx = hn::GatherIndex(df, rows.x, at);
+    const VF by = hn::GatherIndex(df, rows.y, at);
+    const VF bd = hn::GatherIndex(df, rows.d, at);
+    const EvalV below = e.Eval(df, bx, by, bd);
+    const MF pop = hn::And(hn::RebindMask(df, two),
+                           hn::And(hn::Lt(top.crit, below.crit), hn::Lt(top.sin_h, below.sin_h)));
+    if (hn::AllFalse(df, pop)) break;
+    st.sp = hn::IfThenElse(hn::RebindMask(di, pop), hn::Sub(st.sp, hn::Set(di, 1)), st.sp);
+    st.top_row = hn::IfThenElse(hn::RebindMask(di, pop), below_row, st.top_row);
+    st.tx = hn::IfThenElse(pop, bx, st.tx), st.ty = hn::IfThenElse(pop, by, st.ty);
+    st.td = hn::IfThenElse(pop, bd, st.td);
+    top = Select(pop, below, top);
+  }
+}
+
+// hull_search: the next `search` entries under the top, not popped; the one that casts most
+// replaces the top's evaluation.
+HWY_INLINE void SearchHull(DF df, const StepV& e, const Rows& rows, MI has, const StackV& st,
+                           int search, EvalV& top) {
+  const DI di;
+  VI row = st.top_row;
+  for (int j = 0; j < search; ++j) {
+    const VI level = hn::Sub(st.sp, hn::Set(di, 2 + j));
+    const MI in_stack = hn::And(has, hn::Gt(level, hn::Set(di, -1)));
+    if (hn::AllFalse(di, in_stack)) break;
+    row = rows.Below(in_stack, row);
+    const VI at = rows.At(row);
+    const EvalV q = e.Eval(df, hn::GatherIndex(df, rows.x, at), hn::GatherIndex(df, rows.y, at),
+                           hn::GatherIndex(df, rows.d, at));
+    top = Select(hn::And(hn::RebindMask(df, in_stack), hn::Gt(q.crit, top.crit)), q, top);
+  }
+}
+
+// Algorithm 1 along direction k over the batch's rows: every sample's value (NaN on
+// background) into `value`, a row of the layout per step.
+HWY_INLINE void SweepAlong(const SweepInputs& in, const BatchLayout& b, SweepScratch& sc, int k,
+                           float* value) {
+  const DF df;
+  const DI di;
+  const LsaoPlan& plan = *in.plan;
+  const LsaoSettings& set = *in.s;
+  const LsaoTangent strategy = LsaoTangent(set.tangent_strategy);
+  const bool reversed = plan.reversed[std::size_t(k)];
+  const SliceV s = MakeSlice(df, plan.camera, b, plan.directions[std::size_t(k)]);
+  const VF inv_r = hn::Set(df, in.inv_r), fixed_v = hn::Set(df, set.tangent_sin);
+  std::int32_t* link = sc.link.data();
+  const Rows rows{sc.x.data(), sc.y.data(), sc.d.data(), link, hn::Set(di, b.N), hn::Iota(di, 0)};
+  StackV st{hn::Zero(di), hn::Zero(di), hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+  for (int step = 0; step < b.steps; ++step) {
+    const std::size_t t = std::size_t(reversed ? b.steps - 1 - step : step) * std::size_t(b.N);
+    const ReceiverV p = LoadReceiver(df, s, sc, t);
+    const MF geometry = hn::Eq(p.d, p.d);  // background: no receiver, never an occluder
+    const MI geometry_i = hn::RebindMask(di, geometry);
+    VF sin_t_hull = fixed_v, sin_t_obscurance = fixed_v;
+    if (strategy != LsaoTangent::Fixed) {
+      sin_t_obscurance = RealTangentSin(df, in, s, p, geometry_i, fixed_v);
+      if (strategy == LsaoTangent::Real) sin_t_hull = sin_t_obscurance;
     }
-    s.c_line = hn::Load(df, c_line), s.kappa = hn::Load(df, kappa);
+    const StepV e{s, p, sin_t_hull, inv_r, LsaoFalloff(set.falloff)};
+    EvalV top = DropCoincidentTops(df, e, rows, geometry_i, st);
+    const MI has = hn::And(geometry_i, hn::Gt(st.sp, hn::Zero(di)));
+    PopHull(df, e, rows, has, st, top);
+    SearchHull(df, e, rows, has, st, set.hull_search, top);
+    // Lines 20 and 28: ρ sin h + (1 − ρ) sin t where sin h > sin t, else sin t.
+    const MF occluded = hn::And(hn::RebindMask(df, has), hn::Gt(top.sin_h, sin_t_obscurance));
+    VF result = hn::IfThenElse(
+        occluded, hn::Add(hn::Mul(top.rho, top.sin_h), hn::Mul(top.rest, sin_t_obscurance)),
+        sin_t_obscurance);
+    result = hn::IfThenElse(geometry, result, hn::Set(df, kNaN));
+    hn::StoreU(result, df, value + t);
+    // Line 21: push p. Slots at and above a lane's stack size are dead, so a lane that does
+    // not push may write its slot.
+    hn::StoreU(st.top_row, di, link + t);  // read only if this row's sample was pushed
+    st.sp = hn::IfThenElse(geometry_i, hn::Add(st.sp, hn::Set(di, 1)), st.sp);
+    st.top_row =
+        hn::IfThenElse(geometry_i, hn::Set(di, std::int32_t(t / std::size_t(b.N))), st.top_row);
+    st.tx = hn::IfThenElse(geometry, p.x, st.tx), st.ty = hn::IfThenElse(geometry, p.y, st.ty);
+    st.td = hn::IfThenElse(geometry, p.d, st.td);
+  }
+}
 
-    float* value = (k == in.directions_of[std::size_t(li)][0] ? sc.value : sc.value2).data();
-
-    // The stack of each lane as a linked list through the rows: an entry is the sample of the
-    // row where it was pushed (its position is already in x, y, d), and link[row] names the
-    // row of the entry below it. A push is then a contiguous store of the links, not a
-    // scatter of positions; reaching an entry under the top takes one more gather.
-    std::int32_t* link = sc.link.data();
-    VI sp = hn::Zero(di);                                        // stack sizes
-    VI top_row = hn::Zero(di);                                   // row of the top entry
-    VF tx = hn::Zero(df), ty = hn::Zero(df), td = hn::Zero(df);  // its position
-    for (int step = 0; step < steps; ++step) {
-      const std::size_t t = std::size_t(reversed ? steps - 1 - step : step) * std::size_t(N);
-      ReceiverV p;
-      p.x = hn::LoadU(df, sc.x.data() + t), p.y = hn::LoadU(df, sc.y.data() + t);
-      p.d = hn::LoadU(df, sc.d.data() + t);
-      const MF geometry = hn::Eq(p.d, p.d);  // background: no receiver, never an occluder
-      const MI geometry_i = hn::RebindMask(di, geometry);
-      p.o_along =
-          hn::Add(hn::Mul(hn::Sub(p.x, s.cx), s.along_fx), hn::Mul(hn::Sub(p.y, s.cy), s.along_fy));
-      {
-        const VF ua = hn::Neg(p.o_along);
-        const VF norm = hn::Sqrt(hn::Add(hn::Mul(ua, ua), hn::Mul(s.kappa, s.kappa)));
-        p.ua = hn::Div(ua, norm), p.uz = hn::Div(s.kappa, norm);
-      }
-      VF sin_t_hull = fixed_v, sin_t_obscurance = fixed_v;
-      if (strategy != LsaoTangent::Fixed) {
-        // real_tangent_sin at the sample's texel.
-        const VI texel = hn::Add(hn::Mul(hn::ConvertTo(di, p.y), hn::Set(di, plan.width)),
-                                 hn::ConvertTo(di, p.x));
-        const VI at = hn::IfThenElseZero(geometry_i, hn::Mul(texel, hn::Set(di, 3)));
-        const VF n0 = hn::GatherIndex(df, in.normals, at);
-        const VF n1 = hn::GatherIndex(df, in.normals + 1, at);
-        const VF n2 = hn::GatherIndex(df, in.normals + 2, at);
-        const VF na = hn::Add(hn::Mul(n0, s.dx), hn::Mul(n1, s.dy));
-        const VF nz = hn::Div(
-            hn::Sub(n2, hn::Mul(s.c_line, hn::Add(hn::Mul(n0, s.ex), hn::Mul(n1, s.ey)))), s.kappa);
-        const VF ne = hn::Add(hn::Mul(hn::Neg(na), p.uz), hn::Mul(nz, p.ua));
-        const VF nu = hn::Max(hn::Zero(df), hn::Add(hn::Mul(na, p.ua), hn::Mul(nz, p.uz)));
-        const VF den = hn::Sqrt(hn::Add(hn::Mul(ne, ne), hn::Mul(nu, nu)));
-        const MF open = hn::Gt(den, hn::Zero(df));
-        sin_t_obscurance = hn::IfThenElse(
-            open, hn::Div(hn::Neg(ne), hn::IfThenElse(open, den, hn::Set(df, 1.0f))), fixed_v);
-        if (strategy == LsaoTangent::Real) sin_t_hull = sin_t_obscurance;
-      }
-      auto at_row = [&](VI row) { return hn::Add(hn::Mul(row, n_v), lane_index); };
-      auto link_below = [&](MI m, VI row) {  // the row under `row` where m, else 0
-        return hn::IfThenElseZero(m, hn::GatherIndex(di, link, at_row(hn::IfThenElseZero(m, row))));
-      };
-      // A top at p's own position is no occluder: p replaces it.
-      EvalV top = Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff);
-      for (;;) {
-        const MI nonempty = hn::And(geometry_i, hn::Gt(sp, hn::Zero(di)));
-        const MI zero = hn::And(nonempty, hn::RebindMask(di, top.zero));
-        if (hn::AllFalse(di, zero)) break;
-        sp = hn::IfThenElse(zero, hn::Sub(sp, hn::Set(di, 1)), sp);
-        top_row = hn::IfThenElse(zero, link_below(zero, top_row), top_row);
-        const VI at = at_row(top_row);
-        const MF z = hn::RebindMask(df, zero);
-        tx = hn::IfThenElse(z, hn::GatherIndex(df, sc.x.data(), at), tx);
-        ty = hn::IfThenElse(z, hn::GatherIndex(df, sc.y.data(), at), ty);
-        td = hn::IfThenElse(z, hn::GatherIndex(df, sc.d.data(), at), td);
-        top = Select(z, Evaluate(df, s, p, tx, ty, td, sin_t_hull, inv_r, falloff), top);
-      }
-      const MI has = hn::And(geometry_i, hn::Gt(sp, hn::Zero(di)));
-      // Algorithm 1, lines 12–18: pop while the top casts less than the point below it and
-      // lies below it.
-      for (;;) {
-        const MI two = hn::And(has, hn::Gt(sp, hn::Set(di, 1)));
-        if (hn::AllFalse(di, two)) break;
-        const VI below_row = link_below(two, top_row);
-        const VI at = at_row(below_row);
-        const VF bx = hn::GatherIndex(df, sc.x.data(), at);
-        const VF by = hn::GatherIndex(df, sc.y.data(), at);
-        const VF bd = hn::GatherIndex(df, sc.d.data(), at);
-        const EvalV below = Evaluate(df, s, p, bx, by, bd, sin_t_hull, inv_r, falloff);
-        const MF pop = hn::And(hn::RebindMask(df, two), hn::And(hn::Lt(top.crit, below.crit),
-                                                                hn::Lt(top.sin_h, below.sin_h)));
-        if (hn::AllFalse(df, pop)) break;
-        sp = hn::IfThenElse(hn::RebindMask(di, pop), hn::Sub(sp, hn::Set(di, 1)), sp);
-        top_row = hn::IfThenElse(hn::RebindMask(di, pop), below_row, top_row);
-        tx = hn::IfThenElse(pop, bx, tx), ty = hn::IfThenElse(pop, by, ty);
-        td = hn::IfThenElse(pop, bd, td);
-        top = Select(pop, below, top);
-      }
-      // hull_search: the next entries under the top, not popped.
-      VI row = top_row;
-      for (int j = 0; j < set.hull_search; ++j) {
-        const VI level = hn::Sub(sp, hn::Set(di, 2 + j));
-        const MI in_stack = hn::And(has, hn::Gt(level, hn::Set(di, -1)));
-        if (hn::AllFalse(di, in_stack)) break;
-        row = link_below(in_stack, row);
-        const VI at = at_row(row);
-        const EvalV e = Evaluate(df, s, p, hn::GatherIndex(df, sc.x.data(), at),
-                                 hn::GatherIndex(df, sc.y.data(), at),
-                                 hn::GatherIndex(df, sc.d.data(), at), sin_t_hull, inv_r, falloff);
-        top = Select(hn::And(hn::RebindMask(df, in_stack), hn::Gt(e.crit, top.crit)), e, top);
-      }
-      // Lines 20 and 28: ρ sin h + (1 − ρ) sin t where sin h > sin t, else sin t.
-      const MF occluded = hn::And(hn::RebindMask(df, has), hn::Gt(top.sin_h, sin_t_obscurance));
-      VF result = hn::IfThenElse(
-          occluded, hn::Add(hn::Mul(top.rho, top.sin_h), hn::Mul(top.rest, sin_t_obscurance)),
-          sin_t_obscurance);
-      result = hn::IfThenElse(geometry, result, hn::Set(df, kNaN));
-      hn::StoreU(result, df, value + t);
-      // Line 21: push p. Slots at and above a lane's stack size are dead, so a lane that does
-      // not push may write its slot.
-      hn::StoreU(top_row, di, link + t);  // read only if this row's sample was pushed
-      sp = hn::IfThenElse(geometry_i, hn::Add(sp, hn::Set(di, 1)), sp);
-      top_row = hn::IfThenElse(geometry_i, hn::Set(di, std::int32_t(t / std::size_t(N))), top_row);
-      tx = hn::IfThenElse(geometry, p.x, tx), ty = hn::IfThenElse(geometry, p.y, ty);
-      td = hn::IfThenElse(geometry, p.d, td);
+// The values of the batch's directions (`values[n]` for directions_of[li][n]) into the
+// buffer's records, in line order.
+HWY_INLINE void WriteRecords(const SweepInputs& in, const BatchLayout& b,
+                             const float* const values[2]) {
+  const LsaoPlan& plan = *in.plan;
+  const std::vector<int>& ks = in.directions_of[std::size_t(b.li)];
+  const std::size_t stride = std::size_t(plan.stride[std::size_t(b.li)]);
+  for (int lane = 0; lane < b.lanes; ++lane) {
+    const LsaoLine& line = b.Line(lane);
+    float* records = in.buffer + plan.depth_index(b.li, line.offset);
+    for (std::size_t n = 0; n < ks.size(); ++n) {
+      float* out = records + plan.slot[std::size_t(ks[n])];
+      const float* v = values[n] + b.RowOf(lane, 0) * std::size_t(b.N) + std::size_t(lane);
+      for (int i = 0; i < line.count; ++i)
+        out[std::size_t(i) * stride] = v[std::size_t(i) * std::size_t(b.N)];
     }
   }
+}
+
+// How many geometry samples of the batch fall in each bucket of rows: run->bucket_start[b + 1]
+// counts bucket b, then the counts are summed into starts. A line's rows are monotonic: its
+// samples come in stretches of one bucket, counted with the bucket's counter in a register (a
+// counter in memory, incremented per sample, made every sample wait for the previous one's
+// store).
+HWY_INLINE void CountBuckets(const LsaoPlan& plan, const BatchLayout& b, const SweepScratch& sc,
+                             LsaoTexelRun* run) {
+  const int buckets = (plan.height + kLsaoRecordRows - 1) / kLsaoRecordRows;
+  run->bucket_start.assign(std::size_t(buckets) + 1, 0);
+  for (int lane = 0; lane < b.lanes; ++lane) {
+    const int n = b.Line(lane).count;
+    const float* d = sc.d.data() + b.RowOf(lane, 0) * std::size_t(b.N) + std::size_t(lane);
+    const float* y = sc.y.data() + (d - sc.d.data());
+    int bucket = -1;
+    std::uint32_t count = 0;
+    for (int i = 0; i < n; ++i) {
+      const std::size_t at = std::size_t(i) * std::size_t(b.N);
+      if (!(d[at] == d[at])) continue;
+      const int bi = int(y[at]) / kLsaoRecordRows;
+      if (bi != bucket) {
+        if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
+        bucket = bi, count = 0;
+      }
+      ++count;
+    }
+    if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
+  }
+  for (int bi = 0; bi < buckets; ++bi)
+    run->bucket_start[std::size_t(bi) + 1] += run->bucket_start[std::size_t(bi)];
+}
+
+// The geometry samples by rows of texels for the gather (LsaoTexelRun); buckets filled in line
+// order, so each keeps buffer order. Σ w_k O_k in direction order, in double, as the scalar
+// gather.
+HWY_INLINE void WriteTexelRun(const SweepInputs& in, const BatchLayout& b, SweepScratch& sc,
+                              const float* const values[2], LsaoTexelRun* run) {
+  const LsaoPlan& plan = *in.plan;
+  const std::vector<int>& ks = in.directions_of[std::size_t(b.li)];
+  double weight[2] = {0.0, 0.0};
+  for (std::size_t n = 0; n < ks.size(); ++n)
+    weight[n] = plan.directions[std::size_t(ks[n])].weight;
+  run->lines_index = b.li;
+  CountBuckets(plan, b, sc, run);
+  run->records.reset(new LsaoTexelRecord[run->bucket_start.back()]);
+  std::vector<std::uint32_t>& cursor = sc.cursor;
+  cursor.assign(run->bucket_start.begin(), run->bucket_start.end() - 1);
+  LsaoTexelRecord* records = run->records.get();
+  const bool two = ks.size() == 2;
+  for (int lane = 0; lane < b.lanes; ++lane) {
+    const int n = b.Line(lane).count;
+    const std::size_t first = b.RowOf(lane, 0) * std::size_t(b.N) + std::size_t(lane);
+    const float *d = sc.d.data() + first, *x = sc.x.data() + first, *y = sc.y.data() + first;
+    const float *v0 = values[0] + first, *v1 = values[1] + first;
+    int bucket = -1;
+    std::uint32_t next = 0;
+    for (int i = 0; i < n; ++i) {
+      const std::size_t at = std::size_t(i) * std::size_t(b.N);
+      const float depth = d[at];
+      if (!(depth == depth)) continue;
+      const int ty = int(y[at]);
+      const int bi = ty / kLsaoRecordRows;
+      if (bi != bucket) {
+        if (bucket >= 0) cursor[std::size_t(bucket)] = next;
+        bucket = bi, next = cursor[std::size_t(bi)];
+      }
+      double pair = weight[0] * double(v0[at]);
+      if (two) pair += weight[1] * double(v1[at]);
+      records[next++] = {std::uint16_t(x[at]), std::uint16_t(ty), depth, float(pair)};
+    }
+    if (bucket >= 0) cursor[std::size_t(bucket)] = next;
+  }
+}
+
+// Lines [l0, l1) of plan.lines[li] (at most Lanes of them): sampled once, swept in each
+// direction that uses them, their records written.
+void SweepBatchImpl(const SweepInputs& in, int li, int l0, int l1, SweepScratch& sc,
+                    LsaoTexelRun* run) {
+  const BatchLayout b = LayOutSamples(in, li, l0, l1, sc);
   const std::vector<int>& ks = in.directions_of[std::size_t(li)];
-  const float* values[2] = {sc.value.data(), sc.value2.data()};
-  if (in.buffer) {
-    // The values into the records, in line order.
-    for (int lane = 0; lane < lanes; ++lane) {
-      const LsaoLine& line = lines.lines[std::size_t(l0 + lane)];
-      float* records = in.buffer + plan.depth_index(li, line.offset);
-      for (std::size_t n = 0; n < ks.size(); ++n) {
-        float* out = records + plan.slot[std::size_t(ks[n])];
-        const float* v = values[n] + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
-        for (int i = 0; i < line.count; ++i)
-          out[std::size_t(i) * stride] = v[std::size_t(i) * std::size_t(N)];
-      }
-    }
-  }
-  if (run) {
-    // The geometry samples by rows of texels for the gather; buckets filled in line order, so
-    // each keeps buffer order. Σ w_k O_k in direction order, in double, as the scalar gather.
-    const int buckets = (plan.height + kLsaoRecordRows - 1) / kLsaoRecordRows;
-    double weight[2] = {0.0, 0.0};
-    for (std::size_t n = 0; n < ks.size(); ++n)
-      weight[n] = plan.directions[std::size_t(ks[n])].weight;
-    run->lines_index = li;
-    run->bucket_start.assign(std::size_t(buckets) + 1, 0);
-    // A line's rows are monotonic: its samples come in stretches of one bucket, counted and
-    // placed with the bucket's counter in a register (a counter in memory, incremented per
-    // sample, made every sample wait for the previous one's store).
-    const bool two = ks.size() == 2;
-    for (int lane = 0; lane < lanes; ++lane) {
-      const int n = lines.lines[std::size_t(l0 + lane)].count;
-      const float* d = sc.d.data() + row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
-      const float* y = sc.y.data() + (d - sc.d.data());
-      int bucket = -1;
-      std::uint32_t count = 0;
-      for (int i = 0; i < n; ++i) {
-        const std::size_t at = std::size_t(i) * std::size_t(N);
-        if (!(d[at] == d[at])) continue;
-        const int b = int(y[at]) / kLsaoRecordRows;
-        if (b != bucket) {
-          if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
-          bucket = b, count = 0;
-        }
-        ++count;
-      }
-      if (bucket >= 0) run->bucket_start[std::size_t(bucket) + 1] += count;
-    }
-    for (int b = 0; b < buckets; ++b)
-      run->bucket_start[std::size_t(b) + 1] += run->bucket_start[std::size_t(b)];
-    run->records.reset(new LsaoTexelRecord[run->bucket_start.back()]);
-    std::vector<std::uint32_t>& cursor = sc.cursor;
-    cursor.assign(run->bucket_start.begin(), run->bucket_start.end() - 1);
-    LsaoTexelRecord* records = run->records.get();
-    for (int lane = 0; lane < lanes; ++lane) {
-      const int n = lines.lines[std::size_t(l0 + lane)].count;
-      const std::size_t first = row_of(lane, 0) * std::size_t(N) + std::size_t(lane);
-      const float *d = sc.d.data() + first, *x = sc.x.data() + first, *y = sc.y.data() + first;
-      const float *v0 = values[0] + first, *v1 = values[1] + first;
-      int bucket = -1;
-      std::uint32_t next = 0;
-      for (int i = 0; i < n; ++i) {
-        const std::size_t at = std::size_t(i) * std::size_t(N);
-        const float depth = d[at];
-        if (!(depth == depth)) continue;
-        const int ty = int(y[at]);
-        const int b = ty / kLsaoRecordRows;
-        if (b != bucket) {
-          if (bucket >= 0) cursor[std::size_t(bucket)] = next;
-          bucket = b, next = cursor[std::size_t(b)];
-        }
-        double pair = weight[0] * double(v0[at]);
-        if (two) pair += weight[1] * double(v1[at]);
-        records[next++] = {std::uint16_t(x[at]), std::uint16_t(ty), depth, float(pair)};
-      }
-      if (bucket >= 0) cursor[std::size_t(bucket)] = next;
-    }
-  }
+  for (int k : ks) SweepAlong(in, b, sc, k, (k == ks[0] ? sc.value : sc.value2).data());
+  const float* const values[2] = {sc.value.data(), sc.value2.data()};
+  if (in.buffer) WriteRecords(in, b, values);
+  if (run) WriteTexelRun(in, b, sc, values, run);
 }
 
 }  // namespace

@@ -35,8 +35,8 @@
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
 
-#ifndef AOLAB_PYRAMID_HBAO_SIMD_TYPES_
-#define AOLAB_PYRAMID_HBAO_SIMD_TYPES_
+#ifndef AOLAB_PYRAMID_HBAO_SIMD_ONCE_
+#define AOLAB_PYRAMID_HBAO_SIMD_ONCE_
 namespace aolab::pyramid_simd {
 
 // What the kernel reads of a frame.
@@ -49,7 +49,7 @@ struct Frame {
 };
 
 }  // namespace aolab::pyramid_simd
-#endif  // AOLAB_PYRAMID_HBAO_SIMD_TYPES_
+#endif  // AOLAB_PYRAMID_HBAO_SIMD_ONCE_
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -60,8 +60,8 @@ using Level = GatherPyramidLevel;
 // pixel_random(seed, x, y, stream) for the pixels x0, x0 + 1, ... of row y, bit for bit, in
 // two parts: PixelHash hashes the seed and the pixel once, PixelStream each stream of it
 // (PixelRandom of simd-inl.h hashes all three for every stream).
-HWY_INLINE hn::Vec<hn::RebindToUnsigned<DF>> PixelHash(DF df, std::uint32_t seed, int x0, int y) {
-  const hn::RebindToUnsigned<DF> du;
+HWY_INLINE VU PixelHash(DF df, std::uint32_t seed, int x0, int y) {
+  const DU du;
   const std::uint32_t h0 = pcg_hash(seed ^ 0x9E3779B9u);
   auto h = hn::Xor(hn::Set(du, h0), hn::Add(hn::Set(du, std::uint32_t(x0)), hn::Iota(du, 0)));
   h = PcgHash(du, h);
@@ -69,10 +69,10 @@ HWY_INLINE hn::Vec<hn::RebindToUnsigned<DF>> PixelHash(DF df, std::uint32_t seed
   return PcgHash(du, hn::Xor(h, hn::Set(du, std::uint32_t(y) * 0x85EBCA6Bu)));
 }
 
-HWY_INLINE VF PixelStream(DF df, hn::Vec<hn::RebindToUnsigned<DF>> pixel, std::uint32_t stream) {
-  const hn::RebindToUnsigned<DF> du;
+HWY_INLINE VF PixelStream(DF df, VU pixel, std::uint32_t stream) {
+  const DU du;
   const auto h = PcgHash(du, hn::Add(pixel, hn::Set(du, stream * 0xC2B2AE35u)));
-  return hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<8>(h))),
+  return hn::Mul(hn::ConvertTo(df, hn::BitCast(DI(), hn::ShiftRight<8>(h))),
                  hn::Set(df, kUnitRoundoff));
 }
 
@@ -346,6 +346,133 @@ HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s
   return a.best;
 }
 
+HWY_INLINE RowConstants MakeRowConstants(DF df, const Frame& f, const PyramidHbaoSettings& s,
+                                         int y) {
+  RowConstants k;
+  const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
+  k.inv_fx = hn::Set(df, inv_fx), k.inv_fy = hn::Set(df, inv_fy);
+  k.cx = hn::Set(df, f.cam.cx), k.cy = hn::Set(df, f.cam.cy);
+  k.width = hn::Set(df, float(f.width)), k.height = hn::Set(df, float(f.height));
+  k.radius2 = hn::Set(df, s.radius * s.radius);
+  k.inv_radius = hn::Set(df, 1.0f / s.radius);
+  k.yf = float(y);
+  k.attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
+  for (int l = 0; l < f.level_count && l < kMaxLevels; ++l)
+    k.own_y[l] = float(y / f.levels[l].scale);
+  return k;
+}
+
+// The row's blue-noise rotations, pyramid_hbao_directions' values (the texture's value plus the
+// global rotation, modulo 1), twice over: the rotations of the pixels x0 … x0 + Lanes − 1 are
+// then Lanes consecutive values from ((x0 + shift_x) mod 32) (one load, where a lane-by-lane
+// loop stored into an array that a vector load then read, a stalled store forwarding).
+struct NoiseRow {
+  static constexpr int kSize = kBlueNoiseSize;
+  int shift_x;
+  HWY_ALIGN float rotation[2 * kSize + hn::MaxLanes(DF())];
+
+  NoiseRow(const PyramidHbaoSettings& s, int y) {
+    // pyramid_hbao_directions' blue-noise shift and global rotation: once per row.
+    const std::uint32_t noise_hash = pcg_hash(std::uint32_t(s.seed) ^ 0x6A09E667u);
+    const float global = float(pcg_hash(noise_hash) >> 8) * kUnitRoundoff;
+    shift_x = int(noise_hash & 31u);
+    const int shift_y = int((noise_hash >> 5) & 31u);
+    const auto& ranks = blue_noise_ranks();
+    for (int i = 0; i < 2 * kSize + int(hn::Lanes(DF())); ++i) {
+      float r = 0.0f;
+      if (s.rotation) {
+        r = blue_noise_value(ranks, i % kSize, y + shift_y) + global;
+        if (r >= 1.0f) r -= 1.0f;
+      }
+      rotation[i] = r;
+    }
+  }
+  // The rotations of the pixels x0 … x0 + Lanes − 1.
+  HWY_INLINE VF At(DF df, int x0) const { return hn::LoadU(df, rotation + (x0 + shift_x) % kSize); }
+};
+
+// The depths and normals of pixels x0 … x0 + Lanes − 1 of the rows (count of them in the row;
+// the lanes past it repeat its last pixel).
+HWY_INLINE void LoadPixels(DF df, const float* depth_row, const float* normal_row, int x0,
+                           int count, Receiver& p) {
+  const int lanes = int(hn::Lanes(df));
+  if (count == lanes) {
+    // Whole vectors straight from the rows (the normals de-interleaved).
+    p.d = hn::LoadU(df, depth_row + x0);
+    hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
+  } else {
+    HWY_ALIGN float lane[4][hn::MaxLanes(df)];
+    for (int i = 0; i < lanes; ++i) {
+      const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
+      lane[0][i] = depth_row[at];
+      for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
+    }
+    p.d = hn::Load(df, lane[0]);
+    p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
+  }
+}
+
+// hbao_receiver on every lane of P's loaded depth and normal; a tail lane repeats the row's
+// last pixel at its own x (dropped).
+HWY_INLINE void SetUpReceiver(DF df, const Frame& f, const RowConstants& k, int x0, int y,
+                              Receiver& p) {
+  const float py = float(y) + 0.5f;
+  p.xf = hn::Iota(df, float(x0));
+  p.px = PixelCentres(df, x0), p.py = hn::Set(df, py);
+  p.ox = hn::Sub(p.px, k.cx), p.oy = hn::Set(df, py - f.cam.cy);
+  const VF r0x = hn::Mul(p.ox, k.inv_fx), r0y = hn::Neg(hn::Mul(p.oy, k.inv_fy));
+  p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
+  p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
+                      hn::Abs(p.n_r0));
+  p.dn = hn::Mul(p.d, p.n_r0);
+  p.faces = hn::Lt(p.n_r0, hn::Zero(df));
+  p.dn_margin =
+      hn::IfThenElse(p.faces, hn::Mul(p.dn, hn::Set(df, 1.0f / (1.0f + 12.0f * kUnitRoundoff))),
+                     hn::Set(df, -std::numeric_limits<float>::infinity()));
+  p.a = hn::Mul(p.nx, k.inv_fx), p.b = hn::Neg(hn::Mul(p.ny, k.inv_fy));
+}
+
+// Σ over the directions of every lane's largest term (pyramid_hbao_pixel's sum). The set-up of
+// kBatch directions first, then their marches: the set-ups are independent chains of latency
+// (hash, sine and cosine, square root, divisions) that overlap one another, where set up one by
+// one each would wait behind the previous march's last read and delay its own first one.
+HWY_INLINE VF DirectionsOcclusion(DF df, const Frame& f, const PyramidHbaoSettings& s,
+                                  const Receiver& p, const RowConstants& k, MF geometry,
+                                  VU pixel_hash, VF rotation, bool float_index) {
+  const float sector = float(2.0 * std::numbers::pi / s.directions);
+  VF occlusion = hn::Zero(df);
+  constexpr int kBatch = 8;
+  March start[kBatch];
+  VF start_m[kBatch];
+  for (int d0 = 0; d0 < s.directions; d0 += kBatch) {
+    const int batch = std::min(kBatch, s.directions - d0);
+    for (int j = 0; j < batch; ++j) {
+      const int dir = d0 + j;
+      // pyramid_hbao_directions: θ from the lane's rotation and random place in the sector,
+      // and the start multiplier m.
+      const VF place =
+          s.random_directions ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir)) : hn::Zero(df);
+      const VF theta =
+          hn::Mul(hn::Set(df, sector), hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
+      const VF m = s.random_start
+                       ? hn::Add(hn::Set(df, kPyramidHbaoStartMin),
+                                 hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
+                                         PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
+                       : hn::Set(df, 1.0f);
+      VF c, sn;
+      SinCos(df, theta, sn, c);
+      start[j] = StartDirection(df, f, s, p, k, geometry, c, sn);
+      start_m[j] = m;
+    }
+    // The terms summed in the order of the directions, as before.
+    for (int j = 0; j < batch; ++j)
+      occlusion = hn::Add(
+          occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, start_m[j], start[j])
+                                 : MarchDirection<false>(df, f, s, p, k, start_m[j], start[j]));
+  }
+  return occlusion;
+}
+
 }  // namespace
 
 // Pixels [x_begin, x_end) of row y of Pyramid HBAO into out (the row): pyramid_hbao_pixel
@@ -353,123 +480,26 @@ HWY_INLINE VF MarchDirection(DF df, const Frame& f, const PyramidHbaoSettings& s
 void PyramidHbaoSpan(const Frame& f, const PyramidHbaoSettings& s, int y, int x_begin, int x_end,
                      float* HWY_RESTRICT out) {
   const DF df;
-  const int w = f.width;
-  RowConstants k;
-  const float inv_fx = 1.0f / f.cam.fx, inv_fy = 1.0f / f.cam.fy;
-  k.inv_fx = hn::Set(df, inv_fx), k.inv_fy = hn::Set(df, inv_fy);
-  k.cx = hn::Set(df, f.cam.cx), k.cy = hn::Set(df, f.cam.cy);
-  k.width = hn::Set(df, float(w)), k.height = hn::Set(df, float(f.height));
-  k.radius2 = hn::Set(df, s.radius * s.radius);
-  k.inv_radius = hn::Set(df, 1.0f / s.radius);
-  k.yf = float(y);
-  k.attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
-  for (int l = 0; l < f.level_count && l < kMaxLevels; ++l)
-    k.own_y[l] = float(y / f.levels[l].scale);
+  const RowConstants k = MakeRowConstants(df, f, s, y);
   const Level& base = f.levels[0];
   const float* depth_row = base.depth + base.at(0, y);
-  const float* normal_row = f.normals + 3 * std::size_t(y) * w;
-  const float py = float(y) + 0.5f;
-  const float sector = float(2.0 * std::numbers::pi / s.directions);
-  const auto seed = std::uint32_t(s.seed);
-  // pyramid_hbao_directions' blue-noise shift and global rotation: once per row.
-  const std::uint32_t noise_hash = pcg_hash(seed ^ 0x6A09E667u);
-  const float global = float(pcg_hash(noise_hash) >> 8) * kUnitRoundoff;
-  const int shift_x = int(noise_hash & 31u), shift_y = int((noise_hash >> 5) & 31u);
-  const auto& ranks = blue_noise_ranks();
-  const int lanes = int(hn::Lanes(df));
+  const float* normal_row = f.normals + 3 * std::size_t(y) * f.width;
   // Level 0 is the largest.
   const bool float_index =
       std::size_t(base.stride) * std::size_t(base.height + 2) < (std::size_t(1) << 23);
-
-  // The row's blue-noise rotations, pyramid_hbao_directions' values (the texture's value plus
-  // the global rotation, modulo 1), twice over: the rotations of the pixels x0 … x0 + Lanes − 1
-  // are then Lanes consecutive values from ((x0 + shift_x) mod 32) (one load, where a lane-by-
-  // lane loop stored into an array that a vector load then read, a stalled store forwarding).
-  constexpr int kNoiseSize = kBlueNoiseSize;
-  HWY_ALIGN float noise_row[2 * kNoiseSize + hn::MaxLanes(df)];
-  for (int i = 0; i < 2 * kNoiseSize + lanes; ++i) {
-    float rotation = 0.0f;
-    if (s.rotation) {
-      rotation = blue_noise_value(ranks, i % kNoiseSize, y + shift_y) + global;
-      if (rotation >= 1.0f) rotation -= 1.0f;
-    }
-    noise_row[i] = rotation;
-  }
-
+  const NoiseRow noise(s, y);
   ForEachSpanVector(df, x_begin, x_end, [&](int x0, int count) {
     Receiver p;
-    if (count == lanes) {
-      // Whole vectors straight from the rows (the normals de-interleaved).
-      p.d = hn::LoadU(df, depth_row + x0);
-      hn::LoadInterleaved3(df, normal_row + 3 * std::size_t(x0), p.nx, p.ny, p.nz);
-    } else {
-      // The row's tail: the lanes past it repeat its last pixel.
-      HWY_ALIGN float lane[4][hn::MaxLanes(df)];
-      for (int i = 0; i < lanes; ++i) {
-        const std::size_t at = std::size_t(x0 + std::min(i, count - 1));
-        lane[0][i] = depth_row[at];
-        for (int c = 0; c < 3; ++c) lane[1 + c][i] = normal_row[3 * at + c];
-      }
-      p.d = hn::Load(df, lane[0]);
-      p.nx = hn::Load(df, lane[1]), p.ny = hn::Load(df, lane[2]), p.nz = hn::Load(df, lane[3]);
-    }
+    LoadPixels(df, depth_row, normal_row, x0, count, p);
     // Background is NaN; the tail's lanes (repeating the row's last pixel) are not marched.
     const MF geometry =
         hn::And(hn::Eq(p.d, p.d), hn::Lt(hn::Iota(df, 0.0f), hn::Set(df, float(count))));
     VF result = hn::Set(df, 1.0f);
     if (!hn::AllFalse(df, geometry)) {
-      // hbao_receiver; a tail lane repeats the row's last pixel at its own x (dropped).
-      p.xf = hn::Iota(df, float(x0));
-      p.px = PixelCentres(df, x0), p.py = hn::Set(df, py);
-      p.ox = hn::Sub(p.px, k.cx), p.oy = hn::Set(df, py - f.cam.cy);
-      const VF r0x = hn::Mul(p.ox, k.inv_fx), r0y = hn::Neg(hn::Mul(p.oy, k.inv_fy));
-      p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
-      p.grazing = hn::Div(hn::Sqrt(hn::MulAdd(r0x, r0x, hn::MulAdd(r0y, r0y, hn::Set(df, 1.0f)))),
-                          hn::Abs(p.n_r0));
-      p.dn = hn::Mul(p.d, p.n_r0);
-      p.faces = hn::Lt(p.n_r0, hn::Zero(df));
-      p.dn_margin =
-          hn::IfThenElse(p.faces, hn::Mul(p.dn, hn::Set(df, 1.0f / (1.0f + 12.0f * kUnitRoundoff))),
-                         hn::Set(df, -std::numeric_limits<float>::infinity()));
-      p.a = hn::Mul(p.nx, k.inv_fx), p.b = hn::Neg(hn::Mul(p.ny, k.inv_fy));
-      const auto pixel_hash = PixelHash(df, seed, x0, y);
-
-      // pyramid_hbao_directions: the blue-noise rotation of each lane, as the scalar code.
-      const VF rotation = hn::LoadU(df, noise_row + (x0 + shift_x) % kNoiseSize);
-      VF occlusion = hn::Zero(df);
-      // The set-up of kBatch directions first, then their marches: the set-ups are
-      // independent chains of latency (hash, sine and cosine, square root, divisions) that
-      // overlap one another, where set up one by one each would wait behind the previous
-      // march's last read and delay its own first one.
-      constexpr int kBatch = 8;
-      March start[kBatch];
-      VF start_m[kBatch];
-      for (int d0 = 0; d0 < s.directions; d0 += kBatch) {
-        const int batch = std::min(kBatch, s.directions - d0);
-        for (int j = 0; j < batch; ++j) {
-          const int dir = d0 + j;
-          const VF place = s.random_directions
-                               ? PixelStream(df, pixel_hash, 2u * std::uint32_t(dir))
-                               : hn::Zero(df);
-          const VF theta = hn::Mul(hn::Set(df, sector),
-                                   hn::Add(hn::Add(hn::Set(df, float(dir)), rotation), place));
-          const VF m =
-              s.random_start
-                  ? hn::Add(hn::Set(df, kPyramidHbaoStartMin),
-                            hn::Mul(hn::Set(df, kPyramidHbaoStartMax - kPyramidHbaoStartMin),
-                                    PixelStream(df, pixel_hash, 2u * std::uint32_t(dir) + 1u)))
-                  : hn::Set(df, 1.0f);
-          VF c, sn;
-          SinCos(df, theta, sn, c);
-          start[j] = StartDirection(df, f, s, p, k, geometry, c, sn);
-          start_m[j] = m;
-        }
-        // The terms summed in the order of the directions, as before.
-        for (int j = 0; j < batch; ++j)
-          occlusion = hn::Add(
-              occlusion, float_index ? MarchDirection<true>(df, f, s, p, k, start_m[j], start[j])
-                                     : MarchDirection<false>(df, f, s, p, k, start_m[j], start[j]));
-      }
+      SetUpReceiver(df, f, k, x0, y, p);
+      const VF occlusion =
+          DirectionsOcclusion(df, f, s, p, k, geometry, PixelHash(df, std::uint32_t(s.seed), x0, y),
+                              noise.At(df, x0), float_index);
       const VF ao =
           hn::Sub(hn::Set(df, 1.0f), hn::Div(occlusion, hn::Set(df, float(s.directions))));
       result =
