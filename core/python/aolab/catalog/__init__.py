@@ -16,7 +16,7 @@ from . import (alchemy, bitmask, chebyshev, crytek_ssao, gtao, hbao, lsao, pyram
 from .kinds import MethodEntry
 
 MODULES = (hbao, pyramid_hbao, lsao, chebyshev, vao, vao_pp, gtao, bitmask, alchemy, sao,
-            crytek_ssao)
+           crytek_ssao)
 #: Every method's entry by name.
 ENTRIES: dict[str, MethodEntry] = {m.ENTRY.method: m.ENTRY for m in MODULES}
 
