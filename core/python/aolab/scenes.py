@@ -77,15 +77,41 @@ def is_scene(folder: Path) -> bool:
     return bool(frames) and (frame_folder(folder, frames[0]) / "reference.exr").exists()
 
 
-def resolve_scenes(specs: list[str], scenes_dir: Path | None) -> list[Path]:
+#: The families of the scene corpus (manifest "family"): what kind of place or object a
+#: scene shows. Leave-one-family-out validation holds out one family at a time.
+FAMILIES = ("analytic", "interior", "exterior", "organic", "thin", "clutter", "terrain",
+            "mechanical")
+#: Manifest key: true for the scenes of the default study (`aolab compare` without
+#: --corpus): the six 1280x720 scenes and one corpus scene of each family they lack.
+DEFAULT_STUDY_KEY = "default_study"
+
+
+def family(folder: Path) -> str:
+    """The family of a scene folder (its manifest's "family"); a missing or unknown family
+    is a ValueError naming the scene."""
+    name = manifest(folder).get("family")
+    if name not in FAMILIES:
+        raise ValueError(f"scene {Path(folder).name!r}: manifest.json \"family\" must be one "
+                         f"of {', '.join(FAMILIES)}, got {name!r}")
+    return name
+
+
+def in_default_study(folder: Path) -> bool:
+    return manifest(folder).get(DEFAULT_STUDY_KEY) is True
+
+
+def resolve_scenes(specs: list[str], scenes_dir: Path | None, *,
+                   default_study: bool = False) -> list[Path]:
     """Scene folders (is_scene): names in ``scenes_dir``, folders, or .exr paths (their
     folder). No spec: every scene folder of ``scenes_dir``, sorted (a sequence not rendered
-    yet is left out)."""
+    yet is left out) — only those of the default study when ``default_study``."""
     if not specs:
         if scenes_dir is None:
             raise ValueError("no reference_scenes folder found: run from the repository, pass "
                              "--scenes-dir, or set AOLAB_SCENES")
         found = sorted(p for p in Path(scenes_dir).iterdir() if p.is_dir() and is_scene(p))
+        if default_study and any(in_default_study(p) for p in found):
+            found = [p for p in found if in_default_study(p)]
         if not found:
             raise ValueError(f"no scene with a reference.exr in {scenes_dir}")
         return found

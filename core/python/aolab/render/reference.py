@@ -167,6 +167,8 @@ def resolve_scene(spec: str) -> Scene:
         kit = p.resolve().parent / SCENE_KIT  # the helpers every reference scene imports
         if kit.exists():
             h.update(files.read_bytes(kit, "scene kit"))
+        for used in scene_uses(manifest, mpath):
+            h.update(files.read_bytes(p.resolve().parent / used, "scene module"))
         return Scene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
     if p.suffix == ".blend":
         return Scene(p.stem, "blend", p, {}, _sha256_of(p, "scene .blend"))
@@ -174,6 +176,19 @@ def resolve_scene(spec: str) -> Scene:
         return Scene(p.stem, "script", p, {}, _sha256_of(p, "scene build script"))
     raise ReferenceError(f"{spec}: a scene is a .blend, a .py build script or a folder with "
                          "manifest.json")
+
+
+def scene_uses(manifest: dict, mpath: Path) -> list[str]:
+    """The manifest's "uses": the modules its build script imports besides scene_kit.py
+    (a corpus family and its kit), relative to the scenes folder, which the scene's hash
+    covers. Each must exist."""
+    uses = manifest.get("uses", [])
+    if not (isinstance(uses, list) and all(isinstance(u, str) and u for u in uses)):
+        raise ReferenceError(f'{mpath}: "uses" must be a list of paths, got {uses!r}')
+    for used in uses:
+        if not (mpath.resolve().parent.parent / used).is_file():
+            raise ReferenceError(f'{mpath}: "uses" names {used}, which is missing')
+    return uses
 
 
 @dataclass

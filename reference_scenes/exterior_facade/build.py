@@ -1,0 +1,5 @@
+"""Corpus scene `exterior_facade`: variant 0 of reference_scenes/families/exterior.py."""
+import sys
+from pathlib import Path
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # reference_scenes/
+__import__("families.exterior").exterior.build(0)
