@@ -26,7 +26,8 @@ optuna = pytest.importorskip("optuna")
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "reference_scenes"
 CROP = "96x54"
-FAST = ["--scenes", "room", "grille", "--scenes-dir", str(SCENES), "--crop", CROP,
+# Two families (thin, mechanical) where HBAO beats AO = 1 on the whole frame of the crop.
+FAST = ["--scenes", "grille", "engine", "--scenes-dir", str(SCENES), "--crop", CROP,
         "--warmup", "0", "--repeat", "1", "--no-progress"]
 
 
@@ -132,16 +133,19 @@ def test_occluded_mae_is_the_studys():
     assert got["mae"] == pytest.approx(want["occluded"]["mae"], abs=1e-12)
     assert got["bias"] == pytest.approx(want["occluded"]["bias"], abs=1e-12)
     assert got["all_mae"] == pytest.approx(want["all"]["mae"], abs=1e-12)
-    assert got["ms"] == pytest.approx(got["method_ms"] + got["blur_ms"])
+    assert got["measured_ms"] == pytest.approx(got["method_ms"] + got["blur_ms"])
+    # full frames are scaled to 1280x720 (test_full_frame_times_are_per_1280x720_frame)
+    assert got["ms"] == got["measured_ms"]   # a crop keeps its own time
 
 
 # ----------------------------------------------------------------------------------------
-# Leave-one-scene-out
+# Choosing within a budget, the whole-frame guard, leave one family out
 
 
-def _trial(number, ms, mae):
-    return {"number": number, "settings": {"n": number},
-            "scenes": {s: {"ms": ms[i], "mae": mae[i]} for i, s in enumerate("ABC")}}
+def _trial(number, ms, mae, all_mae=(0.0, 0.0, 0.0), preset=None):
+    return {"number": number, "settings": {"n": number}, "preset": preset,
+            "scenes": {s: {"ms": ms[i], "mae": mae[i], "all_mae": all_mae[i]}
+                       for i, s in enumerate("ABC")}}
 
 
 TABLE = [
@@ -150,6 +154,8 @@ TABLE = [
     _trial(2, (80, 80, 80), (0.35, 0.20, 0.20)),
     _trial(3, (300, 60, 60), (0.05, 0.05, 0.05)),   # mean 140 ms: over 100 on all scenes
 ]
+#: A in one family, B and C in another.
+FAMILIES = {"A": "f", "B": "g", "C": "g"}
 
 
 def test_choice_within_a_budget_is_the_lowest_mean_error():
@@ -161,42 +167,108 @@ def test_choice_within_a_budget_is_the_lowest_mean_error():
     assert pareto.choose(tie, list("ABC"), 50)["number"] == 4
 
 
-def test_leave_one_scene_out_chooses_on_the_other_scenes_only():
-    held = pareto.leave_one_scene_out(TABLE, list("ABC"), 100)
-    # A held out: on B, C trial 3 is best and fast (60 ms); on A it takes 300 ms.
-    assert held["A"] == {"trial": 3, "mae": 0.05, "ms": 300, "within_budget": False,
-                         "train_mae": pytest.approx(0.05), "train_ms": 60}
-    # B held out: on A, C trial 3 averages 180 ms, so trial 1 (0.25) beats 2 (0.275).
-    assert held["B"]["trial"] == 1 and held["B"]["mae"] == 0.40
-    assert held["C"]["trial"] == 1 and held["C"]["mae"] == 0.40
-    sel = pareto.select(TABLE, list("ABC"), budgets=(20, 50, 100))
-    assert list(sel) == ["tuned-50ms", "tuned-100ms"]           # 20 ms: nobody fits
-    assert sel["tuned-100ms"]["trial"] == 2 and sel["tuned-100ms"]["settings"] == {"n": 2}
-    assert sel["tuned-100ms"]["mean_mae"] == pytest.approx(0.25)
-    assert sel["tuned-100ms"]["held_out_mean_mae"] == pytest.approx((0.05 + 0.40 + 0.40) / 3)
-    assert sel["tuned-50ms"]["held_out"]["A"]["trial"] == 0
+def test_the_guard_excludes_a_choice_worse_than_ao_one_or_the_default_on_the_whole_frame():
+    default = _trial(0, (50, 50, 50), (0.30, 0.30, 0.30), (0.05, 0.05, 0.05), "default")
+    darker = _trial(1, (50, 50, 50), (0.10, 0.10, 0.10), (0.05, 0.05, 0.09))  # C: > AO = 1
+    worse = _trial(2, (50, 50, 50), (0.20, 0.20, 0.20), (0.06, 0.06, 0.06))   # > default
+    fine = _trial(3, (50, 50, 50), (0.25, 0.25, 0.25), (0.05, 0.04, 0.05))
+    rows = [default, darker, worse, fine]
+    guard = pareto.Guard(ao_one={"A": 0.08, "B": 0.08, "C": 0.08}, default=default)
+    assert pareto.choose(rows, list("ABC"), 100)["number"] == 1      # unguarded: the darker
+    assert pareto.choose(rows, list("ABC"), 100, guard)["number"] == 3
+    # on A and B alone, the darker one is no worse than AO = 1
+    assert pareto.choose(rows, list("AB"), 100, guard)["number"] == 1
+    no_default = pareto.Guard(ao_one=guard.ao_one)
+    assert pareto.choose(rows, list("ABC"), 100, no_default)["number"] == 2
 
 
-def test_best_across_methods_is_chosen_on_the_other_scenes():
-    """Per held-out scene, the method whose fold choice has the lowest training error wins,
-    whatever its score on the held-out scene itself."""
-    def fold(trial, mae, train_mae, ms=40.0):
-        return {"trial": trial, "mae": mae, "ms": ms, "within_budget": ms <= 100,
-                "train_mae": train_mae, "train_ms": 50.0}
+def test_degenerate_outputs_cannot_pass_the_whole_frame_guard():
+    """All dark, all grey, or the reference darkened everywhere: each is worse than AO = 1
+    on the whole frame of a real scene, so no budget can choose it."""
+    (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("320x180"))
+    guard = pareto.Guard(ao_one={"room": sc.ao_one_mae})
+    ref = sc.reference
+
+    def row(ao):
+        return {"number": 0, "scenes": {"room": {"ms": 1.0, **tune.score(ao, sc)}}}
+    for bad in (np.zeros_like(ref), np.full_like(ref, 0.5), np.clip(ref - 0.2, 0, 1)):
+        assert not pareto.whole_frame_ok(row(bad.astype(np.float32)), ["room"], guard)
+    for good in (np.ones_like(ref), ref):
+        assert pareto.whole_frame_ok(row(good.astype(np.float32)), ["room"], guard)
+
+
+def test_leave_one_family_out_chooses_on_the_other_families_only():
+    held = pareto.leave_one_family_out(TABLE, FAMILIES, 100)
+    # family f (A) held out: on B, C trial 3 is best and fast (60 ms); on A it takes 300 ms.
+    assert held["f"]["trial"] == 3 and held["f"]["mae"] == 0.05
+    assert held["f"]["within_budget"] is False and held["f"]["scenes"]["A"]["ms"] == 300
+    assert held["f"]["train_mae"] == pytest.approx(0.05)
+    # family g (B, C) held out: on A alone trial 3 takes 300 ms, so trial 1 (0.10) wins
+    assert held["g"]["trial"] == 1 and held["g"]["mae"] == pytest.approx(0.40)
+    assert set(held["g"]["scenes"]) == {"B", "C"}
+    summary = pareto.held_out_summary(held)
+    assert summary["held_out_mean_mae"] == pytest.approx((0.05 + 0.40) / 2)
+    assert summary["gap"] == pytest.approx((0.05 + 0.40) / 2 - (0.05 + 0.10) / 2)
+    assert summary["held_out_folds"] == 2
+
+
+def test_a_tuned_choice_that_loses_to_the_default_held_out_ships_the_default():
+    default = _trial(9, (40, 40, 40), (0.20, 0.20, 0.20), preset="default")
+    balanced = _trial(2, (50, 50, 50), (0.15, 0.15, 0.15))
+    trap = _trial(3, (50, 50, 50), (0.30, 0.05, 0.05))      # great on family g, bad on f
+    trap2 = _trial(4, (50, 50, 50), (0.05, 0.30, 0.30))     # great on family f, bad on g
+    guard = pareto.Guard(default=default)
+    # A choice that holds on every family ships.
+    sel, unshipped = pareto.select([default, balanced], FAMILIES, (100,), guard)
+    assert sel["tuned-100ms"]["trial"] == 2 and sel["tuned-100ms"]["ships"] == "tuned"
+    assert sel["tuned-100ms"]["held_out_mean_mae"] == pytest.approx(0.15)
+    assert sel["tuned-100ms"]["default_held_out_mean_mae"] == pytest.approx(0.20)
+    assert not unshipped
+    # trap wins on all scenes (0.133) but each fold picks the configuration that is bad on
+    # the held-out family (0.30 there, the default 0.20): the default ships.
+    sel, unshipped = pareto.select([default, trap, trap2], FAMILIES, (100,), guard)
+    assert sel["tuned-100ms"]["tuned_trial"] == 3
+    assert sel["tuned-100ms"]["trial"] == 9 and sel["tuned-100ms"]["ships"].startswith("default")
+    assert sel["tuned-100ms"]["settings"] == default["settings"]
+    # Within 45 ms only the default fits: it is the choice.
+    sel, _ = pareto.select([default, trap, trap2], FAMILIES, (45,), guard)
+    assert sel["tuned-45ms"]["trial"] == 9 and sel["tuned-45ms"]["ships"].startswith("default")
+    # A default over the budget cannot stand in: nothing ships, and the reason is given.
+    slow = _trial(9, (80, 80, 80), (0.20, 0.20, 0.20), preset="default")
+    sel, unshipped = pareto.select([slow, trap, trap2], FAMILIES, (60,),
+                                   pareto.Guard(default=slow))
+    assert sel == {} and "lost to the default" in unshipped["tuned-60ms"]
+
+
+def test_best_across_methods_is_chosen_on_the_other_families():
+    """Per scene, the method whose fold for the scene's family has the lowest training error
+    wins, whatever its score on the scene itself."""
+    def fold(trial, scores, train_mae):
+        return {"trial": trial, "train_mae": train_mae,
+                "scenes": {s: {"mae": m, "ms": ms} for s, (m, ms) in scores.items()}}
 
     methods = {
         "a": {"selection": {"tuned-100ms": {"held_out": {
-            "S": fold(1, 0.30, 0.10), "T": fold(2, 0.05, 0.20), "U": None}}}},
+            "f": fold(1, {"S": (0.30, 40.0)}, 0.10),
+            "g": fold(2, {"T": (0.05, 40.0), "U": (0.07, 40.0)}, 0.20)}}}},
         "b": {"selection": {"tuned-100ms": {"held_out": {
-            "S": fold(7, 0.01, 0.15), "T": fold(8, 0.50, 0.12, ms=130.0), "U": None}}}},
-        "c": {"selection": {"tuned-50ms": {"held_out": {"S": fold(9, 0.0, 0.0)}}}},
+            "f": fold(7, {"S": (0.01, 40.0)}, 0.15),
+            "g": fold(8, {"T": (0.50, 130.0), "U": (0.40, 50.0)}, 0.12)}}}},
+        "c": {"selection": {"tuned-50ms": {"held_out": {"f": fold(9, {"S": (0.0, 1.0)}, 0.0)}}}},
     }
     best = pareto.best_across_methods(methods, 100)
-    assert best["S"] == {"method": "a", **fold(1, 0.30, 0.10)}     # not b's 0.01 on S
+    assert best["S"] == {"method": "a", "trial": 1, "mae": 0.30, "ms": 40.0,
+                         "within_budget": True, "train_mae": 0.10}   # not b's 0.01 on S
     assert best["T"]["method"] == "b" and best["T"]["within_budget"] is False
-    assert best["U"] is None
-    assert pareto.best_across_methods(methods, 50) == {"S": {"method": "c", **fold(9, 0.0, 0.0)}}
+    assert best["U"]["method"] == "b" and best["U"]["mae"] == 0.40
+    assert pareto.best_across_methods(methods, 50)["S"]["method"] == "c"
     assert pareto.best_across_methods({}, 100) == {}
+    # A file from before families: one fold per scene
+    old = {"a": {"selection": {"tuned-100ms": {"held_out": {
+        "S": {"trial": 1, "mae": 0.2, "ms": 10.0, "train_mae": 0.1}, "T": None}}}}}
+    assert pareto.best_across_methods(old, 100) == {
+        "S": {"method": "a", "trial": 1, "mae": 0.2, "ms": 10.0, "within_budget": True,
+              "train_mae": 0.1}, "T": None}
 
 
 # ----------------------------------------------------------------------------------------
@@ -205,46 +277,48 @@ def test_best_across_methods_is_chosen_on_the_other_scenes():
 
 def test_store_resume_and_tuned_presets(tmp_path, monkeypatch, capsys):
     out, pfile = tmp_path / "tune", tmp_path / "tuned.json"
-    args = ["tune", "--methods", "vao", "--out", str(out), "--presets-file", str(pfile), *FAST]
+    args = ["tune", "--methods", "hbao", "--out", str(out), "--presets-file", str(pfile), *FAST]
     assert cli.main([*args, "--trials", "3"]) == 0
     assert (out / tune.DB_NAME).exists()
-    first = complete(load(out, "vao"))
+    first = complete(load(out, "hbao"))
     assert len(first) == 3
     # The study starts from the presets (default, low, medium: enqueued in that order).
     assert [first[n].user_attrs.get("preset") for n in sorted(first)] == \
         ["default", "low", "medium"]
     assert cli.main([*args, "--trials", "5"]) == 0
-    second = complete(load(out, "vao"))
+    second = complete(load(out, "hbao"))
     assert len(second) == 5
     for n, t in first.items():   # kept as they were: nothing recomputed
         assert second[n].values == t.values
         assert second[n].datetime_complete == t.datetime_complete
     assert cli.main([*args, "--trials", "5"]) == 0             # nothing left to do
-    assert len(complete(load(out, "vao"))) == 5
+    assert len(complete(load(out, "hbao"))) == 5
     # Another protocol (other timing) is refused, not mixed in.
     assert cli.main([*args[:-5], "--warmup", "1", "--repeat", "1", "--no-progress",
                      "--trials", "6"]) == 2
     assert "another --out" in capsys.readouterr().err
 
     data = json.loads(pfile.read_text())
-    entry = data["methods"]["vao"]
-    assert entry["command"].startswith("aolab tune --methods vao --trials 5")
+    entry = data["methods"]["hbao"]
+    assert entry["command"].startswith("aolab tune --methods hbao --trials 5")
     assert entry["commit"] and entry["date"] and entry["crop"] == CROP
-    assert entry["scenes"] == ["room", "grille"] and entry["trials"]["complete"] == 5
+    assert entry["scenes"] == ["grille", "engine"] and entry["trials"]["complete"] == 5
     assert entry["presets"], "a crop this small fits every budget"
+    assert set(entry["whole_frame_guard"]["ao_one_mae"]) == {"grille", "engine"}
     for name, sel in entry["selection"].items():
-        assert set(sel["held_out"]) == {"room", "grille"}
+        assert set(sel["held_out"]) == {"thin", "mechanical"}   # the scenes' families
         assert sel["held_out_folds"] == 2
+        assert sel["gap"] == pytest.approx(sel["held_out_mean_mae"] - sel["train_mean_mae"])
     # The JSON round-trips into aolab.presets and compute(preset=...).
     monkeypatch.setenv("AOLAB_TUNED_PRESETS", str(pfile))
-    named = aolab.presets("vao")
+    named = aolab.presets("hbao")
     assert [n for n in named if n.startswith("tuned-")] == list(entry["presets"])
     for name, values in entry["presets"].items():
         assert named[name] == values
     name, values = next(iter(entry["presets"].items()))
     g = aolab.analytic_scene("blocks", 64, 36)
-    np.testing.assert_array_equal(aolab.compute("vao", g, radius=0.5, preset=name),
-                                  aolab.compute("vao", g, radius=0.5, **values))
+    np.testing.assert_array_equal(aolab.compute("hbao", g, radius=0.5, preset=name),
+                                  aolab.compute("hbao", g, radius=0.5, **values))
 
 
 def test_ctrl_c_exits_cleanly_and_keeps_the_finished_trials(tmp_path):
@@ -306,7 +380,7 @@ def test_timeout_keeps_the_study_and_writes_no_presets(tmp_path, capsys):
 
 def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     """A run on a crop or on some scenes writes beside its trials, never into the package."""
-    every = scenes.resolve_scenes([], SCENES)
+    every = tune.still_scenes(scenes.resolve_scenes([], SCENES))   # tuning's scenes
     opts = tune.Options(out=tmp_path)
     assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE

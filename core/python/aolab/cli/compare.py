@@ -26,8 +26,11 @@ def add_parser(sub):
         "(Cycles at fewer samples, EEVEE). Writes DIR/report.html, results.csv and "
         "results.json (docs/comparison.md). Ctrl-C keeps the partial results.")
     c.add_argument("scenes", nargs="*", metavar="SCENE",
-                   help="reference_scenes/<name> folders or names (default: every scene with a "
-                   "reference.exr)")
+                   help="reference_scenes/<name> folders or names (default: the default "
+                   "study's scenes, manifest \"default_study\"; --corpus: every scene)")
+    c.add_argument("--corpus", action="store_true",
+                   help="without SCENE: every scene with a reference.exr, the whole corpus "
+                   "(about three times the default study's time)")
     c.add_argument("--methods", nargs="+", metavar="METHOD",
                    help="methods to run (default: every method of aolab.methods() except "
                    "the oracles, such as screen_space_limit, which run only when named)")
@@ -58,7 +61,8 @@ def add_parser(sub):
 
 def run(args) -> int:
     opts = compare.Options(
-        scenes=args.scenes, methods=args.methods or None, sweep=args.sweep, out=Path(args.out),
+        scenes=args.scenes, corpus=args.corpus, methods=args.methods or None,
+        sweep=args.sweep, out=Path(args.out),
         threads=args.threads, warmup=args.warmup, repeat=args.repeat, budget_ms=args.budget_ms,
         max_ms=args.max_ms, crop=parse_crop(args.crop),
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,

@@ -20,3 +20,18 @@ def add_timing_options(q, *, repeat: int, warmup: int, repeat_help: str = "timed
                    help=f"{repeat_help}, 1 to {MAX_RUNS} (default {repeat})")
     q.add_argument("--warmup", type=int_option("--warmup", 0, MAX_RUNS), default=warmup,
                    help=f"{warmup_help}, 0 to {MAX_RUNS} (default {warmup})")
+
+
+#: The most workers --workers starts on this machine.
+MAX_WORKERS = 256
+
+
+def add_cluster_options(q, verb: str, alone: str, needs: str) -> None:
+    """--workers and --scheduler: a Dask cluster for the work (reference, tune, compare;
+    docs/scale_out.md)."""
+    q.add_argument("--workers", type=int_option("--workers", 1, MAX_WORKERS), default=1,
+                   help=f"{verb} on a local Dask cluster of this many workers, 1 to "
+                   f"{MAX_WORKERS} (default 1: in this process, {alone}; docs/scale_out.md)")
+    q.add_argument("--scheduler", metavar="ADDRESS",
+                   help=f"{verb} on the Dask cluster whose scheduler is at ADDRESS (e.g. "
+                   f"tcp://10.0.0.5:8786); its workers need {needs} (docs/scale_out.md)")

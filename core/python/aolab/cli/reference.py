@@ -7,6 +7,7 @@ from __future__ import annotations
 from ..render import cluster, reference
 from ..util.arguments import MAX_SAMPLES, checked_type, int_list_option, int_option
 from .common import RADIUS
+from .options import add_cluster_options
 
 
 def add_parser(sub):
@@ -45,13 +46,8 @@ def add_parser(sub):
     f.add_argument("--frames", type=checked_type(reference.parse_frames, "--frames"),
                    help="animation frames: N, START-END or START-END:STEP (one reference each, "
                    "copied to OUT/frames/NNNN; default: a sequence scene's manifest frames)")
-    f.add_argument("--workers", type=int_option("--workers", 1, 256), default=1,
-                   help="render on a local Dask cluster of this many workers, 1 to 256 (default "
-                   "1: in this process, one job after another; docs/scale_out.md)")
-    f.add_argument("--scheduler", metavar="ADDRESS",
-                   help="render on the Dask cluster whose scheduler is at ADDRESS (e.g. "
-                   "tcp://10.0.0.5:8786); its workers need aolab and Blender and the cache on "
-                   "shared storage (docs/scale_out.md)")
+    add_cluster_options(f, "render", "one job after another",
+                        "aolab and Blender and the cache on shared storage")
     return f
 
 

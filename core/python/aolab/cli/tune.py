@@ -11,7 +11,7 @@ from ..scenes import parse_crop
 from ..study import tune
 from ..study.tune import DEFAULT_MAX_MS, DEFAULT_TRIALS
 from ..util.arguments import float_option, int_option
-from .options import add_timing_options
+from .options import add_cluster_options, add_timing_options
 
 
 def add_parser(sub):
@@ -21,7 +21,8 @@ def add_parser(sub):
         description="Searches every setting of each method (and the shared blur) with "
         "Optuna's multi-objective sampler for the Pareto front of occluded-region MAE against "
         "time on the reference scenes, and writes the presets tuned-50ms ... tuned-500ms, "
-        "chosen within each budget on all scenes and scored leave-one-scene-out "
+        "chosen within each budget on all scenes (whole-frame MAE no worse than AO = 1 on any "
+        "scene nor than the default) and scored leave-one-family-out "
         "(docs/tuning.md). Trials are kept in DIR/tune.db: Ctrl-C keeps them and the same "
         "command resumes.")
     t.add_argument("--methods", nargs="+", metavar="METHOD",
@@ -53,6 +54,9 @@ def add_parser(sub):
                    f"alone (ms > 0; default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
     t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
+    add_cluster_options(t, "score the trials", "scored as they are timed",
+                        "aolab and the scenes at the same path; times are still measured "
+                        "here, one configuration at a time")
     return t
 
 
@@ -63,5 +67,6 @@ def run(args) -> int:
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         presets_file=Path(args.presets_file) if args.presets_file else None,
         timing=tune.Timing(args.warmup, args.repeat, args.threads, args.max_ms),
-        progress=args.progress if args.progress is not None else sys.stderr.isatty())
+        progress=args.progress if args.progress is not None else sys.stderr.isatty(),
+        workers=args.workers, scheduler=args.scheduler)
     return tune.run_command(opts)

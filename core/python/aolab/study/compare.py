@@ -45,7 +45,8 @@ from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder
                       resolve_scenes)
 from ..util import files
 from ..util.provenance import git_commit, machine_info
-from . import report
+from . import report, stats
+from .pareto import hd_scale
 from .report import WEAK_FRACTION
 
 #: Metrics per region, in column order.
@@ -315,11 +316,19 @@ def flag_rows(rows: list[dict]) -> None:
         r["flag"] = "weak" if ratio > WEAK_FRACTION else ""
 
 
+#: Time columns: ALL's are means of each scene's time scaled to a 1280x720 frame.
+TIME_COLUMNS = ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev", "blur_ms",
+                "blur_ms_min", "blur_ms_max", "total_ms")
+
+
 def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SCENE,
-              unit: str = "scene") -> list[dict]:
+              unit: str = "scene", time_scale: dict | None = None) -> list[dict]:
     """Rows of scene ``name`` ("ALL", or a sequence over its frames, ``unit`` "frame"): per
     (kind, method, label), the mean over the scenes that have it of every metric and time
-    (counts summed). Only complete scenes take part."""
+    (counts summed), each time first scaled by ``time_scale[scene]`` (default 1), and the
+    95 % bootstrap intervals over the scenes of the whole-frame and occluded MAE and of the
+    total time ("intervals"). Only complete scenes take part."""
+    time_scale = time_scale or {}
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
         if r["scene"] in scene_names and "metrics" in r:
@@ -333,7 +342,8 @@ def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SC
         for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
                     "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b",
                     "occluded_mae_vs_limit", "occluded_mae_definition", "flicker"):
-            vals = [r[col] for r in rs if r.get(col) is not None]
+            vals = [r[col] * (time_scale.get(r["scene"], 1.0) if col in TIME_COLUMNS else 1.0)
+                    for r in rs if r.get(col) is not None]
             # against the limit: over the scenes that have one (as the split's limit line);
             # the flicker: over the frame pairs (a sequence's first frame has none) or over
             # the sequences
@@ -350,9 +360,22 @@ def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SC
                     finite = [v for v in vals if v is not None and math.isfinite(v)]
                     metrics[region][m] = float(np.mean(finite)) if finite else math.nan
         agg["metrics"] = metrics
+        agg["intervals"] = intervals(rs, time_scale)
         out.append(agg)
     flag_rows(out)
     return out
+
+
+def intervals(rs: list[dict], time_scale: dict) -> dict:
+    """95 % bootstrap intervals over the rows' scenes of the mean whole-frame and occluded MAE
+    and total time (stats.bootstrap_interval; None with one scene)."""
+    def ci(values):
+        got = stats.bootstrap_interval(values)
+        return list(got) if got is not None else None
+    return {"all_mae": ci([r["metrics"]["all"]["mae"] for r in rs]),
+            "occluded_mae": ci([r["metrics"]["occluded"]["mae"] for r in rs]),
+            "total_ms": ci([r["total_ms"] * time_scale.get(r["scene"], 1.0) for r in rs
+                            if r.get("total_ms") is not None])}
 
 
 def flat(row: dict) -> dict:
@@ -444,6 +467,8 @@ DEFAULT_MAX_MS = 1000.0
 @dataclass
 class Options:
     scenes: list[str] = field(default_factory=list)
+    #: Without scenes: every still and sequence of the corpus, not the default study's.
+    corpus: bool = False
     methods: list[str] | None = None
     sweep: str = "quick"
     out: Path = Path("out/compare")
@@ -563,7 +588,8 @@ class Study:
         # times down; sequences have their own rows and section (temporal stability).
         stills = [n for n in self.complete_scenes
                   if not self.scene_info.get(n, {}).get("sequence")]
-        agg = aggregate(rows, stills) if stills else []
+        scale = {n: self.scene_info[n].get("time_scale", 1.0) for n in stills}
+        agg = aggregate(rows, stills, time_scale=scale) if stills else []
         meta = dict(self.meta)
         meta["partial"] = partial
         meta["finished"] = time.strftime("%Y-%m-%d %H:%M:%S")
@@ -608,7 +634,7 @@ class Study:
         self._t0 = time.perf_counter()
         check_out(Path(opts.out))
         scenes_dir = opts.scenes_dir or find_scenes_dir()
-        folders = resolve_scenes(opts.scenes, scenes_dir)
+        folders = resolve_scenes(opts.scenes, scenes_dir, default_study=not opts.corpus)
         for folder in folders:  # every scene's errors before any work
             if frame_numbers(folder):
                 check_sequence(folder, opts.crop)
@@ -724,6 +750,9 @@ class Study:
             "peers": [p.name for p in scene.peers if p.kind != LIMIT_KIND],
             "limits": [p.name for p in scene.peers if p.kind == LIMIT_KIND],
             "title": manifest(folder).get("title", scene.name),
+            "family": manifest(folder).get("family"),
+            # ALL's times are per 1280x720 frame; a crop's stay the crop's (pareto.hd_scale)
+            "time_scale": 1.0 if opts.crop else hd_scale(scene.g.width, scene.g.height),
         }
         images = _Images(opts.budget_ms)
         # The baseline, AO = 1 everywhere: no occlusion at all, no time.

@@ -24,7 +24,7 @@ import aolab
 from ..regions import REGIONS
 from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
 from ..util import files
-from . import pareto
+from . import pareto, stats
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
@@ -287,6 +287,8 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
             out.append(f'<polyline points="{poly}" fill="none" stroke="{s["colour"]}" '
                        'stroke-width="1.2" stroke-dasharray="4 3"/>')
         for r, x, y in mine:
+            out += error_bars(r, column, px, py)
+        for r, x, y in mine:
             on = r["key"] in front_set
             cls = "point front" if on else "point"
             attrs = (f'class="{cls}" fill="{s["colour"]}" data-key="{html.escape(r["key"])}" '
@@ -312,6 +314,32 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
                    f'{html.escape(h["label"])}</text>')
     out.append("</svg>")
     return "\n".join(out)
+
+
+def error_bars(row: dict, column: str, px, py) -> list[str]:
+    """A mean over scenes' 95 % intervals (stats.bootstrap_interval) as thin bars through its
+    point: vertical for the plotted metric, horizontal for the time."""
+    iv = row.get("intervals") or {}
+    x, y = number(row.get("total_ms")), metric(row, column)
+    out = []
+    if iv.get(column) and x:
+        lo, hi = iv[column]
+        out.append(f'<line x1="{px(x):.2f}" y1="{py(lo):.2f}" x2="{px(x):.2f}" '
+                   f'y2="{py(hi):.2f}" class="ci" data-key="{html.escape(row["key"])}" '
+                   f'data-lo="{_fmt(lo)}" data-hi="{_fmt(hi)}"/>')
+    if iv.get("total_ms") and y is not None and iv["total_ms"][0] > 0:
+        lo, hi = iv["total_ms"]
+        out.append(f'<line x1="{px(lo):.2f}" y1="{py(y):.2f}" x2="{px(hi):.2f}" '
+                   f'y2="{py(y):.2f}" class="ci"/>')
+    return out
+
+
+def _ci(value, interval, fmt: str = ".4f") -> str:
+    """A mean and, when it has one, its 95 % interval over the scenes."""
+    if not interval:
+        return _cell(value, fmt)
+    lo, hi = interval
+    return f'{_cell(value, fmt)} <small class="ci">[{lo:{fmt}}, {hi:{fmt}}]</small>'
 
 
 def best_limit(rows: list[dict]) -> dict | None:
@@ -394,20 +422,24 @@ def table(rows: list[dict], floor: dict | None) -> str:
         flag_html = '<span class="weak">weak on occluded</span>' if flag == "weak" else ""
         note = f' title="{html.escape(r["note"])}"' if r.get("note") else ""
         m = r.get("metrics")
+        iv = r.get("intervals") or {}
         if m:
             cal = (f'{_cell(m["all"]["mae_cal"])} <small>(a {_cell(r.get("calib_a"), ".2f")}, '
                    f'b {_cell(r.get("calib_b"), ".2f")})</small>')
-            cells = (f'<td>{_cell(m["all"]["mae"])}</td><td>{_cell(m["all"]["ssim"])}</td>'
+            cells = (f'<td>{_ci(m["all"]["mae"], iv.get("all_mae"))}</td>'
+                     f'<td>{_cell(m["all"]["ssim"])}</td>'
                      f'<td>{_cell(m["all"]["rmse"])}</td><td>{_cell(m["all"]["psnr"], ".2f")}</td>'
                      f'<td>{_cell(m["all"]["bias"], "+.4f")}</td><td>{cal}</td>'
-                     + "".join(f'<td>{_cell(m[reg]["mae"])}</td>' for reg in REGIONS[1:])
+                     + "".join(f'<td>{_ci(m[reg]["mae"], iv.get(reg + "_mae"))}</td>'
+                               for reg in REGIONS[1:])
                      + f'<td>{_cell(r.get("occluded_mae_vs_baseline"), ".2f")}</td>'
                      + f'<td>{_cell(r.get("occluded_mae_vs_limit"))}</td>')
         else:
             cells = f'<td colspan="{7 + len(REGIONS)}">{html.escape(r.get("note", ""))}</td>'
         body.append(f'<tr class="{r["kind"]}" data-key="{html.escape(r["key"])}"{note}>'
                     f'<td>{html.escape(r["method"])}</td><td>{html.escape(r["label"])}{star}</td>'
-                    f'<td>{tms}</td><td>{bms}</td><td>{_cell(r.get("total_ms"), ".1f")}</td>'
+                    f'<td>{tms}</td><td>{bms}</td>'
+                    f'<td>{_ci(r.get("total_ms"), iv.get("total_ms"), ".1f")}</td>'
                     f'{cells}<td>{flag_html}</td></tr>')
     if floor:
         body.append(f'<tr class="floor"><td colspan="5">reference noise floor '
@@ -671,6 +703,70 @@ def split_chart(plot_id: str, parts: list[dict]) -> str:
     return "\n".join(out)
 
 
+#: The paired comparisons cover this many of the best configurations.
+PAIRED_TOP = 8
+
+
+def per_scene(results: dict, row: dict, column: str = "occluded_mae") -> dict:
+    """Scene -> the value of ``column`` of ``row``'s configuration on each still scene."""
+    scenes = results.get("scenes", {})
+    return {r["scene"]: metric(r, column) for r in results["rows"]
+            if r["scene"] in scenes and not scenes[r["scene"]].get("sequence")
+            and (r["kind"], r["method"], r["label"]) == (row["kind"], row["method"], row["label"])}
+
+
+def paired_comparisons(results: dict, budget_ms: float) -> list[dict]:
+    """Each method's best configuration within ``budget_ms`` (lowest mean occluded MAE over
+    the still scenes, the ALL rows), ranked, the first PAIRED_TOP of them; each compared with
+    the one ranked just above it and with the first, paired by scene (stats.paired): which
+    differences are real and which are noise."""
+    best: dict = {}
+    for r in results["rows"]:
+        t, e = number(r.get("total_ms")), metric(r, "occluded_mae")
+        if r["scene"] != "ALL" or r["kind"] != "method" or t is None or e is None or t > budget_ms:
+            continue
+        if r["method"] not in best or e < metric(best[r["method"]], "occluded_mae"):
+            best[r["method"]] = r
+    ranked = sorted(best.values(), key=lambda r: metric(r, "occluded_mae"))[:PAIRED_TOP]
+    out = []
+    for i, r in enumerate(ranked):
+        entry = {"rank": i + 1, "method": r["method"], "label": r["label"],
+                 "ms": number(r.get("total_ms")), "mae": metric(r, "occluded_mae"),
+                 "interval": (r.get("intervals") or {}).get("occluded_mae"),
+                 "vs_above": None, "vs_first": None}
+        if i:
+            mine = per_scene(results, r)
+            for key, other in (("vs_above", ranked[i - 1]), ("vs_first", ranked[0])):
+                c = stats.paired(per_scene(results, other), mine)
+                entry[key] = {**c, "verdict": stats.verdict(c)}
+        out.append(entry)
+    return out
+
+
+def paired_table(entries: list[dict], budget_ms: float) -> str:
+    if not entries:
+        return "<p class='missing'>No method within the budget.</p>"
+    head = ("<tr><th>rank</th><th>configuration</th><th>ms</th><th>occluded MAE [95 % CI]</th>"
+            "<th>the one above wins on</th><th>difference to the one above</th>"
+            "<th>the first wins on</th><th>difference to the first</th></tr>")
+    body = []
+    for e in entries:
+        cells = []
+        for key in ("vs_above", "vs_first"):
+            c = e[key]
+            if c is None:
+                cells.append("<td>—</td><td>—</td>")
+                continue
+            cls = "real" if c["real"] else "noise"
+            cells.append(f'<td>{c["wins"]} of {c["n"]} scenes</td>'
+                         f'<td class="{cls}">{html.escape(c["verdict"])}</td>')
+        body.append(f'<tr data-rank="{e["rank"]}"><td>{e["rank"]}</td>'
+                    f'<td>{html.escape(e["method"])} {html.escape(e["label"])}</td>'
+                    f'<td>{_cell(e["ms"], ".1f")}</td><td>{_ci(e["mae"], e["interval"])}</td>'
+                    + "".join(cells) + "</tr>")
+    return (f'<table class="check paired">{head}{"".join(body)}</table>')
+
+
 def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list[dict]:
     """Per scene: the screen-space limit's, EEVEE's and the best tuned configuration's (within
     ``budget_ms``, held out across methods: pareto.best_across_methods) occluded MAE, and the
@@ -748,20 +844,45 @@ def eevee_table(checks: list[dict], budget_ms: float = EEVEE_CHECK_BUDGET_MS) ->
     return f'<table class="check">{head}{"".join(body)}</table>'
 
 
-def tuned_table(tuned: dict) -> str:
-    """The tuned presets: per method and budget, the time and error on all scenes (how each
-    was chosen) and the leave-one-scene-out error (the honest one)."""
-    head = ("<tr><th>method</th><th>preset</th><th>trial</th><th>ms (tuning)</th>"
-            "<th>occluded MAE, chosen on all scenes</th><th>held out (mean of folds)</th>"
-            "<th>folds</th></tr>")
-    body = []
+def tuned_rows(tuned: dict) -> list[dict]:
+    """One row per method and budget of the tuned presets: what ships (the tuned choice or the
+    default), its time and errors on all scenes, its leave-one-family-out error, the
+    generalisation gap and the default's held-out error; a budget with nothing shipped has
+    its reason."""
+    out = []
     for method, entry in tuned.get("methods", {}).items():
         for name, sel in entry.get("selection", {}).items():
-            body.append(f'<tr><td>{html.escape(method)}</td><td>{html.escape(name)}</td>'
-                        f'<td>{sel.get("trial")}</td><td>{_cell(sel.get("mean_ms"), ".1f")}</td>'
-                        f'<td>{_cell(sel.get("mean_mae"))}</td>'
-                        f'<td>{_cell(sel.get("held_out_mean_mae"))}</td>'
-                        f'<td>{sel.get("held_out_folds")}</td></tr>')
+            out.append({"method": method, "preset": name, "trial": sel.get("trial"),
+                        "ships": sel.get("ships", "tuned"), "ms": sel.get("mean_ms"),
+                        "mae": sel.get("mean_mae"), "all_mae": sel.get("mean_all_mae"),
+                        "held_out": sel.get("held_out_mean_mae"), "gap": sel.get("gap"),
+                        "default_held_out": sel.get("default_held_out_mean_mae"),
+                        "folds": sel.get("held_out_folds")})
+        for name, why in entry.get("unshipped", {}).items():
+            out.append({"method": method, "preset": name, "unshipped": why})
+    return out
+
+
+def tuned_table(tuned: dict) -> str:
+    """The tuned presets (tuned_rows): the error on all scenes (how each was chosen) and the
+    leave-one-family-out error (the honest one)."""
+    head = ("<tr><th>method</th><th>preset</th><th>ships</th><th>trial</th><th>ms</th>"
+            "<th>occluded MAE, chosen on all scenes</th><th>whole-frame MAE</th>"
+            "<th>held out (leave one family out)</th><th>gap</th><th>default, held out</th>"
+            "<th>folds</th></tr>")
+    body = []
+    for r in tuned_rows(tuned):
+        if "unshipped" in r:
+            body.append(f'<tr><td>{html.escape(r["method"])}</td><td>{html.escape(r["preset"])}'
+                        f'</td><td colspan="9">not shipped: {html.escape(r["unshipped"])}</td>'
+                        '</tr>')
+            continue
+        body.append(f'<tr><td>{html.escape(r["method"])}</td><td>{html.escape(r["preset"])}</td>'
+                    f'<td>{html.escape(r["ships"])}</td><td>{r["trial"]}</td>'
+                    f'<td>{_cell(r["ms"], ".1f")}</td><td>{_cell(r["mae"])}</td>'
+                    f'<td>{_cell(r["all_mae"])}</td><td>{_cell(r["held_out"])}</td>'
+                    f'<td>{_cell(r["gap"], "+.4f")}</td><td>{_cell(r["default_held_out"])}</td>'
+                    f'<td>{r["folds"]}</td></tr>')
     if not body:
         return "<p class='missing'>No tuned presets (run aolab tune: docs/tuning.md).</p>"
     return f'<table class="check">{head}{"".join(body)}</table>'
@@ -824,6 +945,8 @@ svg .tick{font-size:11px;fill:#555} svg .axis{font-size:12px;fill:#333}
 svg .legend{font-size:11px;fill:#333}
 svg .point{stroke:#fff;stroke-width:0.8;opacity:0.9} svg .point.front{stroke:#000;stroke-width:1.6}
 svg .front-line{fill:none;stroke:#000;stroke-width:1.4;opacity:0.55}
+svg .ci{stroke:#555;stroke-width:1;opacity:0.55}
+td.real{color:#1a7f37;font-weight:600} td.noise{color:#777}
 svg .hline{stroke-width:1.3} svg .hline.baseline{stroke:#c0392b;stroke-dasharray:7 4}
 svg .hline.floor{stroke:#27ae60;stroke-dasharray:2 3}
 svg .hline.weak{stroke:#e67e22;stroke-dasharray:3 5} svg .hlabel.weak{fill:#e67e22}
@@ -1048,14 +1171,26 @@ def study_sections(results: dict, agg: list[dict]) -> str:
     else:
         parts.append("<p class='missing'>No committed screen-space limits (reference_scenes/"
                      "&lt;scene&gt;/limits/: aolab limits): no split.</p>")
+    budget = results["meta"].get("budget_ms", 0)
+    parts.append(f'<h2 id="paired">Which differences are real</h2><p class="note">Each '
+                 f'method\'s most accurate configuration within {budget:g} ms per 1280×720 '
+                 'frame, ranked by mean occluded MAE with its 95 % bootstrap interval over the '
+                 'scenes, and compared scene by scene with the one ranked above it and with the '
+                 'first: on how many scenes the better one wins, and the two-sided Wilcoxon '
+                 f'signed-rank test; a difference with p ≥ {stats.ALPHA:g} is not told apart '
+                 'from the scatter between scenes (docs/comparison.md).</p>')
+    parts.append(paired_table(paired_comparisons(results, budget), budget))
     tuned = results.get("tuned")
     parts.append('<h2 id="tuned">Tuned presets</h2>')
     if tuned:
         parts.append('<p class="note">From the committed tuned presets (' +
                      html.escape(tuned.get("source", "")) + '): the rows "tuned-…" above are '
                      'these configurations run by this study, on the scenes they were chosen '
-                     'on; the held-out column is the honest score, each scene scored with the '
-                     'configuration chosen on the other scenes (docs/tuning.md).</p>')
+                     'on; the held-out column is the honest score, each family of scenes scored '
+                     'with the configuration chosen on the other families, and the gap is how '
+                     'much worse that is than on the families it was chosen on. Where the '
+                     'tuned choice lost to the method\'s default on held-out families, the '
+                     'default ships under the tuned name (docs/tuning.md).</p>')
     parts.append(tuned_table(tuned or {}))
     parts.append(f'<h2 id="eevee">Against EEVEE</h2><p class="note">Per scene: where the '
                  'screen-space limit is below EEVEE\'s occluded MAE, does the best tuned '

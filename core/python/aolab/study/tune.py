@@ -20,6 +20,7 @@ scored on the held-out scene (:func:`leave_one_scene_out`).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
@@ -40,15 +41,16 @@ from .. import catalog
 from .. import named_presets as presets_mod
 from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
 from ..regions import occluded_pixels
-from ..scenes import find_scenes_dir, load_cropped, resolve_scenes
+from ..scenes import family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes
 from ..scoring import scored_mask
 from ..settings import described
 from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
+from ..render.cluster import connect
 from . import pareto
 
-#: The time budgets of the tuned presets, ms per frame (method + blur) at the scenes' size.
+#: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: pareto.hd_scale).
 BUDGETS_MS = (50, 100, 200, 500)
 # 60 trials per method: the TPE sampler's 10 random start-up trials, the presets, then ~45
 # guided ones. The whole default run (seven methods) then fits about an hour on 2 cores
@@ -212,23 +214,33 @@ def preset_params(space: Space, values: dict) -> dict | None:
 @dataclass
 class TuneScene:
     name: str
+    family: str
     g: object
     radius: float
     reference: np.ndarray
     occluded: np.ndarray
     valid: np.ndarray
+    #: The whole-frame MAE of AO = 1, the output that draws no occlusion: no tuned preset
+    #: may be worse on any scene (pareto.Guard).
+    ao_one_mae: float
+    folder: Path = None
+    #: Measured ms -> ms per 1280x720 frame (1 for a crop, whose times stay the crop's).
+    time_scale: float = 1.0
+
+
+def load_scene(folder: Path, crop) -> TuneScene:
+    """A scene as ``aolab compare`` loads it (load_cropped), with the scored pixels, the
+    occluded region of aolab.regions, its family and AO = 1's whole-frame MAE."""
+    g, reference, radius, _ = load_cropped(folder, crop)
+    valid = scored_mask(g, reference)
+    one = float(np.mean(np.abs(1.0 - reference[valid].astype(np.float64))))
+    scale = 1.0 if crop is not None else pareto.hd_scale(g.width, g.height)
+    return TuneScene(folder.name, family(folder), g, radius, reference,
+                     occluded_pixels(valid, reference), valid, one, Path(folder), scale)
 
 
 def load_scenes(folders: list[Path], crop) -> list[TuneScene]:
-    """The scenes as ``aolab compare`` loads them (compare.load_cropped), with the scored
-    pixels and the occluded region of aolab.regions."""
-    out = []
-    for folder in folders:
-        g, reference, radius, _ = load_cropped(folder, crop)
-        valid = scored_mask(g, reference)
-        out.append(TuneScene(folder.name, g, radius, reference,
-                             occluded_pixels(valid, reference), valid))
-    return out
+    return [load_scene(folder, crop) for folder in folders]
 
 
 @dataclass
@@ -256,11 +268,55 @@ def _time(fn, timing: Timing, single: bool):
     return out, times, False
 
 
+def grey(method: str, ao) -> np.ndarray:
+    ao = np.asarray(ao)
+    if ao.ndim != 2:
+        raise ValueError(f"{method} returned an image of shape {ao.shape}, not grey AO")
+    return ao
+
+
+def score(ao: np.ndarray, sc: TuneScene) -> dict:
+    """The accuracy of one output: occluded-region MAE and bias, whole-frame MAE, and the
+    digest of the output's bits (the same configuration gives the same bits anywhere)."""
+    d = ao.astype(np.float64) - sc.reference
+    occ = d[sc.occluded]
+    return {"mae": float(np.mean(np.abs(occ))) if occ.size else math.nan,
+            "bias": float(np.mean(occ)) if occ.size else math.nan,
+            "all_mae": float(np.mean(np.abs(d[sc.valid]))),
+            "digest": hashlib.sha256(np.ascontiguousarray(ao, np.float32).tobytes()).hexdigest()}
+
+
+def output(method: str, settings: dict, blur: bool, sc: TuneScene, threads: int) -> np.ndarray:
+    """One configuration's AO on one scene, blurred by the shared blur if ``blur``."""
+    ao = grey(method, aolab.compute(method, sc.g, radius=sc.radius, threads=threads, **settings))
+    if blur:
+        ao = aolab.gaussian_blur(ao, sc.g, sigma=presets_mod.BLUR_SIGMA,
+                                 taps=presets_mod.BLUR_TAPS, threads=threads)
+    return np.asarray(ao)
+
+
+#: A worker process's scenes, loaded once: (folder, crop) -> TuneScene.
+_WORKER_SCENES: dict = {}
+
+
+def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool) -> dict:
+    """On a Dask worker: :func:`score` of one configuration on one scene. The worker reads
+    the scene from ``folder`` (shared storage) once and keeps it."""
+    key = (folder, crop)
+    if key not in _WORKER_SCENES:
+        _WORKER_SCENES[key] = load_scene(Path(folder), crop)
+    sc = _WORKER_SCENES[key]
+    return score(output(method, settings, blur, sc, threads=1), sc)
+
+
 def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
-             timing: Timing, on_scene=None) -> dict:
-    """Per scene: the median method and blur times, their sum ``ms``, and the MAE on the
-    occluded region (``mae``), on all scored pixels and the occluded bias. A configuration
-    whose first run exceeds ``timing.max_ms`` is timed by that single run (it is past every
+             timing: Timing, on_scene=None, accuracy: dict | None = None) -> dict:
+    """Per scene: the median method and blur times, their sum ``measured_ms``, that time
+    scaled to a 1280x720 frame (``ms``: the budgets' unit, so that scenes of every size
+    weigh alike; a crop's time is left as it is), and the scores of :func:`score`.
+    ``accuracy`` (scene -> score), when given, holds scores computed elsewhere (Dask
+    workers): the timed runs' output must have the same digest. A configuration whose
+    first run exceeds ``timing.max_ms`` is timed by that single run (it is past every
     budget), on every scene."""
     out, single = {}, False
     for sc in scenes:
@@ -268,24 +324,23 @@ def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
             on_scene(sc.name)
 
         def run(sc=sc):
-            return aolab.compute(method, sc.g, radius=sc.radius, threads=timing.threads,
-                                 **settings)
+            return grey(method, aolab.compute(method, sc.g, radius=sc.radius,
+                                              threads=timing.threads, **settings))
         ao, times, single = _time(run, timing, single)
-        ao = np.asarray(ao)
-        if ao.ndim != 2:
-            raise ValueError(f"{method} returned an image of shape {ao.shape}, not grey AO")
         row = {"method_ms": statistics.median(times), "blur_ms": 0.0}
         if blur:
             ao, btimes, _ = _time(lambda: aolab.gaussian_blur(
                 ao, sc.g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
                 threads=timing.threads), timing, single)
             row["blur_ms"] = statistics.median(btimes)
-        row["ms"] = row["method_ms"] + row["blur_ms"]
-        d = ao.astype(np.float64) - sc.reference
-        occ = d[sc.occluded]
-        row["mae"] = float(np.mean(np.abs(occ))) if occ.size else math.nan
-        row["bias"] = float(np.mean(occ)) if occ.size else math.nan
-        row["all_mae"] = float(np.mean(np.abs(d[sc.valid])))
+        row["measured_ms"] = row["method_ms"] + row["blur_ms"]
+        row["ms"] = row["measured_ms"] * sc.time_scale
+        mine = score(np.asarray(ao), sc)
+        theirs = accuracy.get(sc.name) if accuracy is not None else None
+        if theirs is not None and theirs["digest"] != mine["digest"]:
+            raise ValueError(f"{method} gave other bits on a worker than here on scene "
+                             f"{sc.name} (a nondeterministic configuration)")
+        row.update(mine)
         row["runs"] = len(times)
         out[sc.name] = row
     return out
@@ -309,6 +364,9 @@ class Options:
     presets_file: Path | None = None
     timing: Timing = field(default_factory=Timing)
     progress: bool = True
+    #: Score trials on a Dask cluster: a local one of this many workers, or the scheduler's.
+    workers: int = 1
+    scheduler: str | None = None
 
 
 def default_methods() -> list[str]:
@@ -316,16 +374,23 @@ def default_methods() -> list[str]:
     return [m for m in aolab.methods() if not aolab.method_info(m).get("oracle", False)]
 
 
+def trial_constraints(trial) -> list[float]:
+    """The whole-frame constraints of a finished trial (:func:`constraints`), for the
+    sampler: it then prefers configurations no worse than AO = 1 and the default."""
+    return trial.user_attrs.get("constraints", [0.0, 0.0])
+
+
 def _sampler(name: str, seed: int):
     import optuna
     if name == "nsga2":
-        return optuna.samplers.NSGAIISampler(seed=seed)
-    return optuna.samplers.TPESampler(seed=seed)
+        return optuna.samplers.NSGAIISampler(seed=seed, constraints_func=trial_constraints)
+    return optuna.samplers.TPESampler(seed=seed, constraints_func=trial_constraints)
 
 
 def _protocol(opts: Options, scenes: list[TuneScene]) -> dict:
     """What makes two trials comparable: a study keeps to one protocol."""
-    return {"scenes": [s.name for s in scenes],
+    return {"scenes": [s.name for s in scenes], "families": [s.family for s in scenes],
+            "time": "ms per 1280x720 frame", "objective": "occluded MAE, whole frame guarded",
             "size": [[int(s.g.width), int(s.g.height)] for s in scenes],
             "warmup": opts.timing.warmup, "repeat": opts.timing.repeat,
             "threads": opts.timing.threads, "max_ms": opts.timing.max_ms}
@@ -380,14 +445,22 @@ def _key(settings: dict, blur: bool) -> str:
 
 
 def table(study) -> list[dict]:
-    """The complete trials as dicts for :func:`select`."""
+    """The complete trials as dicts for pareto.select."""
     from optuna.trial import TrialState
     return [{"number": t.number, "settings": t.user_attrs["settings"],
-             "scenes": t.user_attrs["scenes"]}
+             "preset": t.user_attrs.get("preset"), "scenes": t.user_attrs["scenes"]}
             for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))]
 
 
-def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadline) -> dict:
+def guard(rows: list[dict], scenes: list[TuneScene]) -> pareto.Guard:
+    """What a choice must not be worse than on the whole frame: AO = 1 on each scene, and the
+    method's default trial (the enqueued preset "default") on the mean."""
+    default = next((t for t in rows if t.get("preset") == pareto.DEFAULT_PRESET), None)
+    return pareto.Guard(ao_one={s.name: s.ao_one_mae for s in scenes}, default=default)
+
+
+def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadline,
+               client=None) -> dict:
     """Trials of ``method`` until the study has opts.trials of them (or the deadline); the
     selection from every complete trial of the study."""
     from optuna.trial import TrialState
@@ -400,12 +473,15 @@ def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadlin
     done = {t.user_attrs["key"]: t for t in
             study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))}
     try:
-        _trials(opts, method, scenes, bar, deadline, study, space, done)
+        _trials(opts, method, scenes, bar, deadline, study, space, done, client)
     except BaseException:   # Ctrl-C: the finished trials are kept, none is left running
         fail_running(study)
         raise
+    rows = table(study)
+    families = {s.name: s.family for s in scenes}
+    selection, unshipped = pareto.select(rows, families, BUDGETS_MS, guard(rows, scenes))
     return {"study": study, "space": space, "done": counted(study) >= opts.trials,
-            "selection": pareto.select(table(study), [s.name for s in scenes], BUDGETS_MS)}
+            "selection": selection, "unshipped": unshipped}
 
 
 # Ctrl-C and `kill` only ask to stop: a KeyboardInterrupt raised inside an Optuna or SQLite
@@ -434,45 +510,134 @@ def fail_running(study) -> None:
         study._storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
 
 
-def _trials(opts, method, scenes, bar, deadline, study, space, done) -> None:
-    """The trial loop of run_method."""
-    from optuna.trial import TrialState
+@dataclass
+class Asked:
+    """A trial asked of the sampler, its configuration and, if the same configuration was
+    scored before, that trial (the methods are deterministic: it is reused)."""
+    trial: object
+    settings: dict
+    blur: bool
+    key: str
+    same: object = None
 
+
+def constraints(per_scene: dict, scenes: list[TuneScene], default_all_mae: float | None):
+    """The sampler's constraints (feasible when <= 0): the largest excess of the whole-frame
+    MAE over AO = 1's on any scene, and the excess of the mean whole-frame MAE over the
+    default's (0 until the default is scored)."""
+    worst = max(per_scene[s.name]["all_mae"] - s.ao_one_mae for s in scenes)
+    mean_all = float(np.mean([per_scene[s.name]["all_mae"] for s in scenes]))
+    return [worst, 0.0 if default_all_mae is None else mean_all - default_all_mae]
+
+
+def _ask(study, space, done, n: int) -> list[Asked]:
+    """n trials of the sampler (1 without a cluster, a batch for its workers)."""
+    out = []
+    for _ in range(n):
+        trial = study.ask()
+        try:
+            settings, blur = suggest(trial, space)
+        except ValueError as e:
+            trial.set_user_attr("error", str(e))
+            study.tell(trial, state=_fail())
+            continue
+        key = _key(settings, blur)
+        trial.set_user_attr("settings", {**settings, BLUR_PARAM: blur})
+        trial.set_user_attr("key", key)
+        out.append(Asked(trial, settings, blur, key, done.get(key)))
+    return out
+
+
+def _fail():
+    from optuna.trial import TrialState
+    return TrialState.FAIL
+
+
+def _trials(opts, method, scenes, bar, deadline, study, space, done, client=None) -> None:
+    """The trial loop of run_method: without a cluster one trial at a time, scored as it is
+    timed; with one, a batch of trials (one per worker thread) scored on the workers, then
+    timed here one after another while the workers are idle."""
     def next_scene(name):  # between scenes: a safe point to stop, no storage call in flight
         _stop_if_asked()
         if bar is not None:
-            bar.set_description(f"{method} #{trial.number} {name}")
+            bar.set_description(f"{method} {name}")
 
+    default_all = [None]
     while counted(study) < opts.trials:
         _stop_if_asked()
         if deadline is not None and time.monotonic() >= deadline:
             break
-        trial = study.ask()
-        if bar is not None:
-            bar.set_description(f"{method} #{trial.number}")
-        try:
-            settings, blur = suggest(trial, space)
-            key = _key(settings, blur)
-            trial.set_user_attr("settings", {**settings, BLUR_PARAM: blur})
-            trial.set_user_attr("key", key)
-            same = done.get(key)
-            if same is not None:   # the methods are deterministic: reuse, do not recompute
-                trial.set_user_attr("scenes", same.user_attrs["scenes"])
-                trial.set_user_attr("same_as", same.number)
-                study.tell(trial, list(same.values))
-            else:
-                per_scene = evaluate(method, settings, blur, scenes, opts.timing,
-                                     on_scene=next_scene)
-                trial.set_user_attr("scenes", per_scene)
-                values = [float(np.mean([r["mae"] for r in per_scene.values()])),
-                          float(np.mean([r["ms"] for r in per_scene.values()]))]
-                study.tell(trial, values)
-                done[key] = study.get_trials(deepcopy=False)[trial.number]
-        except ValueError as e:     # a configuration the method refuses: failed, not fatal
-            trial.set_user_attr("error", str(e))
-            study.tell(trial, state=TrialState.FAIL)
-        if bar is not None:
-            bar.update(1)
+        n = 1 if client is None else max(1, min(cluster_threads(client),
+                                                opts.trials - counted(study)))
+        batch = _ask(study, space, done, n)
+        fresh = [a for a in batch if a.same is None]
+        remote = score_on_cluster(client, fresh, scenes, method, opts.crop) if client else {}
+        for a in batch:
+            _finish(a, method, scenes, opts, study, done, remote.get(a.trial.number),
+                    next_scene, default_all)
+            if bar is not None:
+                bar.update(1)
+
+
+def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
+            default_all) -> None:
+    """Times one asked trial (its scores from ``remote`` when the cluster computed them) and
+    tells the sampler; a configuration the method refuses fails, not fatally."""
+    same = done.get(a.key) if a.same is None else a.same
+    try:
+        if same is not None:   # deterministic: reuse, do not recompute
+            a.trial.set_user_attr("scenes", same.user_attrs["scenes"])
+            a.trial.set_user_attr("same_as", same.number)
+            a.trial.set_user_attr("constraints", same.user_attrs.get("constraints", [0.0, 0.0]))
+            study.tell(a.trial, list(same.values))
+            return
+        if isinstance(remote, Exception):
+            raise remote
+        per_scene = evaluate(method, a.settings, a.blur, scenes, opts.timing,
+                             on_scene=next_scene, accuracy=remote)
+        if a.trial.user_attrs.get("preset") == pareto.DEFAULT_PRESET:
+            default_all[0] = float(np.mean([r["all_mae"] for r in per_scene.values()]))
+        a.trial.set_user_attr("scenes", per_scene)
+        a.trial.set_user_attr("constraints", constraints(per_scene, scenes, default_all[0]))
+        study.tell(a.trial, [float(np.mean([r["mae"] for r in per_scene.values()])),
+                             float(np.mean([r["ms"] for r in per_scene.values()]))])
+        done[a.key] = study.get_trials(deepcopy=False)[a.trial.number]
+    except ValueError as e:     # a configuration the method refuses: failed, not fatal
+        a.trial.set_user_attr("error", str(e))
+        study.tell(a.trial, state=_fail())
+
+
+def cluster_threads(client) -> int:
+    """The worker threads of the cluster now (0 while none has joined)."""
+    return sum(client.nthreads().values())
+
+
+def score_on_cluster(client, batch: list[Asked], scenes: list[TuneScene], method: str,
+                     crop) -> dict:
+    """Trial number -> scene -> score (:func:`accuracy_job` on the workers, one task per trial
+    and scene), or the ValueError of a configuration the method refused. A worker lost
+    mid-task loses nothing: the scheduler gives its tasks to another worker. Ctrl-C cancels
+    the tasks not yet done."""
+    futures = {(a.trial.number, sc.name): client.submit(
+        accuracy_job, str(sc.folder), crop, method, a.settings, a.blur, pure=False)
+        for a in batch for sc in scenes}
+    try:
+        while not all(f.done() for f in futures.values()):
+            _stop_if_asked()
+            time.sleep(0.05)
+    except BaseException:
+        client.cancel(list(futures.values()))
+        raise
+    out: dict = {}
+    for (number, scene), f in futures.items():
+        if f.status == "error":
+            e = f.exception()
+            if not isinstance(e, ValueError):
+                raise e
+            out[number] = e
+        elif not isinstance(out.get(number), Exception):
+            out.setdefault(number, {})[scene] = f.result()
+    return out
 
 
 # ----------------------------------------------------------------------------------------
@@ -520,6 +685,8 @@ def method_entry(opts: Options, result: dict, scenes: list[TuneScene], meta: dic
         "presets": {name: s["settings"] for name, s in sel.items()},
         "selection": {name: {k: v for k, v in s.items() if k != "settings"}
                       for name, s in sel.items()},
+        "unshipped": result["unshipped"],
+        "whole_frame_guard": {"ao_one_mae": {s.name: s.ao_one_mae for s in scenes}},
     }
 
 
@@ -529,25 +696,30 @@ def write_presets(path: Path, entries: dict) -> None:
     if path.exists():
         data = json.loads(path.read_text())
     data["about"] = ("Tuned presets of `aolab tune` (docs/tuning.md): per method and time "
-                     "budget, the configuration with the lowest mean occluded-region MAE "
-                     "within the budget over all scenes; `selection` gives its leave-one-"
-                     "scene-out scores. Loaded by aolab.presets.")
+                     "budget (ms per 1280x720 frame), the configuration with the lowest mean "
+                     "occluded-region MAE within the budget over all scenes whose whole-frame "
+                     "MAE is no worse than AO = 1 on any scene nor than the default on the "
+                     "mean; `selection` gives its leave-one-family-out scores and says whether "
+                     "the tuned choice or the default ships; `unshipped` names the budgets "
+                     "with neither. Loaded by aolab.presets.")
     data.setdefault("methods", {}).update(entries)
     data["methods"] = dict(sorted(data["methods"].items()))
     path.parent.mkdir(parents=True, exist_ok=True)
     files.write_text(path, json.dumps(data, indent=1, sort_keys=False) + "\n")
 
 
-def summary(method: str, sel: dict, n_trials: int) -> str:
+def summary(method: str, sel: dict, unshipped: dict, n_trials: int) -> str:
     lines = [f"{method}: {n_trials} complete trials"]
-    if not sel:
-        lines.append("  no configuration within any budget")
     for name, s in sel.items():
         held = s["held_out_mean_mae"]
-        held_text = f"{held:.4f} ({s['held_out_folds']} folds)" if held is not None else "-"
+        held_text = (f"{held:.4f} (gap {s['gap']:+.4f}, {s['held_out_folds']} families)"
+                     if held is not None else "-")
         text = ", ".join(f"{k}={v}" for k, v in s["settings"].items())
         lines.append(f"  {name:<13} {s['mean_ms']:7.1f} ms  occluded MAE {s['mean_mae']:.4f}  "
-                     f"held out {held_text}  trial {s['trial']}: {text}")
+                     f"whole frame {s['mean_all_mae']:.4f}  held out {held_text}  "
+                     f"ships {s['ships']}: trial {s['trial']}: {text}")
+    for name, why in unshipped.items():
+        lines.append(f"  {name:<13} not shipped: {why}")
     return "\n".join(lines)
 
 
@@ -603,7 +775,7 @@ def default_presets_file(folders: list[Path], scenes_dir: Path | None, opts: Opt
     quick look never replaces the committed presets."""
     if scenes_dir is not None and opts.crop is None:
         checkout = Path(scenes_dir).resolve().parent
-        every = [f.resolve() for f in resolve_scenes([], scenes_dir)]
+        every = [f.resolve() for f in still_scenes(resolve_scenes([], scenes_dir))]
         if [f.resolve() for f in folders] == every and \
                 (checkout / PACKAGE_PRESETS).parent.is_dir():
             return checkout / PACKAGE_PRESETS
@@ -626,7 +798,7 @@ def run(opts: Options) -> dict:
     if opts.trials < 1:
         raise ValueError(f"--trials must be >= 1, got {opts.trials}")
     scenes_dir = opts.scenes_dir or find_scenes_dir()
-    folders = resolve_scenes(opts.scenes, scenes_dir)
+    folders = still_scenes(resolve_scenes(opts.scenes, scenes_dir))
     presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
     db = check_store(opts.out)
     check_presets_file(presets_file)
@@ -637,8 +809,13 @@ def run(opts: Options) -> dict:
             "scenes": [s.name for s in scenes],
             "size": sorted({f"{s.g.width}x{s.g.height}" for s in scenes}),
             "crop": None if opts.crop is None else f"{opts.crop.width}x{opts.crop.height}",
+            "families": {s.name: s.family for s in scenes},
             "objectives": "mean over the scenes of the occluded-region MAE (reference AO < "
-                          "0.9) and of the time in ms (method + shared blur)",
+                          "0.9) and of the time in ms per 1280x720 frame (method + shared "
+                          "blur); constrained: whole-frame MAE no worse than AO = 1 on any "
+                          "scene and no worse than the method's default on the mean",
+            "validation": "leave one family out; a tuned preset ships only if its held-out "
+                          "occluded MAE beats the default's on the same families",
             "timing": f"{opts.timing.warmup} warm-up + median of {opts.timing.repeat} runs "
                       f"per scene; a configuration whose first run exceeds "
                       f"{opts.timing.max_ms:g} ms is timed by that run alone",
@@ -647,15 +824,17 @@ def run(opts: Options) -> dict:
     results = {}
     from optuna.exceptions import StorageInternalError
     from sqlalchemy.exc import SQLAlchemyError
+    client, cluster = (connect(opts.scheduler, opts.workers)
+                       if opts.scheduler or opts.workers > 1 else (None, None))
     try:
         for m in methods:
             try:
-                res = run_method(opts, m, scenes, bar, deadline)
+                res = run_method(opts, m, scenes, bar, deadline, client)
             except (SQLAlchemyError, StorageInternalError) as e:   # a full disk, a bad file
                 raise ValueError(store_error(db, e)) from None
             results[m] = res
             entry = method_entry(opts, res, scenes, {**meta, "date": _git_date()})
-            text = summary(m, res["selection"], entry["trials"]["complete"])
+            text = summary(m, res["selection"], res["unshipped"], entry["trials"]["complete"])
             if res["done"]:
                 write_presets(presets_file, {m: entry})
             else:   # --timeout: never presets from half a search
@@ -665,7 +844,16 @@ def run(opts: Options) -> dict:
     finally:
         if bar is not None:
             bar.close()
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
     return {"results": results, "presets_file": presets_file}
+
+
+def still_scenes(folders: list[Path]) -> list[Path]:
+    """The still scenes (a sequence's frames are the temporal study's, not tuning's)."""
+    return [f for f in folders if frame_numbers(f) is None]
 
 
 def _progress(enabled: bool, opts: Options, methods: list[str]):
