@@ -11,7 +11,7 @@ from ..raytracing import RTAO_LADDER
 from ..scenes import parse_crop
 from ..study import compare
 from ..util.arguments import MAX_SIDE, float_option, int_list_option, int_option
-from .options import add_timing_options
+from .options import add_cluster_options, add_timing_options
 
 
 def add_parser(sub):
@@ -56,6 +56,9 @@ def add_parser(sub):
                    help="rtao's rays per pixel on every scene with a mesh, comma-separated "
                    "integers in [1, 65536] (default " + ",".join(str(n) for n in RTAO_LADDER)
                    + "); 'none' runs no rtao")
+    add_cluster_options(c, "score the configurations", "scored as they are timed",
+                        "aolab and the scenes at the same path; times are still measured "
+                        "here, one configuration at a time")
     return c
 
 
@@ -67,5 +70,6 @@ def run(args) -> int:
         max_ms=args.max_ms, crop=parse_crop(args.crop),
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
-        image_width=args.image_width, rtao_ladder=tuple(args.rtao_rays))
+        image_width=args.image_width, rtao_ladder=tuple(args.rtao_rays),
+        workers=args.workers, scheduler=args.scheduler)
     return compare.run_study(opts)

@@ -94,7 +94,10 @@ def connect(scheduler: str | None, workers: int):
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None,
+                               host="127.0.0.1",
+                               # its HTTP server on a free loopback port: another cluster on
+                               # this machine may hold the default 8787
+                               dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
     finally:
         signal.signal(signal.SIGINT, previous)
@@ -221,3 +224,16 @@ def _wait_for_stops(client, futures: dict, timeout_s: float = 30.0) -> None:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline and _running(client, futures):
         time.sleep(0.2)
+
+
+def wait_all(client, futures: list, should_stop) -> None:
+    """Returns when every future is done (finished, failed or cancelled), polling
+    ``should_stop`` (it raises to stop: Ctrl-C), which cancels those not done. A worker lost
+    mid-task loses nothing: the scheduler gives its tasks to another worker."""
+    try:
+        while not all(f.done() for f in futures):
+            should_stop()
+            time.sleep(0.05)
+    except BaseException:
+        client.cancel([f for f in futures if not f.done()])
+        raise

@@ -38,11 +38,13 @@ import aolab
 from .. import catalog
 from .. import named_presets as presets_mod
 from ..raytracing import RTAO_LADDER
+from ..render.cluster import connect, wait_all
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
                       frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
                       resolve_scenes)
+from ..scoring import digest
 from ..util import files
 from ..util.provenance import git_commit, machine_info
 from . import report, stats
@@ -484,6 +486,10 @@ class Options:
     image_width: int = 480
     #: rtao's rays per pixel on each scene with a mesh (empty: no rtao rows).
     rtao_ladder: tuple[int, ...] = RTAO_LADDER
+    #: Score the configurations on a Dask cluster: a local one of this many workers, or the
+    #: scheduler's; the times are still measured here.
+    workers: int = 1
+    scheduler: str | None = None
 
 
 def _downscale(a: np.ndarray, width: int) -> np.ndarray:
@@ -555,6 +561,45 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) ->
             "entries": entries}
 
 
+#: A worker process's scenes, loaded once: (folder, crop, name) -> Scene.
+_WORKER_SCENES: dict = {}
+
+
+def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
+                    blurs: list[bool]) -> dict:
+    """On a Dask worker: one configuration group's output on a scene (read from ``folder``,
+    shared storage, once per worker), blurred or not as ``blurs`` asks, scored: blur ->
+    (score, vs_limit, digest), None for an RGB output; {"error": message} when the method
+    refuses the settings."""
+    key = (folder, None if crop is None else (crop.width, crop.height), name)
+    if key not in _WORKER_SCENES:
+        _WORKER_SCENES[key] = load_scene(Path(folder), crop, name)
+    scene = _WORKER_SCENES[key]
+    try:
+        raw = np.asarray(aolab.compute(method, scene.g, radius=scene.radius, threads=1,
+                                       **compute_settings))
+    except (ValueError, RuntimeError) as e:
+        return {"error": str(e)}
+    out = {}
+    for blur in blurs:
+        ao = raw
+        if blur and raw.ndim == 2:
+            ao = np.asarray(aolab.gaussian_blur(raw, scene.g, sigma=presets_mod.BLUR_SIGMA,
+                                                taps=presets_mod.BLUR_TAPS, threads=1))
+        out[blur] = None if ao.ndim != 2 else (score(ao, scene), vs_limit(ao, scene), digest(ao))
+    return out
+
+
+def from_cluster(remote: dict, blur: bool, ao: np.ndarray, scene: str, method: str) -> tuple:
+    """The cluster's (score, vs_limit) of the output timed here, which must have the same
+    bits as the worker's."""
+    scored, limit, theirs = remote[blur]
+    if theirs != digest(ao):
+        raise RuntimeError(f"{method} gave other bits on a worker than here on scene {scene} "
+                           "(a nondeterministic configuration)")
+    return scored, limit
+
+
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
     """The configurations of ``method`` grouped by what the method computes (its settings over
     the defaults, whether spelled out or not): configurations that differ only in the blur,
@@ -579,6 +624,8 @@ class Study:
         self.meta: dict = {}
         #: Every scene is done and the staging folder holds the complete results.
         self.complete = False
+        #: The Dask client and local cluster that score configurations (--workers, --scheduler).
+        self.client = self.cluster = None
 
     def results(self, partial: bool) -> dict:
         rows = list(self.rows)
@@ -667,6 +714,8 @@ class Study:
         }
         threads = opts.threads
         bar = _progress(opts.progress, n_units)
+        if opts.scheduler or opts.workers > 1:
+            self.client, self.cluster = connect(opts.scheduler, opts.workers)
         try:
             for folder in folders:
                 if frame_numbers(folder):
@@ -676,6 +725,9 @@ class Study:
         finally:
             if bar is not None:
                 bar.close()
+            for held in (self.client, self.cluster):
+                if held is not None:
+                    held.close()
         results = self.write(partial=False)
         self.complete = True
         self.publish()
@@ -763,11 +815,13 @@ class Study:
         self._peers(scene)
         if bar is not None:
             bar.update(1)
+        remote = self._score_on_cluster(folder, name, plan, bar) if self.client else {}
         for method, runs in plan.items():
-            for compute_settings, settings in runs:
+            for i, (compute_settings, settings) in enumerate(runs):
                 if bar is not None:
                     bar.set_description(f"{scene.name}: {method} {settings[0].label}")
-                self._run_config(scene, method, compute_settings, settings, threads, images)
+                self._run_config(scene, method, compute_settings, settings, threads, images,
+                                 remote.get((method, i)))
                 if bar is not None:
                     bar.update(1)
         self._rtao_ladder(scene, threads, images, bar)
@@ -778,10 +832,28 @@ class Study:
         self.write(partial=True)
         return scene
 
-    def _run_config(self, scene, method, compute_settings, settings, threads, images):
+    def _score_on_cluster(self, folder: Path, name: str | None, plan: dict, bar) -> dict:
+        """(method, index in its runs) -> config_accuracy's result for each configuration of
+        the scene, computed on the cluster before any is timed here: the workers are idle
+        while this machine times (a local cluster shares its cores)."""
+        if bar is not None:
+            bar.set_description(f"{name or folder.name}: scoring on the cluster")
+        futures = {(method, i): self.client.submit(
+            config_accuracy, str(folder), self.opts.crop, name, method, compute_settings,
+            sorted({bool(s.blur) for s in settings}), pure=False)
+            for method, runs in plan.items() for i, (compute_settings, settings) in enumerate(runs)}
+        wait_all(self.client, list(futures.values()), lambda: None)
+        return {k: f.result() for k, f in futures.items()}
+
+    def _run_config(self, scene, method, compute_settings, settings, threads, images,
+                    remote: dict | None = None):
+        """One group of configurations (the same compute settings, blurred or not): timed
+        here, scored here or, with ``remote`` (config_accuracy's result), on the cluster."""
         opts = self.opts
         g = scene.g
         try:
+            if remote is not None and "error" in remote:
+                raise ValueError(remote["error"])
             raw, times = timed(lambda: aolab.compute(method, g, radius=scene.radius,
                                                      threads=threads, **compute_settings),
                                opts.warmup, opts.repeat, opts.max_ms)
@@ -806,7 +878,9 @@ class Study:
                     ao, blur_times = timed(lambda: aolab.gaussian_blur(
                         raw, g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
                         threads=threads), opts.warmup, opts.repeat)
-                scored = None if ao.ndim != 2 else (score(ao, scene), vs_limit(ao, scene))
+                scored = (None if ao.ndim != 2 else
+                          from_cluster(remote, blur, ao, scene.name, method) if remote else
+                          (score(ao, scene), vs_limit(ao, scene)))
                 done[blur] = (ao, blur_times, scored)
             ao, blur_times, scored = done[blur]
             row.update(_time_fields("blur", blur_times))

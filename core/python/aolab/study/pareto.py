@@ -150,9 +150,9 @@ def select(table: list[dict], families: dict, budgets,
            guard: Guard | None = None) -> tuple[dict, dict]:
     """Per budget the preset that ships: name -> {"settings" (with "blur"), "trial",
     "ships" ("tuned", or why the default ships), "tuned_trial", "mean_ms", "mean_mae",
-    "mean_all_mae" (over every scene, how it was chosen), "held_out" (per family, leave one
-    family out) and the :func:`held_out_summary`}; and name -> why, for each budget with
-    nothing to ship."""
+    "mean_all_mae" (over every scene, how it was chosen), "scenes" (its scores per scene),
+    "held_out" (per family, leave one family out) and the :func:`held_out_summary`}; and
+    name -> why, for each budget with nothing to ship."""
     guard = guard or Guard()
     scenes = list(families)
     out, unshipped = {}, {}
@@ -172,7 +172,7 @@ def select(table: list[dict], families: dict, budgets,
                      "tuned_trial": pick["number"], "mean_ms": mean(ship, scenes, "ms"),
                      "mean_mae": mean(ship, scenes, "mae"),
                      "mean_all_mae": mean(ship, scenes, "all_mae"),
-                     "held_out": folds, **summary}
+                     "scenes": _scores(ship, scenes), "held_out": folds, **summary}
     return out, unshipped
 
 

@@ -20,7 +20,6 @@ scored on the held-out scene (:func:`leave_one_scene_out`).
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 import os
@@ -42,12 +41,12 @@ from .. import named_presets as presets_mod
 from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
 from ..regions import occluded_pixels
 from ..scenes import family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes
-from ..scoring import scored_mask
+from ..scoring import digest, scored_mask
 from ..settings import described
 from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
-from ..render.cluster import connect
+from ..render.cluster import connect, wait_all
 from . import pareto
 
 #: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: pareto.hd_scale).
@@ -282,8 +281,7 @@ def score(ao: np.ndarray, sc: TuneScene) -> dict:
     occ = d[sc.occluded]
     return {"mae": float(np.mean(np.abs(occ))) if occ.size else math.nan,
             "bias": float(np.mean(occ)) if occ.size else math.nan,
-            "all_mae": float(np.mean(np.abs(d[sc.valid]))),
-            "digest": hashlib.sha256(np.ascontiguousarray(ao, np.float32).tobytes()).hexdigest()}
+            "all_mae": float(np.mean(np.abs(d[sc.valid]))), "digest": digest(ao)}
 
 
 def output(method: str, settings: dict, blur: bool, sc: TuneScene, threads: int) -> np.ndarray:
@@ -302,7 +300,7 @@ _WORKER_SCENES: dict = {}
 def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool) -> dict:
     """On a Dask worker: :func:`score` of one configuration on one scene. The worker reads
     the scene from ``folder`` (shared storage) once and keeps it."""
-    key = (folder, crop)
+    key = (folder, None if crop is None else (crop.width, crop.height))
     if key not in _WORKER_SCENES:
         _WORKER_SCENES[key] = load_scene(Path(folder), crop)
     sc = _WORKER_SCENES[key]
@@ -621,13 +619,7 @@ def score_on_cluster(client, batch: list[Asked], scenes: list[TuneScene], method
     futures = {(a.trial.number, sc.name): client.submit(
         accuracy_job, str(sc.folder), crop, method, a.settings, a.blur, pure=False)
         for a in batch for sc in scenes}
-    try:
-        while not all(f.done() for f in futures.values()):
-            _stop_if_asked()
-            time.sleep(0.05)
-    except BaseException:
-        client.cancel(list(futures.values()))
-        raise
+    wait_all(client, list(futures.values()), _stop_if_asked)
     out: dict = {}
     for (number, scene), f in futures.items():
         if f.status == "error":

@@ -1,0 +1,100 @@
+"""`aolab tune` and `aolab compare` with --workers: the accuracy computed on a local Dask
+cluster is the accuracy computed in one process, a worker killed mid-run loses no trial, and
+Ctrl-C keeps the finished trials (docs/scale_out.md)."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import optuna
+import psutil
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "reference_scenes"
+COMMON = ["--scenes-dir", str(SCENES), "--warmup", "0", "--repeat", "1", "--no-progress"]
+
+
+def aolab(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "aolab", *args], capture_output=True,
+                          text=True, timeout=600, **kw)
+
+
+def test_compare_on_a_cluster_scores_every_row_as_one_process_does(tmp_path):
+    base = ["compare", "grille", "engine", "--crop", "96x54", "--methods", "hbao", "vao",
+            "--rtao-rays", "none", *COMMON]
+    here = aolab(*base, "--out", str(tmp_path / "here"))
+    there = aolab(*base, "--out", str(tmp_path / "there"), "--workers", "2")
+    assert here.returncode == 0 and there.returncode == 0, there.stderr
+    assert there.stderr == ""   # no warning from the cluster
+
+    def metrics(folder):
+        rows = json.loads((folder / "results.json").read_text())["rows"]
+        return {r["key"]: r.get("metrics") for r in rows}
+    a, b = metrics(tmp_path / "here"), metrics(tmp_path / "there")
+    assert a.keys() == b.keys() and len(a) > 20
+    assert all(a[k] == b[k] for k in a)
+
+
+def workers_of(pid: int) -> list:
+    """The Dask worker processes a local cluster started (multiprocessing's spawned
+    children), not its resource tracker."""
+    return [c for c in psutil.Process(pid).children(recursive=True)
+            if "spawn_main" in " ".join(c.cmdline())]
+
+
+def complete_trials(db: Path, method: str) -> list:
+    study = optuna.load_study(study_name=f"aolab-tune-{method}", storage=f"sqlite:///{db}")
+    return [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
+
+
+def test_a_worker_killed_mid_tune_loses_no_trial(tmp_path):
+    out = tmp_path / "tune"
+    cmd = [sys.executable, "-m", "aolab", "tune", "--methods", "hbao", "--trials", "12",
+           "--workers", "2", "--out", str(out), "--presets-file", str(tmp_path / "p.json"),
+           "--scenes", "grille", "engine", "--crop", "320x180", *COMMON]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    killed = None
+    deadline = time.monotonic() + 300
+    while proc.poll() is None and time.monotonic() < deadline:
+        kids = workers_of(proc.pid)
+        if killed is None and len(kids) >= 2 and (out / "tune.db").exists():
+            try:
+                done = len(complete_trials(out / "tune.db", "hbao"))
+            except Exception:   # the study is not created yet
+                done = 0
+            if done >= 1:   # the cluster is at work: kill a worker mid-run
+                kids[0].kill()
+                killed = done
+        time.sleep(0.05)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert killed is not None and killed < 12, "the worker was not killed mid-run"
+    assert proc.returncode == 0, stderr
+    trials = complete_trials(out / "tune.db", "hbao")
+    assert len(trials) == 12 and all(len(t.user_attrs["scenes"]) == 2 for t in trials)
+
+
+def test_ctrl_c_on_a_cluster_keeps_the_finished_trials(tmp_path):
+    out = tmp_path / "tune"
+    cmd = [sys.executable, "-m", "aolab", "tune", "--methods", "lsao", "--trials", "100000",
+           "--workers", "2", "--out", str(out), "--presets-file", str(tmp_path / "p.json"),
+           "--scenes", "grille", "engine", "--crop", "96x54", *COMMON]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if (out / "tune.db").exists():
+            try:
+                if len(complete_trials(out / "tune.db", "lsao")) >= 2:
+                    break
+            except Exception:
+                pass
+        time.sleep(0.1)
+    os.kill(proc.pid, signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and "Traceback" not in stderr
+    assert len(complete_trials(out / "tune.db", "lsao")) >= 2
+    assert not (tmp_path / "p.json").exists()   # no presets from half a search
