@@ -14,6 +14,10 @@
 #   scripts/update_references.sh --eevee-next [names] # on Blender 4.2+ (Debian 13): EEVEE
 #       Next's AO pass alone, into <name>/peers/eevee_next.{exr,json} beside 3.4's peers
 #       (~1 min per scene under llvmpipe)
+#   scripts/update_references.sh --workers 2 --corpus # the corpus on the Dask farm: the
+#       stills' references, then their limits, peers and meshes (docs/scale_out.md); with
+#       --workers N every still of the names is rendered as one batch of jobs, each render
+#       on a worker; --corpus names the corpus scenes (manifests with "uses")
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
@@ -22,16 +26,46 @@ names=()
 peers=0
 limits=0
 eevee_next=0
-for a in "$@"; do
-  case "$a" in
+workers=1
+while [ $# -gt 0 ]; do
+  case "$1" in
     --force) force=(--force) ;;
     --peers) peers=1 ;;
     --eevee-next) eevee_next=1; peers=1 ;;
     --limits) limits=1 ;;
-    *) names+=("$a") ;;
+    --workers) workers="${2:?--workers needs a number}"; shift ;;
+    --corpus)
+      for d in "$root"/reference_scenes/*/; do
+        grep -q '"uses"' "$d/manifest.json" 2>/dev/null && names+=("$(basename "$d")")
+      done ;;
+    *) names+=("$1") ;;
   esac
+  shift
 done
 . "$root/scripts/scene_list.sh"
+if [ "$workers" != 1 ]; then
+  # The farm: the stills' references as one batch of Dask jobs, then what each scene needs.
+  stills=()
+  for name in "${names[@]}"; do
+    is_sequence "$root/reference_scenes/$name" || stills+=("$name")
+  done
+  dirs=("${stills[@]/#/$root/reference_scenes/}")
+  # --out holds one folder per scene when several are rendered, the files themselves for one
+  one=""; [ "${#stills[@]}" = 1 ] && one="/${stills[0]}"
+  /usr/bin/python3 -m aolab reference "${dirs[@]}" --spp 1024 --workers "$workers" \
+    --out "$root/reference_scenes$one" --quiet "${force[@]}"
+  /usr/bin/python3 -m aolab limits "${stills[@]}"
+  tmp="$(mktemp -d)"
+  /usr/bin/python3 -m aolab reference "${dirs[@]}" --peers --workers "$workers" \
+    --out "$tmp$one" --quiet "${force[@]}"
+  for name in "${stills[@]}"; do
+    mkdir -p "$root/reference_scenes/$name/peers"
+    cp "$tmp/$name/"* "$root/reference_scenes/$name/peers/"
+  done
+  rm -rf "$tmp"
+  "$root/scripts/update_meshes.sh" "${stills[@]}"
+  exit 0
+fi
 for name in "${names[@]}"; do
   if is_sequence "$root/reference_scenes/$name"; then
     # A sequence (manifest "frames"): one reference per frame into <name>/frames/NNNN/; the

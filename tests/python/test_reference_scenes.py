@@ -1,6 +1,7 @@
 """The committed reference scenes: complete, rendered with the settings the protocol
 requires, the analytic one matching its closed forms within its measured noise, and
 reproducible by `aolab reference`."""
+import hashlib
 import json
 import shutil
 import subprocess
@@ -11,11 +12,14 @@ import numpy as np
 import pytest
 
 import aolab
+from aolab import scenes as scenes_mod
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = sorted(p for p in (ROOT / "reference_scenes").iterdir() if (p / "manifest.json").exists())
 BLENDER = shutil.which("blender")
 REQUIRED_SCENES = {"analytic", "room", "engine", "grille", "street", "colored_room"}
+#: The six scenes above render at 1280x720, the corpus at 640x360 (docs/reference_scenes.md).
+CORE_SIZE, CORPUS_SIZE = [1280, 720], [640, 360]
 
 
 def test_every_required_scene_is_there():
@@ -26,13 +30,13 @@ def test_every_required_scene_is_there():
 def test_scene_is_complete_and_rendered_as_the_protocol_says(folder):
     manifest = json.loads((folder / "manifest.json").read_text())
     for key in ("name", "title", "description", "build", "radius", "resolution", "camera",
-                "effects", "tests"):
+                "effects", "tests", "family"):
         assert key in manifest, key
     assert manifest["name"] == folder.name and (folder / manifest["build"]).exists()
     frames = manifest.get("frames")
     if frames is None:
         exrs = [folder / "reference.exr"]
-        size = [1280, 720]
+        size = CORE_SIZE if folder.name in REQUIRED_SCENES else CORPUS_SIZE
     else:   # a sequence: frames/NNNN/reference.exr per frame, at the manifest's resolution
         numbers = range(frames["start"], frames["end"] + 1, frames["step"])
         exrs = [folder / "frames" / f"{f:04d}" / "reference.exr" for f in numbers]
@@ -42,6 +46,48 @@ def test_scene_is_complete_and_rendered_as_the_protocol_says(folder):
                         f"{folder.name} --frames {frames['start']}-{frames['end']}")
     for exr in exrs:
         check_rendered(folder, manifest, exr, size)
+
+
+STILLS = [p for p in SCENES if "frames" not in json.loads((p / "manifest.json").read_text())]
+
+
+def test_the_corpus_has_24_scenes_in_six_families_besides_the_analytic_one():
+    families = {}
+    for folder in STILLS:
+        fam = scenes_mod.family(folder)   # a ValueError for a missing or unknown family
+        families.setdefault(fam, []).append(folder.name)
+    families.pop("analytic", None)
+    assert sum(len(v) for v in families.values()) >= 24
+    assert len(families) >= 6 and all(len(v) >= 3 for v in families.values()), families
+
+
+@pytest.mark.parametrize("folder", [p for p in SCENES if p.name not in REQUIRED_SCENES
+                                    and "uses" in json.loads((p / "manifest.json").read_text())],
+                         ids=lambda p: p.name)
+def test_a_corpus_scene_is_built_by_its_family_module(folder):
+    """Its build.py runs the variant of families/<family>.py, whose file its manifest lists
+    under "uses" (so that the scene's hash covers it)."""
+    manifest = json.loads((folder / "manifest.json").read_text())
+    fam = manifest["family"]
+    assert f"families/{fam}.py" in manifest["uses"] and "families/kit.py" in manifest["uses"]
+    assert f'__import__("families.{fam}").{fam}.build(' in (folder / "build.py").read_text()
+    for used in manifest["uses"]:
+        assert (ROOT / "reference_scenes" / used).is_file()
+
+
+@pytest.mark.parametrize("folder", STILLS, ids=lambda p: p.name)
+def test_every_still_has_its_noise_floor_and_limits(folder):
+    """The noise floor (the 256-spp rung of the Cycles ladder, peers/peers.json) and the
+    screen-space limits of the committed reference (limits/limits.json, each entry made from
+    this reference.exr)."""
+    peers = json.loads((folder / "peers" / "peers.json").read_text())["entries"]
+    rungs = [p for p in peers if p["kind"] == "cycles" and p["samples"] == 256]
+    assert rungs and (folder / "peers" / rungs[0]["file"]).exists()
+    limits = json.loads((folder / "limits" / "limits.json").read_text())["entries"]
+    digest = hashlib.sha256((folder / "reference.exr").read_bytes()).hexdigest()
+    assert {e["thickness_r"] for e in limits} >= {0.1, 0.25, 0.5, 1.0, None}
+    for e in limits:
+        assert e["reference_sha256"] == digest and (folder / "limits" / e["file"]).exists()
 
 
 def check_rendered(folder, manifest, exr, size):

@@ -35,7 +35,7 @@ ENTRY = MethodEntry(
     source="Chan & Im 2021, §III (depth-adaptive window); window caps ours",
     constraints=(_chebyshev_window,),
     tune_bounds={
-        "kernel_radius": int_bound(1, 64, "fixed window half-width px (fixed mode only); log "
+        "kernel_radius": int_bound(1, 128, "fixed window half-width px (fixed mode only); log "
                                    "scale", log=True, when=lambda v: v["kernel_mode"] == "fixed"),
         "max_kernel_radius": int_bound(4, 256, "adaptive cap px (adaptive mode only): presets "
                                        "16-128; log scale", log=True,

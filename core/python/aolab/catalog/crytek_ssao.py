@@ -24,8 +24,8 @@ ENTRY = MethodEntry(
            "blur": [False, True]},
     source="Mittring 2007, §8.5.4.3 (8-16 points, a blur); high/ultra ours",
     tune_bounds={
-        "samples": int_bound(4, 128, "N: CryEngine 2's 8-16 inside, twice the ultra preset at the "
-                             "top; log scale", log=True),
+        "samples": int_bound(4, 256, "N: CryEngine 2's 8-16 inside, up to the method's most "
+                             "(256); log scale", log=True),
     },
     samples_per_pixel=lambda s: s.get("samples"),
 )

@@ -26,10 +26,10 @@ ENTRY = MethodEntry(
            "blur": [False, True]},
     source="XeGTAO quality levels (slices 1/2/3/9, steps 2/2/3/3); sweep ours",
     tune_bounds={
-        "slices": int_bound(1, 16, "XeGTAO's quality levels use 1-9, the sweep 16; log scale",
-                            log=True),
-        "steps": int_bound(1, 16, "per side of a slice: XeGTAO 2-3, the sweep 8; log scale",
-                           log=True),
+        "slices": int_bound(1, 64, "XeGTAO's quality levels use 1-9, the sweep 16, up to the "
+                            "method's most (64); log scale", log=True),
+        "steps": int_bound(1, 64, "per side of a slice: XeGTAO 2-3, the sweep 8; 64 x 64 is "
+                           "past the largest budget; log scale", log=True),
     },
     tune_fixed={
         "multi_bounce": (None, "models interreflections, which Cycles' AO pass has not"),

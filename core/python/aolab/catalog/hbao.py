@@ -36,9 +36,9 @@ ENTRY = MethodEntry(
     source="Bavoil et al. 2008, Figure 1 (N_d = N_s = 8); other levels halve/double (ours)",
     constraints=(_hbao_attenuation,),
     tune_bounds={
-        "directions": int_bound(2, 32, "N_d: 32 (the ultra preset) already costs ~6 s with 32 "
-                                "steps, far past 500 ms; log scale", log=True),
-        "steps": int_bound(2, 32, "N_s: the same span as N_d; log scale", log=True),
+        "directions": int_bound(2, 64, "N_d: up to the method's most (64); with many steps "
+                                "far past the largest budget; log scale", log=True),
+        "steps": int_bound(2, 64, "N_s: the same span as N_d; log scale", log=True),
         "incremental_attenuation": choice_bound(
             (False, True), "eq. 2 or eq. 3: only with the linear attenuation (without any, both "
             "compute the same)", when=lambda v: v["attenuation"] == "linear"),

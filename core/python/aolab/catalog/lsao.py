@@ -38,10 +38,10 @@ ENTRY = MethodEntry(
     source="Timonen 2013, Figure 1 (low), Figure 11 / Table 2 (medium); high, ultra ours",
     constraints=(_lsao_directions,),
     tune_bounds={
-        "template_size": int_bound(0, 4, "n: 0 = uniform directions; 4 = K 32, the ultra preset "
-                                   "(~0.3 s); K = 8n is set from it (the entry's constraint)"),
-        "directions": int_bound(4, 32, "K of uniform directions (template size 0 only): the span "
-                                "of the aligned sets; log scale", log=True,
+        "template_size": int_bound(0, 8, "n: 0 = uniform directions; up to the method's most "
+                                   "(8, K = 64); K = 8n is set from it (the entry's constraint)"),
+        "directions": int_bound(4, 64, "K of uniform directions (template size 0 only): the span "
+                                "of the aligned sets, up to the method's most; log scale", log=True,
                                 when=lambda v: v["template_size"] == 0),
         "step": float_bound(1.0, 4.0, "D_S of uniform directions in px (template size 0 only): "
                             "the paper's 2.43 inside; log scale", log=True,

@@ -25,9 +25,10 @@ ENTRY = MethodEntry(
     source="Astapov et al. 2021, §4 (D = 8, K = 3); S per level ours (Table 1 lost)",
     builtin_blur="gaussian_filter",
     tune_bounds={
-        "directions": int_bound(2, 32, "D: the paper's 8; 16 (ultra) costs ~1.4 s; log scale",
-                                log=True),
-        "samples": int_bound(1, 16, "S per level: presets 2-8 (Table 1 lost); log scale", log=True),
+        "directions": int_bound(2, 64, "D: the paper's 8, up to the method's most (64); log "
+                                "scale", log=True),
+        "samples": int_bound(1, 64, "S per level: presets 2-8 (Table 1 lost), up to the "
+                             "method's most; log scale", log=True),
         "levels": int_bound(0, 8, "L: 0 = from R (the paper); 8 levels of K >= 2 cover 256x "
                             "the pixel, beyond any R on screen"),
         "reduction": int_bound(2, 6, "K: the paper's 3, the sweep's 2-4; above 6 a level skips "

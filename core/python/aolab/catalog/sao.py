@@ -23,7 +23,8 @@ ENTRY = MethodEntry(
            "filter": [False, True]},
     source="SAO reference implementation (9, 11, 19-20 taps); low ours",
     tune_bounds={
-        "samples": int_bound(2, 64, "s: the reference's 9-20 inside; log scale", log=True),
+        "samples": int_bound(2, 98, "s: the reference's 9-20 inside, up to the method's most "
+                             "(98); log scale", log=True),
         "intensity": float_bound(0.1, 10.0, "sigma in units of r: the default 1 a decade inside "
                                  "either way; log scale", log=True),
         "contrast": float_bound(0.5, 4.0, "k: 1 the paper's; log scale", log=True),

@@ -21,8 +21,8 @@ ENTRY = MethodEntry(
     sweep={"samples": [2, 4, 8, 16, 32], "blur": [False, True]},
     source="VAO++ §3 and Table 1 (2–32 samples)",
     tune_bounds={
-        "samples": int_bound(2, 64, "n: VAO++ Table 1 measures 2-32, 64 is the method's most; "
-                             "log scale", log=True),
+        "samples": int_bound(2, 64, "n: VAO++ Table 1 measures 2-32; 64, the method's most, "
+                             "binds: its sample table ends there; log scale", log=True),
     },
     samples_per_pixel=lambda s: s.get("samples"),
 )
