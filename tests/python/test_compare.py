@@ -626,3 +626,30 @@ def test_a_slow_first_run_is_the_only_timed_run():
     calls.clear()
     out, times = compare.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
     assert (out, len(calls), len(times)) == (1, 4, 3)
+
+
+def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real(study):
+    """Every ALL row has 95 % bootstrap intervals over the two scenes that hold its mean; the
+    report and results.md rank the best configurations with paired comparisons; the plots
+    draw the intervals as bars; the defaults worse than AO = 1 are named."""
+    results = study["json"]
+    agg = [r for r in results["rows"] if r["scene"] == "ALL" and r["kind"] == "method"]
+    assert agg
+    for r in agg:
+        lo, hi = r["intervals"]["occluded_mae"]
+        assert lo <= r["metrics"]["occluded"]["mae"] + 1e-12 and hi >= lo
+    html = study["html"]
+    assert 'id="paired"' in html and 'class="ci"' in html and 'id="worse-than-nothing"' in html
+    entries = report_mod.paired_comparisons(results, results["meta"]["budget_ms"])
+    assert entries[0]["vs_above"] is None and all(e["vs_first"] for e in entries[1:])
+    assert [e["mae"] for e in entries] == sorted(e["mae"] for e in entries)
+    for e in entries[1:]:   # two scenes: the smallest exact p-value is 0.5, never "real"
+        assert e["vs_above"]["n"] == 2 and not e["vs_above"]["real"]
+    worse = report_mod.worse_than_nothing(results)
+    base = {r["scene"]: r["metrics"]["all"]["mae"] for r in results["rows"]
+            if r["kind"] == "baseline"}
+    for w in worse:
+        for s in w["scenes"]:
+            assert s["mae"] > base[s["scene"]] == s["ao_one"]
+    text = "\n".join(results_doc.study_sections(results, agg, "images"))
+    assert "## Which differences are real" in text and "## Defaults worse than no occlusion" in text

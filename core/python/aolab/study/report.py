@@ -743,6 +743,36 @@ def paired_comparisons(results: dict, budget_ms: float) -> list[dict]:
     return out
 
 
+def worse_than_nothing(results: dict, label: str = "default") -> list[dict]:
+    """Per method, the still scenes where its ``label`` configuration (the paper's defaults)
+    has a higher whole-frame MAE than AO = 1, the output that draws no occlusion: where the
+    paper's own settings do worse than doing nothing. Methods with no such scene are left
+    out."""
+    scenes = results.get("scenes", {})
+    base = {r["scene"]: metric(r, "all_mae") for r in results["rows"] if r["kind"] == "baseline"}
+    out: dict = {}
+    for r in results["rows"]:
+        if (r["kind"] != "method" or r["label"] != label or r["scene"] not in scenes
+                or scenes[r["scene"]].get("sequence")):
+            continue
+        mine, none = metric(r, "all_mae"), base.get(r["scene"])
+        if mine is not None and none is not None and mine > none:
+            out.setdefault(r["method"], []).append({"scene": r["scene"], "mae": mine,
+                                                    "ao_one": none})
+    return [{"method": m, "scenes": v} for m, v in sorted(out.items())]
+
+
+def worse_than_nothing_html(entries: list[dict], n_scenes: int) -> str:
+    if not entries:
+        return ("<p class='note'>On every scene each method's defaults beat AO ≡ 1 on the "
+                "whole frame.</p>")
+    items = "".join(
+        f'<li><b>{html.escape(e["method"])}</b> on {len(e["scenes"])} of {n_scenes} scenes: '
+        + ", ".join(f'{html.escape(s["scene"])} ({s["mae"]:.4f} against {s["ao_one"]:.4f})'
+                    for s in e["scenes"]) + "</li>" for e in entries)
+    return f'<ul class="worse">{items}</ul>'
+
+
 def paired_table(entries: list[dict], budget_ms: float) -> str:
     if not entries:
         return "<p class='missing'>No method within the budget.</p>"
@@ -1180,6 +1210,13 @@ def study_sections(results: dict, agg: list[dict]) -> str:
                  f'signed-rank test; a difference with p ≥ {stats.ALPHA:g} is not told apart '
                  'from the scatter between scenes (docs/comparison.md).</p>')
     parts.append(paired_table(paired_comparisons(results, budget), budget))
+    stills = [n for n, i in results.get("scenes", {}).items() if not i.get("sequence")]
+    parts.append('<h2 id="worse-than-nothing">Defaults worse than no occlusion</h2><p class='
+                 '"note">Where a method at its paper\'s defaults has a higher whole-frame MAE '
+                 'than AO ≡ 1 — drawing no occlusion at all would be closer to the reference '
+                 '(whole-frame MAE, the method\'s against AO ≡ 1\'s). No tuned preset ships '
+                 'worse than AO ≡ 1 on any scene (docs/tuning.md).</p>')
+    parts.append(worse_than_nothing_html(worse_than_nothing(results), len(stills)))
     tuned = results.get("tuned")
     parts.append('<h2 id="tuned">Tuned presets</h2>')
     if tuned:

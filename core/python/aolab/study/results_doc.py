@@ -86,7 +86,7 @@ def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
     for p in report.error_split(agg, results.get("scenes", {})):
         out.append(f'| {p["name"]} | {_f(p["total"])} | {_f(p["screen_space"])} | '
                    f'{_f(p["definition"])} | {_f(p["approximation"])} |')
-    out += [""] + paired_section(results)
+    out += [""] + paired_section(results) + [""] + worse_than_nothing_section(results)
     out += ["", "## Tuned presets", ""]
     tuned = results.get("tuned")
     if not tuned:
@@ -128,6 +128,23 @@ def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
                    f'{_f(c["larger"])} ({c["larger_method"] or "—"}) |')
     out += [""] + eevee_releases_section(results) + rtao_section(results, agg)
     return out + [""]
+
+
+def worse_than_nothing_section(results: dict) -> list[str]:
+    """The report's "Defaults worse than no occlusion" as Markdown."""
+    stills = [n for n, i in results.get("scenes", {}).items() if not i.get("sequence")]
+    out = ["## Defaults worse than no occlusion", "",
+           "Where a method at its paper's defaults has a higher whole-frame MAE than AO ≡ 1, "
+           "drawing no occlusion at all (the method's MAE against AO ≡ 1's). No tuned preset "
+           "ships worse than AO ≡ 1 on any scene ([tuning.md](tuning.md#what-ships)).", ""]
+    entries = report.worse_than_nothing(results)
+    if not entries:
+        return out + ["On every scene each method's defaults beat AO ≡ 1 on the whole frame."]
+    for e in entries:
+        out.append(f'- **{e["method"]}** on {len(e["scenes"])} of {len(stills)} scenes: '
+                   + ", ".join(f'{s["scene"]} ({s["mae"]:.4f} against {s["ao_one"]:.4f})'
+                               for s in e["scenes"]))
+    return out
 
 
 def paired_section(results: dict) -> list[str]:
