@@ -643,6 +643,8 @@ def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real
     entries = report_mod.paired_comparisons(results, results["meta"]["budget_ms"])
     assert entries[0]["vs_above"] is None and all(e["vs_first"] for e in entries[1:])
     assert [e["mae"] for e in entries] == sorted(e["mae"] for e in entries)
+    ranked = {(r["method"], r["label"]): r for r in agg}
+    assert all(report_mod.admissible(results, ranked[(e["method"], e["label"])]) for e in entries)
     for e in entries[1:]:   # two scenes: the smallest exact p-value is 0.5, never "real"
         assert e["vs_above"]["n"] == 2 and not e["vs_above"]["real"]
     worse = report_mod.worse_than_nothing(results)
