@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates docs/results.md (the current results table and Pareto plots, with the
-# hand-written paragraph kept) from a fresh run of the default comparison study. Run it on a
-# quiet machine; about two minutes on 2 cores. Extra arguments go to
-# `aolab compare` (e.g. --sweep full for every setting: much longer).
+# hand-written paragraph kept) from a fresh run of the comparison study on the whole corpus
+# (`aolab compare --corpus`: every scene, so that its means and intervals are over all 34
+# stills). Run it on a quiet machine; about three times the default study on 2 cores. Extra
+# arguments go to `aolab compare` (e.g. --sweep full for every setting: much longer).
 #   scripts/update_results.sh [--sweep full] [...]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -11,6 +12,6 @@ out="${AOLAB_RESULTS_OUT:-$root/out/results}"
 # tuned_presets.json, so a study run straight after tuning would score the old presets.
 "$root/scripts/build.sh" >/dev/null
 export PYTHONPATH="${AOLAB_BUILD_DIR:-$root/build}/python${PYTHONPATH:+:$PYTHONPATH}"
-/usr/bin/python3 -m aolab compare --scenes-dir "$root/reference_scenes" --out "$out" "$@"
+/usr/bin/python3 -m aolab compare --corpus --scenes-dir "$root/reference_scenes" --out "$out" "$@"
 /usr/bin/python3 -m aolab.study.results_doc "$out/results.json" "$root/docs"
 echo "update_results: docs/results.md and docs/images/results_*.svg regenerated from $out"
