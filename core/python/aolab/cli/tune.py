@@ -32,7 +32,8 @@ def add_parser(sub):
                    help=f"trials each method's study should have, 1 to {max_trials} (a rerun "
                    f"adds the missing ones; default {DEFAULT_TRIALS})")
     t.add_argument("--scenes", nargs="+", metavar="SCENE",
-                   help="reference_scenes/<name> folders or names (default: every scene)")
+                   help="reference_scenes/<name> folders or names (default: every still scene, "
+                   "the corpus)")
     t.add_argument("--out", default="out/tune", help="folder of tune.db (default out/tune)")
     t.add_argument("--seed", type=int_option("--seed", 0, 2**32 - 1), default=0,
                    help="the sampler's seed, 0 to 2^32 - 1 (default 0)")

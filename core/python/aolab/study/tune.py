@@ -1,21 +1,25 @@
 """``aolab tune``: each method's settings searched for the Pareto front of occluded-region MAE
-against time, with Optuna's multi-objective samplers; tuned presets per time budget, chosen
-and scored leave-one-scene-out (docs/tuning.md).
+against time, with Optuna's multi-objective samplers; tuned presets per time budget, guarded
+on the whole frame, chosen on the corpus and validated leaving one family out
+(docs/tuning.md).
 
     aolab tune [--methods M ...] [--trials N] [--scenes S ...] [--out DIR] [--seed N]
                [--timeout S] [--sampler tpe|nsga2] [--crop WxH] [--presets-file PATH]
+               [--workers N | --scheduler ADDRESS]
 
 One trial = one configuration of one method (its searched settings and the shared blur), run
-on every scene at the scene's R, timed as ``aolab compare`` times (``--warmup`` untimed run,
-median of ``--repeat``; the blur timed apart and added) and scored by its MAE on the occluded
-region (reference AO < 0.9, aolab.regions). Its two objectives are the means over the scenes
-of that MAE and of that time. Trials are stored in SQLite (DIR/tune.db, one Optuna study per
-method): Ctrl-C keeps every finished trial and the same command resumes.
+on every still scene at the scene's R, timed as ``aolab compare`` times (``--warmup`` untimed
+run, median of ``--repeat``; the blur timed apart and added; scaled to a 1280x720 frame) and
+scored by its MAE on the occluded region (reference AO < 0.9, aolab.regions) and on the whole
+frame. Its two objectives are the means over the scenes of the occluded MAE and of the time;
+the whole-frame MAE is a constraint (pareto.Guard). Trials are stored in SQLite (DIR/tune.db,
+one Optuna study per method): Ctrl-C keeps every finished trial and the same command resumes.
+With a cluster the trials' accuracy is computed on its workers and their times here.
 
-For each budget B of BUDGETS_MS, the preset ``tuned-<B>ms`` is the trial with the lowest mean
-MAE among those whose mean time is within B, over all scenes. Its honest score is
-leave-one-scene-out: for each scene, the trial chosen the same way on the other scenes only,
-scored on the held-out scene (:func:`leave_one_scene_out`).
+For each budget B of BUDGETS_MS, ``pareto.select`` makes the preset ``tuned-<B>ms``: the
+guarded trial with the lowest mean occluded MAE within B over all scenes, its leave-one-
+family-out score and generalisation gap, and the method's default in its place where the
+tuned choice loses to the default on held-out families.
 """
 
 from __future__ import annotations
