@@ -18,8 +18,11 @@ PACKAGES=(
   # Python (Debian's /usr/bin/python3, the one Blender embeds)
   python3 python3-dev python3-numpy python3-openimageio python3-pytest python3-hypothesis
   python3-skimage python3-tqdm python3-matplotlib python3-optuna
-  # Dask: `aolab reference --workers N` and `--scheduler ADDRESS` (docs/scale_out.md)
-  python3-distributed
+  # SciPy: the Wilcoxon signed-rank test of the study's paired comparisons (aolab.study.stats)
+  python3-scipy
+  # Dask: `aolab reference`, `tune` and `compare` with --workers N or --scheduler ADDRESS
+  # (docs/scale_out.md); psutil: the cluster tests find its worker processes
+  python3-distributed python3-psutil
   # headless browser: tests/python/test_report.py opens the comparison report in it
   chromium
   # Blender (3.4 on Debian 12, 4.3 on Debian 13; its Python is /usr/bin/python3 on both, and
