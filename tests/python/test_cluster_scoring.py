@@ -12,6 +12,7 @@ from pathlib import Path
 
 import optuna
 import psutil
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "reference_scenes"
@@ -84,7 +85,8 @@ def test_a_worker_killed_mid_tune_loses_no_trial(tmp_path):
             killed = trials_done(out / "tune.db")
         time.sleep(0.02)
     stdout, stderr = proc.communicate(timeout=300)
-    assert killed is not None and killed < 12, "the worker was not killed mid-run"
+    assert killed is not None and killed < 12, \
+        f"the worker was not killed mid-run (status {proc.returncode}): {stderr[-2000:]}"
     assert proc.returncode == 0, stderr
     trials = complete_trials(out / "tune.db", "hbao")
     assert len(trials) == 12 and all(len(t.user_attrs["scenes"]) == 2 for t in trials)
@@ -106,6 +108,9 @@ def test_ctrl_c_on_a_cluster_keeps_the_finished_trials(tmp_path):
             except Exception:
                 pass
         time.sleep(0.1)
+    if proc.poll() is not None:   # it ended before the interrupt: say why
+        pytest.fail(f"aolab tune ended by itself (status {proc.returncode}): "
+                    f"{proc.communicate()[1][-2000:]}")
     os.kill(proc.pid, signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, stderr
