@@ -98,7 +98,10 @@ def connect(scheduler: str | None, workers: int):
                                # its HTTP server on a free loopback port: another cluster on
                                # this machine may hold the default 8787
                                dashboard_address="127.0.0.1:0",
-                               silence_logs=logging.ERROR)
+                               # the workers' own log stays quiet: a job's error reaches
+                               # the client as its exception, and Debian 13's workers log
+                               # a heartbeat error with a traceback when the cluster closes
+                               silence_logs=logging.CRITICAL)
     finally:
         signal.signal(signal.SIGINT, previous)
     return Client(cluster), cluster
