@@ -40,6 +40,17 @@ def test_compare_on_a_cluster_scores_every_row_as_one_process_does(tmp_path):
     assert all(a[k] == b[k] for k in a)
 
 
+def test_a_scheduler_that_does_not_answer_is_one_line_naming_the_option(tmp_path):
+    # Port 9 on the loopback (discard) has no scheduler: the client gives up after its
+    # timeout and the command says which option was wrong.
+    r = aolab("compare", "grille", "--crop", "32x18", "--methods", "hbao", *COMMON,
+              "--out", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9")
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "aolab: --scheduler tcp://127.0.0.1:9: no Dask scheduler answers there"), r.stderr
+
+
 def workers_of(pid: int) -> list:
     """The Dask worker processes a local cluster started (multiprocessing's spawned
     children), not its resource tracker."""

@@ -316,6 +316,15 @@ def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
     assert "Our paragraph." in again and again.count(results_doc.GENERATED_BEGIN) == 1
 
 
+def test_the_results_page_names_no_folder_of_the_machine_it_was_made_on(tmp_path):
+    root = tmp_path / "checkout"
+    note = (f"no mesh {root}/reference_scenes/a/reference.mesh: export one with "
+            f"`aolab mesh SCENE --out {root}/reference_scenes/a`; run in {root}")
+    assert results_doc.portable(note, root) == (
+        "no mesh reference_scenes/a/reference.mesh: export one with "
+        "`aolab mesh SCENE --out reference_scenes/a`; run in .")
+
+
 # ---------------------------------------------------------------------------------------
 # Scoring pieces
 

@@ -46,6 +46,13 @@ BLUR_SIGMA = 1.5
 BLUR_TAPS = 5
 
 
+def shared_blur(ao, gbuffer, threads: int = 0) -> np.ndarray:
+    """``ao`` after the shared blur (BLUR_SIGMA, BLUR_TAPS), as the study and the tuner run
+    and time it after a configuration with ``blur``."""
+    return np.asarray(_core.gaussian_blur(ao, gbuffer, sigma=BLUR_SIGMA, taps=BLUR_TAPS,
+                                          threads=threads))
+
+
 @dataclass(frozen=True)
 class Setting:
     """One configuration of one method that the study runs."""

@@ -22,13 +22,12 @@ machines).
 
 from __future__ import annotations
 
-import logging
-import signal
 import sys
 import time
 import uuid
 from pathlib import Path
 
+from ..util.dask_cluster import connect, threads
 from . import reference
 
 #: How often a running job asks the cluster whether to stop (s): each ask is a round trip to
@@ -75,42 +74,10 @@ def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -
             "worker": socket.gethostname()}
 
 
-def connect(scheduler: str | None, workers: int):
-    """(client, cluster): a client of the scheduler at ``scheduler``, or of a new local cluster
-    of ``workers`` single-threaded worker processes on the loopback interface (Blender uses
-    every core of its machine itself)."""
-    from distributed import Client, LocalCluster
-    if scheduler:
-        try:
-            return Client(scheduler, timeout="20s"), None
-        except (OSError, TimeoutError) as e:
-            raise reference.ReferenceError(
-                f"--scheduler {scheduler}: no Dask scheduler answers there ({e}); start one with "
-                "`dask scheduler` and workers with `dask worker ADDRESS` (docs/scale_out.md)") \
-                from None
-    # Ctrl-C at a terminal reaches the whole process group. The workers start with SIGINT
-    # ignored (a disposition a new process keeps, and Python then installs no handler), so
-    # that only this process answers it, by stopping the jobs through the cluster.
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1",
-                               # its HTTP server on a free loopback port: another cluster on
-                               # this machine may hold the default 8787
-                               dashboard_address="127.0.0.1:0",
-                               # the workers' own log stays quiet: a job's error reaches
-                               # the client as its exception, and Debian 13's workers log
-                               # a heartbeat error with a traceback when the cluster closes
-                               silence_logs=logging.CRITICAL)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    return Client(cluster), cluster
-
-
-def window(threads: int) -> int:
-    """How many jobs are submitted and not yet collected at most, for a cluster of ``threads``
+def window(n_threads: int) -> int:
+    """How many jobs are submitted and not yet collected at most, for a cluster of ``n_threads``
     worker threads in all."""
-    return max(MIN_WINDOW, WINDOW_PER_THREAD * threads)
+    return max(MIN_WINDOW, WINDOW_PER_THREAD * n_threads)
 
 
 def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
@@ -141,74 +108,60 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
             in_flight[f] = plan
             finished.add(f)
 
-    def terminated(signum, frame):  # `kill` stops the jobs like Ctrl-C
-        raise KeyboardInterrupt
-
-    old = signal.signal(signal.SIGTERM, terminated)
     done = 0
     try:
-        quiet = delivery.quiet or not sys.stderr.isatty()
-        last = sized = -float("inf")
-        size = MIN_WINDOW
-        while True:
-            now = time.monotonic()
-            if now - sized >= THREADS_POLL_S:   # workers join and leave a remote cluster
-                size, sized = window(_threads(client)), now
-            top_up(size)
-            if not in_flight:
-                break
-            for f in finished.next_batch(block=False):
-                plan = in_flight[f]
-                result = f.result()   # a job's error (a ReferenceError) is the command's
-                folder = Path(result["folder"])
-                if out:
-                    reference.copy_result(plan, folder,
-                                          reference.output_folder(out, plan, several))
-                # Done once copied, before its line: a job interrupted earlier is still in
-                # flight, and counted there if it finished.
-                del in_flight[f]
-                done += 1
-                what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
-                how = "cached" if result["cached"] else \
-                    f"rendered in {result['seconds']:.1f} s on {result['worker']}"
-                print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
-                      + (f" (copied to {out})" if out else ""), flush=True)
-            now = time.monotonic()
-            if not quiet and now - last >= PROGRESS_S:
-                running = _running(client, in_flight)
-                print(f"\r  {reference.unit(plans)}: {done} of {len(plans)} done, {running} "
-                      f"running, {len(plans) - done - running} queued ", end="",
-                      file=sys.stderr, flush=True)
-                last = now
-            if not finished.has_ready():
-                time.sleep(0.05)
-        if not quiet:
-            print(file=sys.stderr)
+        with reference.terminate_as_interrupt():   # `kill` stops the jobs like Ctrl-C
+            quiet = delivery.quiet or not sys.stderr.isatty()
+            last = sized = -float("inf")
+            size = MIN_WINDOW
+            while True:
+                now = time.monotonic()
+                if now - sized >= THREADS_POLL_S:   # workers join and leave a remote cluster
+                    size, sized = window(threads(client)), now
+                top_up(size)
+                if not in_flight:
+                    break
+                for f in finished.next_batch(block=False):
+                    plan = in_flight[f]
+                    result = f.result()   # a job's error (a ReferenceError) is the command's
+                    folder = Path(result["folder"])
+                    if out:
+                        reference.copy_result(plan, folder,
+                                              reference.output_folder(out, plan, several))
+                    # Done once copied, before its line: a job interrupted earlier is still in
+                    # flight, and counted there if it finished.
+                    del in_flight[f]
+                    done += 1
+                    how = "cached" if result["cached"] else \
+                        f"rendered in {result['seconds']:.1f} s on {result['worker']}"
+                    print(reference.result_line(plan, folder, how, out), flush=True)
+                now = time.monotonic()
+                if not quiet and now - last >= PROGRESS_S:
+                    running = _running(client, in_flight)
+                    print(f"\r  {reference.unit(plans)}: {done} of {len(plans)} done, {running} "
+                          f"running, {len(plans) - done - running} queued ", end="",
+                          file=sys.stderr, flush=True)
+                    last = now
+                if not finished.has_ready():
+                    time.sleep(0.05)
+            if not quiet:
+                print(file=sys.stderr)
     except KeyboardInterrupt:
         stop.set()
         # Jobs that finished but were not collected yet are done all the same.
         done += sum(1 for f in in_flight if f.status == "finished")
         client.cancel(list(in_flight))
         _wait_for_stops(client, in_flight)
-        print(f"\ninterrupted after {done} of {len(plans)} {reference.unit(plans)} "
-              f"({reference.count_cached(cache, plans)} in the cache); the running renders "
-              "are stopped; run the same command again to resume", file=sys.stderr)
+        print("\n" + reference.interrupted_line(done, plans, cache,
+                                                "the running renders are stopped; "),
+              file=sys.stderr)
         return 130
     finally:
-        signal.signal(signal.SIGTERM, old)
         client.close()
         if cluster is not None:
             cluster.close()
         reference.remove_stale_temporaries(cache)
     return 0
-
-
-def _threads(client) -> int:
-    """The cluster's worker threads in all (0 when none has joined or the scheduler is busy)."""
-    try:
-        return sum(client.nthreads().values())
-    except Exception:   # only sizes the window
-        return 0
 
 
 def _running(client, pending: dict) -> int:
@@ -227,16 +180,3 @@ def _wait_for_stops(client, futures: dict, timeout_s: float = 30.0) -> None:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline and _running(client, futures):
         time.sleep(0.2)
-
-
-def wait_all(client, futures: list, should_stop) -> None:
-    """Returns when every future is done (finished, failed or cancelled), polling
-    ``should_stop`` (it raises to stop: Ctrl-C), which cancels those not done. A worker lost
-    mid-task loses nothing: the scheduler gives its tasks to another worker."""
-    try:
-        while not all(f.done() for f in futures):
-            should_stop()
-            time.sleep(0.05)
-    except BaseException:
-        client.cancel([f for f in futures if not f.done()])
-        raise

@@ -626,6 +626,37 @@ def holding(out, owner: str):
     return files.output_lock(out, owner) if out else contextlib.nullcontext()
 
 
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """SIGTERM (`kill`) raises KeyboardInterrupt while inside, so that it stops and cleans
+    up as Ctrl-C does."""
+    def terminated(signum, frame):
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGTERM, terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def result_line(plan: Plan, folder: Path, how: str, out) -> str:
+    """The line printed for a finished plan: what, how (cached, rendered in ...), its last
+    file and where it was copied."""
+    what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
+    return (f"{what}: {how} -> {plan.result_files(folder)[-1]}"
+            + (f" (copied to {out})" if out else ""))
+
+
+def interrupted_line(done: int, plans: list[Plan], cache: Path, stopped: str = "") -> str:
+    """The line printed on Ctrl-C: this run's count and the cache's as well (a render can
+    finish between the last line printed and the interrupt, and frames of an earlier run are
+    not rendered again), ``stopped`` saying what became of the running renders."""
+    return (f"interrupted after {done} of {len(plans)} {unit(plans)} "
+            f"({count_cached(cache, plans)} in the cache); {stopped}run the same command "
+            "again to resume")
+
+
 def run_plans(plans: list[Plan], delivery: Delivery) -> int:
     """Renders (or takes from the cache) each plan in turn, copying its files to
     ``delivery.out``; the exit status."""
@@ -633,31 +664,20 @@ def run_plans(plans: list[Plan], delivery: Delivery) -> int:
     several = len({p.scene.name for p in plans}) > 1
     cache = delivery.cache_folder()
     out = delivery.out
-
-    def terminated(signum, frame):  # `kill` cleans up like Ctrl-C
-        raise KeyboardInterrupt
-
-    old = signal.signal(signal.SIGTERM, terminated)
     try:
-        for plan in plans:
-            t0 = time.perf_counter()
-            folder, was_cached = render(plan, cache, force=delivery.force,
-                                        progress=not delivery.quiet and sys.stderr.isatty())
-            if out:
-                copy_result(plan, folder, output_folder(out, plan, several))
-            done += 1   # before its line: an interrupt while it prints has it done all the same
-            verb = "exported" if plan.mesh_only else "rendered"
-            how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
-            what = plan.scene.name + ("" if plan.frame is None else f" frame {plan.frame}")
-            print(f"{what}: {how} -> {plan.result_files(folder)[-1]}"
-                  + (f" (copied to {out})" if out else ""))
+        with terminate_as_interrupt():
+            for plan in plans:
+                t0 = time.perf_counter()
+                folder, was_cached = render(plan, cache, force=delivery.force,
+                                            progress=not delivery.quiet and sys.stderr.isatty())
+                if out:
+                    copy_result(plan, folder, output_folder(out, plan, several))
+                # done before its line: an interrupt while it prints has it done all the same
+                done += 1
+                verb = "exported" if plan.mesh_only else "rendered"
+                how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
+                print(result_line(plan, folder, how, out))
     except KeyboardInterrupt:
-        # The cache's count as well as this run's: a render can finish between the last line
-        # printed and the interrupt, and frames of an earlier run are not rendered again.
-        print(f"interrupted after {done} of {len(plans)} {unit(plans)} "
-              f"({count_cached(cache, plans)} in the cache); run the same command again to "
-              "resume", file=sys.stderr)
+        print(interrupted_line(done, plans, cache), file=sys.stderr)
         return 130
-    finally:
-        signal.signal(signal.SIGTERM, old)
     return 0

@@ -38,14 +38,14 @@ import aolab
 from .. import catalog
 from .. import named_presets as presets_mod
 from ..raytracing import RTAO_LADDER
-from ..render.cluster import connect, wait_all
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
                       frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
                       resolve_scenes)
-from ..scoring import digest
+from ..scoring import check_same_bits, digest
 from ..util import files
+from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
 from ..util.provenance import git_commit, machine_info
 from . import report, stats
 from .pareto import hd_scale
@@ -561,20 +561,14 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) ->
             "entries": entries}
 
 
-#: A worker process's scenes, loaded once: (folder, crop, name) -> Scene.
-_WORKER_SCENES: dict = {}
-
-
 def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
                     blurs: list[bool]) -> dict:
     """On a Dask worker: one configuration group's output on a scene (read from ``folder``,
     shared storage, once per worker), blurred or not as ``blurs`` asks, scored: blur ->
     (score, vs_limit, digest), None for an RGB output; {"error": message} when the method
     refuses the settings."""
-    key = (folder, None if crop is None else (crop.width, crop.height), name)
-    if key not in _WORKER_SCENES:
-        _WORKER_SCENES[key] = load_scene(Path(folder), crop, name)
-    scene = _WORKER_SCENES[key]
+    scene = worker_scene((__name__, folder, crop_key(crop), name),
+                         lambda: load_scene(Path(folder), crop, name))
     try:
         raw = np.asarray(aolab.compute(method, scene.g, radius=scene.radius, threads=1,
                                        **compute_settings))
@@ -582,10 +576,7 @@ def config_accuracy(folder: str, crop, name: str | None, method: str, compute_se
         return {"error": str(e)}
     out = {}
     for blur in blurs:
-        ao = raw
-        if blur and raw.ndim == 2:
-            ao = np.asarray(aolab.gaussian_blur(raw, scene.g, sigma=presets_mod.BLUR_SIGMA,
-                                                taps=presets_mod.BLUR_TAPS, threads=1))
+        ao = presets_mod.shared_blur(raw, scene.g, threads=1) if blur and raw.ndim == 2 else raw
         out[blur] = None if ao.ndim != 2 else (score(ao, scene), vs_limit(ao, scene), digest(ao))
     return out
 
@@ -594,10 +585,18 @@ def from_cluster(remote: dict, blur: bool, ao: np.ndarray, scene: str, method: s
     """The cluster's (score, vs_limit) of the output timed here, which must have the same
     bits as the worker's."""
     scored, limit, theirs = remote[blur]
-    if theirs != digest(ao):
-        raise RuntimeError(f"{method} gave other bits on a worker than here on scene {scene} "
-                           "(a nondeterministic configuration)")
+    check_same_bits(theirs, ao, method, scene)
     return scored, limit
+
+
+def rtao_not_run_reason(e: BaseException) -> str:
+    """Why rtao did not run on a scene, as results.json keeps it: a missing mesh said without
+    its path (the run's command line says where; the results name no folder of the machine),
+    any other reason (a mesh of another scene, a refused range) as it is."""
+    if isinstance(e, FileNotFoundError):
+        return ("no reference.mesh beside its G-buffer (`aolab mesh` exports one, "
+                "docs/methods/rtao.md)")
+    return str(e)
 
 
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
@@ -875,9 +874,8 @@ class Study:
             if blur not in done:
                 ao, blur_times = raw, []
                 if blur:
-                    ao, blur_times = timed(lambda: aolab.gaussian_blur(
-                        raw, g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
-                        threads=threads), opts.warmup, opts.repeat)
+                    ao, blur_times = timed(lambda: presets_mod.shared_blur(raw, g, threads),
+                                           opts.warmup, opts.repeat)
                 scored = (None if ao.ndim != 2 else
                           from_cluster(remote, blur, ao, scene.name, method) if remote else
                           (score(ao, scene), vs_limit(ao, scene)))
@@ -912,7 +910,7 @@ class Study:
                 raise ValueError(offsets["refusal"])
         except (ValueError, OSError) as e:
             self.notes.append(f"{scene.name}: rtao not run ({e})")
-            self.scene_info[scene.name]["rtao_not_run"] = str(e)
+            self.scene_info[scene.name]["rtao_not_run"] = rtao_not_run_reason(e)
             if bar is not None:
                 bar.update(len(ladder))
             return

@@ -1174,11 +1174,14 @@ def rtao_crossover(ladder: list[dict]) -> float | None:
 
 
 def rtao_not_run(results: dict) -> str:
-    """Why rtao has no rows on some scenes: "scene: reason" for each (the mesh is missing,
-    of another scene, or refused), or "" when it ran wherever the study asked for it."""
-    return "; ".join(f'{name}: {info["rtao_not_run"]}'
-                     for name, info in (results.get("scenes") or {}).items()
-                     if (info or {}).get("rtao_not_run"))
+    """Why rtao has no rows on some scenes: "scene, scene: reason" for each reason (the mesh
+    is missing, of another scene, or refused), or "" when it ran wherever the study asked for
+    it."""
+    by_reason: dict[str, list[str]] = {}   # scenes with the same reason said once
+    for name, info in (results.get("scenes") or {}).items():
+        if (info or {}).get("rtao_not_run"):
+            by_reason.setdefault(info["rtao_not_run"], []).append(name)
+    return "; ".join(f"{', '.join(names)}: {why}" for why, names in by_reason.items())
 
 
 def rtao_table(ladder: list[dict], not_run: str = "") -> str:

@@ -336,8 +336,15 @@ def write(results_json: Path, docs: Path) -> Path:
         after = text[text.index(GENERATED_END) + len(GENERATED_END):]
     else:
         before, after = head, "\n" + DEFAULT_PROSE
-    files.write_text(path, before + generated(results) + after)
+    files.write_text(path, before + portable(generated(results), docs.resolve().parent) + after)
     return path
+
+
+def portable(text: str, root: Path) -> str:
+    """``text`` with the checkout's absolute path ``root`` taken out of the paths it names
+    (a note such as a missing mesh names its file): the committed page names files of the
+    repository, never folders of the machine it was made on."""
+    return text.replace(f"{root}/", "").replace(str(root), ".")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -45,12 +45,12 @@ from .. import named_presets as presets_mod
 from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
 from ..regions import occluded_pixels
 from ..scenes import family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes
-from ..scoring import digest, scored_mask
+from ..scoring import check_same_bits, digest, scored_mask
 from ..settings import described
-from ..util import files
+from ..util import dask_cluster, files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
-from ..render.cluster import connect, wait_all
+from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
 from . import pareto
 
 #: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: pareto.hd_scale).
@@ -291,23 +291,13 @@ def score(ao: np.ndarray, sc: TuneScene) -> dict:
 def output(method: str, settings: dict, blur: bool, sc: TuneScene, threads: int) -> np.ndarray:
     """One configuration's AO on one scene, blurred by the shared blur if ``blur``."""
     ao = grey(method, aolab.compute(method, sc.g, radius=sc.radius, threads=threads, **settings))
-    if blur:
-        ao = aolab.gaussian_blur(ao, sc.g, sigma=presets_mod.BLUR_SIGMA,
-                                 taps=presets_mod.BLUR_TAPS, threads=threads)
-    return np.asarray(ao)
-
-
-#: A worker process's scenes, loaded once: (folder, crop) -> TuneScene.
-_WORKER_SCENES: dict = {}
+    return presets_mod.shared_blur(ao, sc.g, threads) if blur else np.asarray(ao)
 
 
 def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool) -> dict:
     """On a Dask worker: :func:`score` of one configuration on one scene. The worker reads
     the scene from ``folder`` (shared storage) once and keeps it."""
-    key = (folder, None if crop is None else (crop.width, crop.height))
-    if key not in _WORKER_SCENES:
-        _WORKER_SCENES[key] = load_scene(Path(folder), crop)
-    sc = _WORKER_SCENES[key]
+    sc = worker_scene((__name__, folder, crop_key(crop)), lambda: load_scene(Path(folder), crop))
     return score(output(method, settings, blur, sc, threads=1), sc)
 
 
@@ -331,17 +321,15 @@ def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
         ao, times, single = _time(run, timing, single)
         row = {"method_ms": statistics.median(times), "blur_ms": 0.0}
         if blur:
-            ao, btimes, _ = _time(lambda: aolab.gaussian_blur(
-                ao, sc.g, sigma=presets_mod.BLUR_SIGMA, taps=presets_mod.BLUR_TAPS,
-                threads=timing.threads), timing, single)
+            ao, btimes, _ = _time(lambda: presets_mod.shared_blur(ao, sc.g, timing.threads),
+                                  timing, single)
             row["blur_ms"] = statistics.median(btimes)
         row["measured_ms"] = row["method_ms"] + row["blur_ms"]
         row["ms"] = row["measured_ms"] * sc.time_scale
         mine = score(np.asarray(ao), sc)
         theirs = accuracy.get(sc.name) if accuracy is not None else None
-        if theirs is not None and theirs["digest"] != mine["digest"]:
-            raise ValueError(f"{method} gave other bits on a worker than here on scene "
-                             f"{sc.name} (a nondeterministic configuration)")
+        if theirs is not None:
+            check_same_bits(theirs["digest"], ao, method, sc.name)
         row.update(mine)
         row["runs"] = len(times)
         out[sc.name] = row
@@ -569,7 +557,7 @@ def _trials(opts, method, scenes, bar, deadline, study, space, done, client=None
         _stop_if_asked()
         if deadline is not None and time.monotonic() >= deadline:
             break
-        n = 1 if client is None else max(1, min(cluster_threads(client),
+        n = 1 if client is None else max(1, min(dask_cluster.threads(client),
                                                 opts.trials - counted(study)))
         batch = _ask(study, space, done, n)
         fresh = [a for a in batch if a.same is None]
@@ -607,11 +595,6 @@ def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
     except ValueError as e:     # a configuration the method refuses: failed, not fatal
         a.trial.set_user_attr("error", str(e))
         study.tell(a.trial, state=_fail())
-
-
-def cluster_threads(client) -> int:
-    """The worker threads of the cluster now (0 while none has joined)."""
-    return sum(client.nthreads().values())
 
 
 def score_on_cluster(client, batch: list[Asked], scenes: list[TuneScene], method: str,
