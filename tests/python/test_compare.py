@@ -665,3 +665,21 @@ def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real
             assert s["mae"] > base[s["scene"]] == s["ao_one"]
     text = "\n".join(results_doc.study_sections(results, agg, "images"))
     assert "## Which differences are real" in text and "## Defaults worse than no occlusion" in text
+
+
+def test_tests_over_scenes_count_stills_not_a_sequence_s_frames():
+    """A sequence's frames are one camera path: the paired tests and the defaults worse than
+    AO = 1 count the still scenes that the ALL rows average, as the ALL rows do."""
+    def row(scene, kind, method, label, all_mae, occ):
+        return {"scene": scene, "kind": kind, "method": method, "label": label,
+                "metrics": {"all": {"mae": all_mae}, "occluded": {"mae": occ}}}
+    scenes = {"a": {}, "b": {}, "seq@0001": {}, "seq@0002": {},
+              "seq": {"sequence": True, "frame_scenes": ["seq@0001", "seq@0002"]}}
+    rows = []
+    for s in ("a", "b", "seq@0001", "seq@0002"):
+        rows += [row(s, "baseline", "baseline_one", "AO=1", 0.05, 0.3),
+                 row(s, "method", "hbao", "default", 0.06, 0.2)]
+    results = {"scenes": scenes, "rows": rows}
+    assert report_mod.still_scenes(results) == ["a", "b"]
+    assert set(report_mod.per_scene(results, rows[1])) == {"a", "b"}
+    assert [s["scene"] for s in report_mod.worse_than_nothing(results)[0]["scenes"]] == ["a", "b"]

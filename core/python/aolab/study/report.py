@@ -707,11 +707,22 @@ def split_chart(plot_id: str, parts: list[dict]) -> str:
 PAIRED_TOP = 8
 
 
+def still_scenes(results: dict) -> list[str]:
+    """The still scenes of a run, those its ALL rows are means over: neither a sequence nor
+    a frame of one (a sequence's frames are scored as scenes of their own, but they are one
+    camera path, not independent scenes, and would outweigh the others in a test)."""
+    scenes = results.get("scenes", {})
+    frames = {f for info in scenes.values() if (info or {}).get("sequence")
+              for f in info.get("frame_scenes", [])}
+    return [n for n, info in scenes.items()
+            if not (info or {}).get("sequence") and n not in frames]
+
+
 def per_scene(results: dict, row: dict, column: str = "occluded_mae") -> dict:
     """Scene -> the value of ``column`` of ``row``'s configuration on each still scene."""
-    scenes = results.get("scenes", {})
+    stills = set(still_scenes(results))
     return {r["scene"]: metric(r, column) for r in results["rows"]
-            if r["scene"] in scenes and not scenes[r["scene"]].get("sequence")
+            if r["scene"] in stills
             and (r["kind"], r["method"], r["label"]) == (row["kind"], row["method"], row["label"])}
 
 
@@ -761,12 +772,11 @@ def worse_than_nothing(results: dict, label: str = "default") -> list[dict]:
     has a higher whole-frame MAE than AO = 1, the output that draws no occlusion: where the
     paper's own settings do worse than doing nothing. Methods with no such scene are left
     out."""
-    scenes = results.get("scenes", {})
+    stills = set(still_scenes(results))
     base = {r["scene"]: metric(r, "all_mae") for r in results["rows"] if r["kind"] == "baseline"}
     out: dict = {}
     for r in results["rows"]:
-        if (r["kind"] != "method" or r["label"] != label or r["scene"] not in scenes
-                or scenes[r["scene"]].get("sequence")):
+        if r["kind"] != "method" or r["label"] != label or r["scene"] not in stills:
             continue
         mine, none = metric(r, "all_mae"), base.get(r["scene"])
         if mine is not None and none is not None and mine > none:
@@ -1227,7 +1237,7 @@ def study_sections(results: dict, agg: list[dict]) -> str:
                  f'signed-rank test; a difference with p ≥ {stats.ALPHA:g} is not told apart '
                  'from the scatter between scenes (docs/comparison.md).</p>')
     parts.append(paired_table(paired_comparisons(results, budget), budget))
-    stills = [n for n, i in results.get("scenes", {}).items() if not i.get("sequence")]
+    stills = still_scenes(results)
     parts.append('<h2 id="worse-than-nothing">Defaults worse than no occlusion</h2><p class='
                  '"note">Where a method at its paper\'s defaults has a higher whole-frame MAE '
                  'than AO ≡ 1 — drawing no occlusion at all would be closer to the reference '

@@ -132,7 +132,7 @@ def study_sections(results: dict, agg: list[dict], image_dir: str) -> list[str]:
 
 def worse_than_nothing_section(results: dict) -> list[str]:
     """The report's "Defaults worse than no occlusion" as Markdown."""
-    stills = [n for n, i in results.get("scenes", {}).items() if not i.get("sequence")]
+    stills = report.still_scenes(results)
     out = ["## Defaults worse than no occlusion", "",
            "Where a method at its paper's defaults has a higher whole-frame MAE than AO ≡ 1, "
            "drawing no occlusion at all (the method's MAE against AO ≡ 1's). No tuned preset "
