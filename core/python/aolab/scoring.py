@@ -85,9 +85,10 @@ def digest(ao: np.ndarray) -> str:
     return hashlib.sha256(np.ascontiguousarray(ao, np.float32).tobytes()).hexdigest()
 
 
-def check_same_bits(theirs: str, ao: np.ndarray, method: str, scene: str) -> None:
-    """A ValueError unless ``ao`` (the output timed here) has the digest ``theirs`` that a
-    Dask worker sent with its scores: the scores are only this output's if the bits agree."""
-    if theirs != digest(ao):
+def check_same_bits(theirs: str, ours: str, method: str, scene: str) -> None:
+    """A ValueError unless ``ours`` (the :func:`digest` of the output timed here) is the digest
+    ``theirs`` that a Dask worker sent with its scores: the scores are only this output's if
+    the bits agree."""
+    if theirs != ours:
         raise ValueError(f"{method} gave other bits on a worker than here on scene {scene} "
                          "(a nondeterministic configuration)")

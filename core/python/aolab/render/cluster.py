@@ -109,8 +109,8 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
             finished.add(f)
 
     done = 0
-    try:
-        with reference.terminate_as_interrupt():   # `kill` stops the jobs like Ctrl-C
+    with reference.terminate_as_interrupt():   # `kill` stops the jobs like Ctrl-C
+        try:
             quiet = delivery.quiet or not sys.stderr.isatty()
             last = sized = -float("inf")
             size = MIN_WINDOW
@@ -146,21 +146,21 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
                     time.sleep(0.05)
             if not quiet:
                 print(file=sys.stderr)
-    except KeyboardInterrupt:
-        stop.set()
-        # Jobs that finished but were not collected yet are done all the same.
-        done += sum(1 for f in in_flight if f.status == "finished")
-        client.cancel(list(in_flight))
-        _wait_for_stops(client, in_flight)
-        print("\n" + reference.interrupted_line(done, plans, cache,
-                                                "the running renders are stopped; "),
-              file=sys.stderr)
-        return 130
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-        reference.remove_stale_temporaries(cache)
+        except KeyboardInterrupt:
+            stop.set()
+            # Jobs that finished but were not collected yet are done all the same.
+            done += sum(1 for f in in_flight if f.status == "finished")
+            client.cancel(list(in_flight))
+            _wait_for_stops(client, in_flight)
+            print("\n" + reference.interrupted_line(done, plans, cache,
+                                                    "the running renders are stopped; "),
+                  file=sys.stderr)
+            return 130
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+            reference.remove_stale_temporaries(cache)
     return 0
 
 

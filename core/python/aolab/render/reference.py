@@ -664,8 +664,8 @@ def run_plans(plans: list[Plan], delivery: Delivery) -> int:
     several = len({p.scene.name for p in plans}) > 1
     cache = delivery.cache_folder()
     out = delivery.out
-    try:
-        with terminate_as_interrupt():
+    with terminate_as_interrupt():   # `kill` cleans up like Ctrl-C
+        try:
             for plan in plans:
                 t0 = time.perf_counter()
                 folder, was_cached = render(plan, cache, force=delivery.force,
@@ -677,7 +677,7 @@ def run_plans(plans: list[Plan], delivery: Delivery) -> int:
                 verb = "exported" if plan.mesh_only else "rendered"
                 how = "cached" if was_cached else f"{verb} in {time.perf_counter() - t0:.1f} s"
                 print(result_line(plan, folder, how, out))
-    except KeyboardInterrupt:
-        print(interrupted_line(done, plans, cache), file=sys.stderr)
-        return 130
+        except KeyboardInterrupt:
+            print(interrupted_line(done, plans, cache), file=sys.stderr)
+            return 130
     return 0

@@ -585,7 +585,7 @@ def from_cluster(remote: dict, blur: bool, ao: np.ndarray, scene: str, method: s
     """The cluster's (score, vs_limit) of the output timed here, which must have the same
     bits as the worker's."""
     scored, limit, theirs = remote[blur]
-    check_same_bits(theirs, ao, method, scene)
+    check_same_bits(theirs, digest(ao), method, scene)
     return scored, limit
 
 

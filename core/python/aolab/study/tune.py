@@ -329,7 +329,7 @@ def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
         mine = score(np.asarray(ao), sc)
         theirs = accuracy.get(sc.name) if accuracy is not None else None
         if theirs is not None:
-            check_same_bits(theirs["digest"], ao, method, sc.name)
+            check_same_bits(theirs["digest"], mine["digest"], method, sc.name)
         row.update(mine)
         row["runs"] = len(times)
         out[sc.name] = row
