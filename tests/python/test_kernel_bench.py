@@ -1,5 +1,6 @@
-"""aolab bench-table (core/python/aolab/kernel_bench.py): one row per method with consistent
-columns, the shared blur's row, its options checked; timings themselves are never asserted."""
+"""aolab bench-table's blocks table (core/python/aolab/checks/kernel_bench.py): one row per
+method with consistent columns, the shared blur's row, its options checked; timings themselves
+are never asserted."""
 
 import json
 import subprocess
@@ -66,15 +67,17 @@ def _cli(*args):
 
 def test_cli_prints_the_table_and_writes_json(tmp_path):
     out = tmp_path / "rows.json"
-    r = _cli("alchemy", "--size", "40x24", "--repeat", "1", "--json", str(out))
+    r = _cli("alchemy", "--size", "40x24", "--repeat", "1", "--json", str(out), "--no-scenes")
     assert r.returncode == 0, r.stderr
-    lines = r.stdout.splitlines()
-    assert lines[0].startswith("# aolab bench-table") and "40x24" in lines[0]
+    lines = [line for line in r.stdout.splitlines() if line]
+    assert lines[0].startswith("# aolab bench-table")
     assert "commit" in lines[0] and "SIMD target" in lines[0]
-    assert lines[1].startswith("| method |")
-    assert lines[3].startswith("| alchemy | medium |")
-    assert lines[4].startswith(f"| {kernel_bench.BLUR_ROW} |")
-    assert [row["method"] for row in json.loads(out.read_text())] == [
+    assert lines[1].startswith("## Scalar code against SIMD kernel") and "40x24" in lines[1]
+    assert lines[2].startswith("| method |")
+    assert lines[4].startswith("| alchemy | medium |")
+    assert lines[5].startswith(f"| {kernel_bench.BLUR_ROW} |")
+    assert len(lines) == 6   # no scene timed, so no target either
+    assert [row["method"] for row in json.loads(out.read_text())["blocks"]] == [
         "alchemy", kernel_bench.BLUR_ROW]
 
 

@@ -1,6 +1,5 @@
 """aolab radius-study: the configurations it compares and the table it writes (the study
 itself renders references for half an hour: `aolab radius-study`, docs/benchmarks.md)."""
-import numpy as np
 import pytest
 
 import aolab
@@ -27,12 +26,6 @@ def test_sao_gets_pyramid_hbaos_samples_per_pixel_up_to_its_most():
         for c in (hbao, hbao_cycles, pyramid, pyramid_cycles, sao):   # settings that exist
             names = {s["name"] for s in aolab.method_info(c["method"])["settings"]}
             assert set(c["settings"]) | (set(c["timed"]) - {"blur"}) <= names
-
-
-def test_median_projected_radius_on_a_plane():
-    g = aolab.analytic_scene("plane", width=64, height=36)
-    d = np.asarray(g.depth)[np.asarray(g.valid_mask(), bool)]
-    assert rs.median_projected_radius(g, 0.5) == pytest.approx(np.median(0.5 * g.fx / d))
 
 
 def test_table_has_a_row_per_scene_scale_and_configuration():

@@ -131,6 +131,19 @@ def resolve_scenes(specs: list[str], scenes_dir: Path | None, *,
     return out
 
 
+def median_projected_radius(g, radius: float) -> float:
+    """The median over geometry pixels of R·f/d, the radius's length on screen in pixels."""
+    depth = np.asarray(g.depth, np.float64)
+    valid = np.asarray(g.valid_mask(), bool)
+    return float(np.median(radius * g.fx / depth[valid]))
+
+
+def radius_for_pixels(g, pixels: float) -> float:
+    """The view-space R whose median projected radius on ``g`` is ``pixels``
+    (:func:`median_projected_radius` is linear in R)."""
+    return pixels / median_projected_radius(g, 1.0)
+
+
 def read_y_exr(path: Path) -> np.ndarray:
     """A one-channel AO EXR (channel "Y", or the only channel) as float32 (H, W)."""
     import OpenImageIO as oiio

@@ -42,7 +42,6 @@ import aolab
 from .. import catalog
 from .. import named_presets as presets_module
 from ..util import files
-from ..util.files import check_paths
 from ..util.provenance import git_commit
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
@@ -68,8 +67,11 @@ def samples_per_pixel(method: str, settings: dict) -> float | None:
     return entry.samples_per_pixel(full)
 
 
-def _median_ms(run, repeat: int) -> float:
-    run()   # warm-up: first-touch page faults, caches, the dispatch table
+def median_ms(run, repeat: int, warmup: bool = True) -> float:
+    """The median wall-clock ms of ``repeat`` calls of ``run``, after one untimed call unless
+    not ``warmup``."""
+    if warmup:
+        run()   # first-touch page faults, caches, the dispatch table
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -79,7 +81,7 @@ def _median_ms(run, repeat: int) -> float:
 
 
 def _time(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> float:
-    return _median_ms(lambda: aolab.compute(method, g, radius=radius, threads=threads,
+    return median_ms(lambda: aolab.compute(method, g, radius=radius, threads=threads,
                                             kernel=kernel, **settings), repeat)
 
 
@@ -184,7 +186,7 @@ def table(methods=None, *, preset: str | None = None, repeat: int = 5, scaling: 
         # The blur's cost does not depend on the AO it smooths (the same taps over the same
         # geometry pixels), so any AO serves: HBAO's, at the preset every run of it has.
         ao = aolab.compute("hbao", g, radius=RADIUS, **configuration("hbao", "medium"))
-        one, two = (_median_ms(lambda t=t: aolab.gaussian_blur(ao, g, threads=t), repeat)
+        one, two = (median_ms(lambda t=t: aolab.gaussian_blur(ao, g, threads=t), repeat)
                     for t in (1, 2))
         row = {"method": BLUR_ROW, "preset": "σ 1.5, 5 taps", "settings": {}, "size": list(size),
                "simd_kernel": False, "scalar_ms": one, "simd_1t_ms": one, "simd_2t_ms": two,
@@ -246,7 +248,7 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     """Records ``runs`` computations of the method's SIMD kernel on 2 threads with ``perf
     record`` into folder/METHOD.perf.data, writes ``perf report`` to folder/METHOD.txt and
     returns its ``top`` hottest functions (self time)."""
-    _need_perf()
+    need_perf()
     folder.mkdir(parents=True, exist_ok=True)
     data, report = folder / f"{method}.perf.data", folder / f"{method}.txt"
     code = ("import json, sys, aolab\n"
@@ -265,44 +267,11 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     return lines[:top]
 
 
-def _need_perf() -> None:
+def need_perf() -> None:
     if shutil.which("perf") is None:
         raise ValueError("--profile needs Linux perf (Debian package linux-perf: "
                          "scripts/install-deps.sh installs it)")
 
 
-def _commit() -> str:
+def commit() -> str:
     return git_commit(Path(__file__).resolve().parent) or "unknown"
-
-
-def run_table(methods: list[str] | None = None, *, preset: str | None = None, repeat: int = 5,
-              scaling: bool = False, radii: bool = False, size: tuple | None = None,
-              json_path: str | None = None, profile: str | None = None) -> int:
-    """``aolab bench-table``: the table printed (and written to ``json_path``), each
-    method's SIMD kernel profiled into ``profile`` if given; the exit status."""
-    size = tuple(size) if size else SIZE
-    # Everything the command line names is checked before the first timing: the table takes
-    # minutes, and a bad --json or --profile found after it would lose them.
-    methods = methods or default_methods()
-    for method in methods:
-        bench_preset(method, preset)
-    check_paths(files={"--json": json_path}, folders={"--profile": profile})
-    if profile:
-        _need_perf()
-    shown = preset or f"{DEFAULT_BENCH_PRESET} (default where a method has none)"
-    print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
-          f"{_commit()}: {SCENE} {size[0]}x{size[1]}, R = {RADIUS}, preset {shown}, "
-          f"median of {repeat} runs; {machine()}; SIMD target {simd_target()}")
-    print(header(scaling, radii))
-    rows = table(methods, preset=preset, repeat=repeat,
-                 scaling=scaling, radii=radii, size=size)
-    if json_path:
-        files.write_text(Path(json_path), json.dumps(rows, indent=2, default=float))
-    if profile:
-        for row in rows:
-            if row["method"] == BLUR_ROW:
-                continue
-            print(f"\n## perf: {row['method']} ({row['preset']}, SIMD kernel, 2 threads)")
-            for line in profile(row["method"], row["settings"], Path(profile), size=size):
-                print(line)
-    return 0

@@ -37,7 +37,7 @@ import numpy as np
 import aolab
 
 from ..render import reference
-from ..scenes import find_scenes_dir, load_scene
+from ..scenes import find_scenes_dir, load_scene, median_projected_radius
 from ..util import files
 from ..util.provenance import machine_info
 from .compare import score, timed
@@ -56,13 +56,6 @@ HBAO_STEPS_AT_SCALE_1 = 8
 HBAO_DIRECTIONS = 8
 METHODS = ("hbao", "pyramid_hbao", "sao")
 LABELS = {"hbao": "HBAO", "pyramid_hbao": "Pyramid HBAO", "sao": "Scalable AO"}
-
-
-def median_projected_radius(g, radius: float) -> float:
-    """The median over geometry pixels of R·f/d, the radius's length on screen in pixels."""
-    depth = np.asarray(g.depth, np.float64)
-    valid = np.asarray(g.valid_mask(), bool)
-    return float(np.median(radius * g.fx / depth[valid]))
 
 
 def pyramid_levels(radius_px: float, samples: int, reduction: int) -> int:
