@@ -82,7 +82,7 @@ def median_ms(run, repeat: int, warmup: bool = True) -> float:
 
 def _time(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> float:
     return median_ms(lambda: aolab.compute(method, g, radius=radius, threads=threads,
-                                            kernel=kernel, **settings), repeat)
+                                           kernel=kernel, **settings), repeat)
 
 
 #: The preset timed when none is asked for, where the method has it.
