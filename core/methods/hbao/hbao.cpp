@@ -190,6 +190,9 @@ float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver&
   hbao_step(f.cam, radius, s.steps, p.d, c, sn, step_x, step_y);
   const float sin_t_dir =
       s.per_sample_tangent ? 0.0f : direction_tangent_sin(p, step_x, step_y, c, sn);
+  // Its length in pixels, for the MIP level of far samples (a sum of products, no fused
+  // multiply-add, so that the SIMD kernel computes the same bits).
+  const float step_len = std::sqrt(step_x * step_x + step_y * step_y);
   float best_gain = 0.0f, best_r = 0.0f;
   float rises = 0.0f;  // eq. 2 mode: Σ (rise of sin h) · W(r of the sample that raised it)
   for (int i = 1; i <= s.steps; ++i) {
@@ -197,12 +200,11 @@ float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver&
     const float sx_f = p.px + t * step_x, sy_f = p.py + t * step_y;
     // Leaving the image along a straight line is final; the test also rejects inf/NaN.
     if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
-    const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
+    int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
+    const std::size_t index = hbao_sample_index(f, t * step_len, sx, sy);
     if (sx == p.x && sy == p.y) continue;
     Candidate cand;
-    if (!sample_candidate(p, s, radius2, sin_t_dir, c, sn, sx, sy,
-                          f.depth[std::size_t(sy) * f.width + sx], cand))
-      continue;
+    if (!sample_candidate(p, s, radius2, sin_t_dir, c, sn, sx, sy, f.depth[index], cand)) continue;
     if (cand.gain > 0.0f && (best_r == 0.0f || cand.gain > best_gain + kHbaoHorizonTie)) {
       rises += (cand.gain - best_gain) * std::max(0.0f, 1.0f - cand.r * inv_radius);
       best_gain = cand.gain, best_r = cand.r;
@@ -239,10 +241,17 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
-  // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h).
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h); with
+  // far samples on the MIP chain, its levels after the depth.
+  std::vector<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
-  const Frame frame{depth.data(), normals.data(), w, h, g.camera};
+  Frame frame{depth.data(), normals.data(), w, h, g.camera};
+  if (s.mip_distance > 0.0f) {
+    frame.mip = depth_mip_layout(w, h, kMaxDepthMipLevel);
+    build_depth_mip(depth, frame.mip, threads);
+    frame.depth = depth.data();
+    frame.inv_mip_distance = 1.0f / s.mip_distance;
+  }
   if (options.kernel == Kernel::Simd) return hbao_simd(frame, s, threads, options.progress);
 
   const HbaoDirections directions(s.directions);

@@ -17,6 +17,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/base/depth_mip.h"
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
@@ -109,6 +110,12 @@ struct HbaoSettings {
   bool incremental_attenuation = false;
   /// Seed of the per-pixel random rotation and jitter. [0, 2^31 - 1].
   int seed = 0;
+  /// q, in pixels: far samples read the depth MIP chain (depth_mip.h). A sample r ≥ 2q pixels
+  /// from P snaps to the pixel of its 2^l block, l = min(floor(log2(r/q)), 5), and reads that
+  /// pixel's exact depth from level l, whose texels lie 4^l times closer in memory: a large
+  /// radius's samples then stay in the cache. The sample moves by at most 2^(l-1) ≤ r/(2q)
+  /// pixels. 0: every sample reads the full-resolution depth, as in the paper. [0, 4096].
+  float mip_distance = 0.0f;
 };
 
 inline const SettingField<HbaoSettings> kHbaoFields[] = {
@@ -134,6 +141,10 @@ inline const SettingField<HbaoSettings> kHbaoFields[] = {
      "weight each rise of the horizon by W of the sample that raised it (eq. 2) instead of "
      "W of the final horizon (eq. 3); linear attenuation only"},
     {"seed", &HbaoSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
+    {"mip_distance", &HbaoSettings::mip_distance, 0, 4096, "px",
+     "q: a sample r >= 2q px away reads the depth MIP level floor(log2(r/q)) (at most 5), "
+     "snapped to a pixel of that level, which keeps large radii in the cache; 0 = full "
+     "resolution everywhere, as in the paper"},
 };
 
 /// HBAO of a G-buffer with normals. Returns a 1-channel image in [0, 1]; background = 1.
@@ -152,7 +163,22 @@ struct HbaoFrame {
   const float* normals;
   int width, height;
   CameraIntrinsics cam;
+  /// With far samples on the depth MIP chain (mip_distance > 0): `depth` is the chain (its
+  /// level 0 the frame), `mip` its layout and inv_mip_distance 1/q; else 0.
+  DepthMipLayout mip = {};
+  float inv_mip_distance = 0.0f;
 };
+
+/// Where HBAO's sample at (sx, sy), `distance` pixels from P along its direction, reads its
+/// depth in f.depth; with the MIP chain (f.inv_mip_distance > 0) the sample first snaps to
+/// its level's pixel (sx, sy updated).
+inline std::size_t hbao_sample_index(const HbaoFrame& f, float distance, int& sx, int& sy) {
+  if (!(f.inv_mip_distance > 0.0f)) return std::size_t(sy) * std::size_t(f.width) + sx;
+  const int level = depth_mip_level(distance * f.inv_mip_distance, f.mip.levels);
+  const std::size_t index = depth_mip_index(f.mip, level, sx, sy);
+  sx = depth_mip_pixel(sx, level, f.width), sy = depth_mip_pixel(sy, level, f.height);
+  return index;
+}
 
 // ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
 // texels; the oracle re-derives everything else in double precision. ----

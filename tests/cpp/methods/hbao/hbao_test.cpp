@@ -119,6 +119,38 @@ TEST(Hbao, ReferenceDefinitionMatchesCyclesBesideACrease) {
   }
 }
 
+// Far samples on the MIP chain snap to real pixels with their exact depths, so the
+// per-sample tangent test still sees an open plane as unoccluded, at any q and tilt.
+TEST(Hbao, MipChainKeepsOpenPlanesExactlyUnoccluded) {
+  for (float tilt : {0.0f, 60.0f, 80.0f}) {
+    SceneFixture f("plane", 203, 117, {{"tilt", tilt}});
+    for (float q : {0.5f, 1.0f, 4.0f}) {
+      HbaoSettings s;
+      s.radius = 2.0f, s.steps = 16, s.mip_distance = q;
+      EXPECT_EQ(min_valid(hbao(f.g, s), f.g), 1.0f) << "tilt " << tilt << ", q " << q;
+    }
+  }
+}
+
+// The chain moves far samples by at most 2^(l-1) ≤ r/(2q) pixels: like another jitter, it
+// changes the noise but not the mean (the same bound as another seed's), and the reference's
+// definition still matches Cycles beside a wall and in a crease.
+TEST(Hbao, MipChainChangesNoiseNotTheAnswer) {
+  SceneFixture blocks("blocks", 200, 120);
+  HbaoSettings full, mip;
+  full.radius = mip.radius = 0.5f;
+  mip.mip_distance = 4.0f;
+  expect_other_noise_same_mean(hbao(blocks.g, full), hbao(blocks.g, mip), 2e-3);
+  for (const char* scene : {"wall", "crease"}) {
+    SceneFixture f(scene, 160, 90);
+    HbaoSettings reference;
+    reference.directions = 32, reference.steps = 64, reference.mip_distance = 4.0f;
+    reference.attenuation = int(HbaoAttenuation::None);
+    reference.integral = int(HbaoIntegral::Cosine);
+    EXPECT_LT(mae_against_reference(hbao(f.g, reference), f), kReferenceDefinitionMae) << scene;
+  }
+}
+
 TEST(Hbao, SeedChangesNoiseButNotMean) {
   SceneFixture f("blocks", 200, 120);
   HbaoSettings s0, s1;
