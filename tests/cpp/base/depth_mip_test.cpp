@@ -49,16 +49,15 @@ TEST(DepthMip, APixelNearTheBlockCentreRepresentsIt) {
 }
 
 TEST(DepthMip, LevelIsFloorLog2OfTheDistanceInUnitsOfQ) {
-  EXPECT_EQ(depth_mip_level(0.0f, 5), 0);
-  EXPECT_EQ(depth_mip_level(0.99f, 5), 0);
-  EXPECT_EQ(depth_mip_level(1.0f, 5), 0);
-  EXPECT_EQ(depth_mip_level(1.99f, 5), 0);
-  EXPECT_EQ(depth_mip_level(2.0f, 5), 1);
-  EXPECT_EQ(depth_mip_level(31.9f, 5), 4);
-  EXPECT_EQ(depth_mip_level(1e9f, 5), 5);
-  EXPECT_EQ(depth_mip_level(1e9f, 2), 2);
-  EXPECT_EQ(depth_mip_level(std::numeric_limits<float>::infinity(), 3), 3);
-  EXPECT_EQ(depth_mip_level(std::numeric_limits<float>::quiet_NaN(), 3), 0);
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  struct Case {
+    float ratio;
+    int levels, expected;
+  };
+  for (const Case& c : {Case{0.0f, 5, 0}, Case{0.99f, 5, 0}, Case{1.0f, 5, 0}, Case{1.99f, 5, 0},
+                        Case{2.0f, 5, 1}, Case{31.9f, 5, 4}, Case{1e9f, 5, 5}, Case{1e9f, 2, 2},
+                        Case{kInf, 3, 3}, Case{std::numeric_limits<float>::quiet_NaN(), 3, 0}})
+    EXPECT_EQ(depth_mip_level(c.ratio, c.levels), c.expected) << c.ratio << ", " << c.levels;
 }
 
 TEST(DepthMip, EveryTexelHoldsItsPixelsDepthForAnyThreadCount) {
