@@ -28,7 +28,7 @@ DepthMipLayout depth_mip_layout(int width, int height, int levels) {
   return m;
 }
 
-void build_depth_mip(std::vector<float>& chain, const DepthMipLayout& m, int threads) {
+void build_depth_mip(Buffer<float>& chain, const DepthMipLayout& m, int threads) {
   const int w = m.width[0], h = m.height[0];
   CHECK_GE(chain.size(), std::size_t(w) * std::size_t(h));
   chain.resize(std::size_t(m.frame) + std::size_t(m.levels) * std::size_t(m.slot));

@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/base/working_memory.h"
+
 namespace aolab {
 
 /// The coarsest level: blocks of 32 × 32 pixels.
@@ -63,6 +65,6 @@ DepthMipLayout depth_mip_layout(int width, int height, int levels);
 
 /// Appends levels 1..layout.levels to `chain`, whose first width × height floats are level 0
 /// (the frame's depth), resizing it; rows in parallel on `threads`.
-void build_depth_mip(std::vector<float>& chain, const DepthMipLayout& layout, int threads);
+void build_depth_mip(Buffer<float>& chain, const DepthMipLayout& layout, int threads);
 
 }  // namespace aolab

@@ -72,9 +72,9 @@ Image view_positions(const GBuffer& g, int threads) {
   return p;
 }
 
-std::vector<float> depth_with_background_as_nan(const GBuffer& g, int threads) {
+Buffer<float> depth_with_background_as_nan(const GBuffer& g, int threads) {
   const int w = g.width();
-  std::vector<float> depth(std::size_t(w) * std::size_t(g.height()));
+  Buffer<float> depth(std::size_t(w) * std::size_t(g.height()));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   parallel_for_rows(g.height(), threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)

@@ -60,8 +60,9 @@ Image validity_mask(const GBuffer& g);
 
 /// The depth buffer as W·H floats, row-major, with every background pixel (is_geometry
 /// false) replaced by NaN: the working copy the methods march over, where any comparison
-/// with a background depth fails and so background never occludes.
-std::vector<float> depth_with_background_as_nan(const GBuffer& g, int threads = 0);
+/// with a background depth fails and so background never occludes. A working array: its memory
+/// comes from the working-memory cache.
+Buffer<float> depth_with_background_as_nan(const GBuffer& g, int threads = 0);
 
 /// Per-pixel view-space positions (3 channels); background pixels get NaN.
 Image view_positions(const GBuffer& g, int threads = 0);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/base/check.h"
+#include "core/base/working_memory.h"
 
 namespace aolab {
 
@@ -50,7 +51,9 @@ struct ImageView {
 using ConstImageView = ImageView<const float>;
 using MutableImageView = ImageView<float>;
 
-/// An owning, contiguous float image.
+/// An owning, contiguous float image. Its pixels come from the working-memory cache
+/// (working_memory.h): an output or intermediate image of one frame reuses the memory of the
+/// last, instead of fresh pages from the system every frame.
 class Image {
  public:
   Image() = default;
@@ -69,8 +72,8 @@ class Image {
   int channels() const { return channels_; }
   float* data() { return pixels_.data(); }
   const float* data() const { return pixels_.data(); }
-  std::vector<float>& pixels() { return pixels_; }
-  const std::vector<float>& pixels() const { return pixels_; }
+  Buffer<float>& pixels() { return pixels_; }
+  const Buffer<float>& pixels() const { return pixels_; }
   float& operator()(int x, int y, int c = 0) {
     return pixels_[(std::size_t(y) * std::size_t(width_) + std::size_t(x)) * channels_ + c];
   }
@@ -82,7 +85,7 @@ class Image {
 
  private:
   int width_ = 0, height_ = 0, channels_ = 1;
-  std::vector<float> pixels_;
+  Buffer<float> pixels_;
 };
 
 /// Throws std::invalid_argument unless `a` and `b` have the same width and height.

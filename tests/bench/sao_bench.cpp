@@ -69,7 +69,7 @@ BENCHMARK(BM_SaoRadiusFullResolution)->Apply(bench::radius_scales);
 
 void BM_SaoZPyramid(benchmark::State& state) {
   const GBuffer g = bench::blocks_gbuffer();
-  const std::vector<float> depth = depth_with_background_as_nan(g, kThreads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, kThreads);
   for (auto _ : state)
     benchmark::DoNotOptimize(sao_z_pyramid(depth, g.width(), g.height(), kSaoDefaultMaxMipLevel,
                                            SaoGrid::Paper, kThreads));
@@ -78,7 +78,7 @@ BENCHMARK(BM_SaoZPyramid)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SaoFilter(benchmark::State& state) {
   const GBuffer g = bench::blocks_gbuffer();
-  const std::vector<float> depth = depth_with_background_as_nan(g, kThreads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, kThreads);
   SaoSettings s;
   s.radius = kRadius;
   s.filter = false;

@@ -73,7 +73,7 @@ LsaoSweep lsao_oracle_sweep(const GBuffer& g, const LsaoSettings& s) {
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
   const CameraIntrinsics& cam = g.camera;
-  const std::vector<float> depth = depth_with_background_as_nan(g);
+  const Buffer<float> depth = depth_with_background_as_nan(g);
   const LsaoTangent strategy = LsaoTangent(s.tangent_strategy);
   const Image normals = prepared_normals(g, 1);
   const double r = double(kLsaoFalloffOffset) * double(s.radius) * double(s.radius);
@@ -140,7 +140,7 @@ LsaoSweep lsao_oracle_sweep(const GBuffer& g, const LsaoSettings& s) {
 Image lsao_oracle_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep) {
   const LsaoPlan& plan = sweep.plan;
   const int w = g.width(), h = g.height();
-  const std::vector<float> depth = depth_with_background_as_nan(g);
+  const Buffer<float> depth = depth_with_background_as_nan(g);
   const Image normals = prepared_normals(g, 1);
   const bool interpolated = LsaoSampling(s.sampling) == LsaoSampling::Interpolate;
   Image out(w, h, 1, 1.0f);

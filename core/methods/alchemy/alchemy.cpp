@@ -39,7 +39,7 @@ Image alchemy(const GBuffer& g, const AlchemySettings& s, const RunOptions& opti
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
   const SpiralTaps taps(s.samples, s.turns);

@@ -25,7 +25,7 @@ namespace aolab {
 struct ObscuranceLevels {
   int count = 0;                     ///< levels 0..count − 1
   int stride = 1;                    ///< int32 per texel: 1 (depth) or 2 (depth, source)
-  std::vector<std::int32_t> texels;  ///< levels 1.., `stride` per texel
+  Buffer<std::int32_t> texels;       ///< levels 1.., `stride` per texel; a working array
   std::vector<std::int32_t> offset;  ///< first texel of each level (level 0: 0)
   float r_max_scale = 0.0f;          ///< r·max(fx, fy): h_i = α_i · r_max_scale / d (SAO §2.3)
   int log_max_offset = 0;            ///< q'

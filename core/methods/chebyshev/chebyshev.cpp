@@ -4,12 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
-#include <new>
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 #include <mutex>
 
 #include "core/base/check.h"
@@ -149,7 +144,7 @@ FrameVector<int> background_distance(const Frame& f, int threads) {
 }
 
 struct Buffers {
-  std::vector<float> n, s1, s2, c;  // the horizontal pass, w·h each
+  Buffer<float> n, s1, s2, c;  // the horizontal pass, w·h each
 };
 
 // How window sizes relate: the vertical half-width of a window is R·fy/d = rh·fy/fx when
@@ -380,29 +375,6 @@ float chebyshev_visibility(float gap, float variance, const ChebyshevSettings& s
 
 namespace chebyshev_detail {
 
-// Arrays this large go to 2 MiB-aligned memory advised for huge pages.
-constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
-
-void* allocate_frame_bytes(std::size_t bytes) {
-#ifdef __linux__
-  if (bytes >= kHugePageBytes) {
-    const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
-    void* p = std::aligned_alloc(kHugePageBytes, rounded);
-    if (!p) throw std::bad_alloc();
-    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves 4 KiB pages
-    return p;
-  }
-#endif
-  return ::operator new(bytes);
-}
-
-void free_frame_bytes(void* p, std::size_t bytes) noexcept {
-#ifdef __linux__
-  if (bytes >= kHugePageBytes) return std::free(p);
-#endif
-  ::operator delete(p);
-}
-
 Plan make_plan(const GBuffer& g, const ChebyshevSettings& s, int threads) {
   const WindowShape shape{s.kernel_mode == int(ChebyshevKernel::Adaptive),
                           double(g.camera.fy) / g.camera.fx, s.max_kernel_radius};
@@ -434,8 +406,8 @@ Image scalar_moments(const Plan& plan, int threads, Progress* progress) {
         out(x, y, 0) = 1.0f;
 
   const std::size_t buffer = plan.levels.empty() ? 0 : pixels;
-  Buffers b{std::vector<float>(buffer), std::vector<float>(buffer), std::vector<float>(buffer),
-            std::vector<float>(buffer)};
+  Buffers b{Buffer<float>(buffer), Buffer<float>(buffer), Buffer<float>(buffer),
+            Buffer<float>(buffer)};
   for (int l = 0; l < int(plan.levels.size()); ++l) {
     horizontal_pass(f, plan.levels[l], plan.rows[l], b, threads, progress);
     vertical_pass(f, l, plan.levels[l], plan.rows[l], b, out, threads, progress);

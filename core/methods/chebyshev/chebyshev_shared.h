@@ -5,52 +5,24 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
-#include <new>
-#include <utility>
 #include <vector>
 
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
+#include "core/base/working_memory.h"
 #include "core/methods/chebyshev/chebyshev.h"
 
 namespace aolab::chebyshev_detail {
 
-/// Allocator of a frame's arrays: elements left default-initialised (no zero fill), so that
-/// the pages of an array are first touched, and faulted in, by the threads that write it
-/// rather than by one serial fill; and arrays of kHugePageBytes or more in 2 MiB pages where
-/// Linux offers them for the asking (transparent huge pages in "madvise" mode), since a
-/// frame's fresh memory costs a page fault per 4 KiB otherwise (a quarter of the SIMD
-/// kernel's time at 1280×720 when measured).
-void* allocate_frame_bytes(std::size_t bytes);
-void free_frame_bytes(void* p, std::size_t bytes) noexcept;
-
+/// A frame's arrays: working arrays (working_memory.h), so that a frame reuses the last one's
+/// memory; elements left default-initialised (no zero fill), so that the pages of a fresh array are
+/// first touched, and faulted in, by the threads that write it rather than by one serial fill;
+/// fresh arrays of 2 MiB or more in 2 MiB pages where Linux offers them for the asking (transparent
+/// huge pages in "madvise" mode), since fresh memory costs a page fault per 4 KiB otherwise (a
+/// quarter of the SIMD kernel's time at 1280×720 when measured, before the cache).
 template <class T>
-struct DefaultInitAllocator {
-  using value_type = T;
-  DefaultInitAllocator() = default;
-  template <class U>
-  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
-  T* allocate(std::size_t n) { return static_cast<T*>(allocate_frame_bytes(n * sizeof(T))); }
-  void deallocate(T* p, std::size_t n) noexcept { free_frame_bytes(p, n * sizeof(T)); }
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-  template <class U>
-  bool operator==(const DefaultInitAllocator<U>&) const noexcept {
-    return true;
-  }
-};
-
-/// A vector whose resize leaves new elements uninitialised.
-template <class T>
-using FrameVector = std::vector<T, DefaultInitAllocator<T>>;
+using FrameVector = UninitializedBuffer<T, WorkingMemoryPages::Huge>;
 
 /// One window size: half-widths along x (the horizontal pass) and y (the vertical pass).
 struct Level {

@@ -136,7 +136,7 @@ Image crytek_ssao(const GBuffer& g, const CrytekSsaoSettings& s, const RunOption
     return crytek_ssao_simd(g, s.hemisphere ? normals.data() : nullptr, s, kernel, tile, threads,
                             options.progress);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Frame frame{depth.data(), s.hemisphere ? normals.data() : nullptr, w, h, g.camera};
 
   return image_from_pixels(

@@ -135,7 +135,7 @@ Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, 
                        Simd&& simd) {
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
   if (options.kernel == Kernel::Simd) return simd(frame, threads, options.progress);

@@ -243,7 +243,7 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
 
   // Working copies: depth with background as NaN, normals cleaned up (gbuffer.h); with
   // far samples on the MIP chain, its levels after the depth.
-  std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   Frame frame{depth.data(), normals.data(), w, h, g.camera};
   if (s.mip_distance > 0.0f) {

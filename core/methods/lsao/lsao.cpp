@@ -602,13 +602,24 @@ void lsao_line_samples(const LsaoPlan& plan, const float* depth, LsaoSampling sa
   }
 }
 
+LsaoTexelRecord* LsaoRecordArena::take(std::size_t n) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (chunks_.empty() || chunks_.back().size() - used_ < n) {
+    chunks_.emplace_back(std::max(n, kLsaoRecordChunk));
+    used_ = 0;
+  }
+  LsaoTexelRecord* out = chunks_.back().data() + used_;
+  used_ += n;
+  return out;
+}
+
 LsaoSweep lsao_sweep(const GBuffer& g, const LsaoSettings& s, const RunOptions& options) {
   g.validate();
   LsaoSweep sweep;
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const LsaoTangent strategy = LsaoTangent(s.tangent_strategy);
   Image normals;
   if (strategy != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
@@ -663,7 +674,7 @@ Image lsao_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
   CHECK_EQ(plan.height, g.height());
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   Image normals;
   if (s.normal_aware_gather) normals = prepared_normals(g, threads);
   const std::vector<GatherAxis> axes = gather_axes(plan, s.line_spacing);

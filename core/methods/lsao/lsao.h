@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -283,20 +284,39 @@ struct LsaoTexelRecord {
 /// gather reads the samples near a band of rows contiguously.
 struct LsaoTexelRun {
   int lines_index = 0;
-  /// bucket_start.back() records (not value-initialised: each is written once by the sweep).
-  std::unique_ptr<LsaoTexelRecord[]> records;
+  /// bucket_start.back() records, in the sweep's LsaoRecordArena (not value-initialised: each
+  /// is written once by the sweep).
+  LsaoTexelRecord* records = nullptr;
   std::vector<std::uint32_t> bucket_start;  ///< per bucket of rows, and the end
 };
 constexpr int kLsaoRecordRows = 4;
 
+/// The memory of a sweep's texel records: working arrays (working_memory.h) of
+/// kLsaoRecordChunk records, a run's records taken from the last one with room, from any of
+/// the sweep's threads. A frame's records (some 200 MiB at 3840×2160) were otherwise thousands
+/// of allocations under 1 MiB that malloc returned to the system, and faulted in again, every
+/// frame.
+class LsaoRecordArena {
+ public:
+  /// Room for n records, left uninitialised; valid while the arena lives.
+  LsaoTexelRecord* take(std::size_t n);
+
+ private:
+  std::mutex mutex_;
+  std::vector<UninitializedBuffer<LsaoTexelRecord>> chunks_;
+  std::size_t used_ = 0;  ///< records taken from chunks_.back()
+};
+constexpr std::size_t kLsaoRecordChunk = (std::size_t(8) << 20) / sizeof(LsaoTexelRecord);
+
 struct LsaoSweep {
   LsaoPlan plan;
   /// plan.buffer_size floats laid out as LsaoPlan describes: depths (NaN on background) and
-  /// O_k (NaN on background samples).
-  std::vector<float> buffer;
+  /// O_k (NaN on background samples). A working array (working_memory.h).
+  Buffer<float> buffer;
   /// lsao_sweep_simd, aligned sets with sampling = snap only (where lsao_gather_simd uses
   /// them): the geometry samples again, by rows (LsaoTexelRun); runs in buffer order.
   std::vector<LsaoTexelRun> texel_runs;
+  std::unique_ptr<LsaoRecordArena> record_arena;  ///< where texel_runs' records are
 
   float value(int k, std::size_t i) const { return buffer[plan.value_index(k, i)]; }
   float depth(int li, std::size_t i) const { return buffer[plan.depth_index(li, i)]; }

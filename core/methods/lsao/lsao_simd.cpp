@@ -102,7 +102,8 @@ struct SweepInputs {
   float inv_r;           // 1/r = 1/(C R²)
   std::vector<std::vector<int>> directions_of;  // per plan.lines entry: the directions using it
   float* buffer;                                // the sweep's records
-  bool texel_runs;  // also the records of the SIMD gather (LsaoTexelRun)
+  bool texel_runs;         // also the records of the SIMD gather (LsaoTexelRun)
+  LsaoRecordArena* arena;  // where they go, with texel_runs
 };
 
 // Per worker: the samples of a batch's lines, transposed (row r of lane l at r·N + l), each
@@ -146,8 +147,8 @@ void FillMaps(const Inputs& in, const Axis& axis, int row_lo, int row_hi, int ma
   const std::ptrdiff_t origin = std::ptrdiff_t(map_row0 - row_lo) * in.map_stride + in.pad_left;
   for (std::size_t r = axis.first_run; r < axis.end_run; ++r) {
     const LsaoTexelRun& run = runs[r];
-    const LsaoTexelRecord* record = run.records.get() + run.bucket_start[std::size_t(b0)];
-    const LsaoTexelRecord* end = run.records.get() + run.bucket_start[std::size_t(b1) + 1];
+    const LsaoTexelRecord* record = run.records + run.bucket_start[std::size_t(b0)];
+    const LsaoTexelRecord* end = run.records + run.bucket_start[std::size_t(b1) + 1];
     for (; record < end; ++record) {
       const int y = record->y;
       if (y < row_lo || y >= row_hi) continue;
@@ -694,10 +695,10 @@ HWY_INLINE void WriteTexelRun(const SweepInputs& in, const BatchLayout& b, Sweep
     weight[n] = plan.directions[std::size_t(ks[n])].weight;
   run->lines_index = b.li;
   CountBuckets(plan, b, sc, run);
-  run->records.reset(new LsaoTexelRecord[run->bucket_start.back()]);
+  run->records = in.arena->take(run->bucket_start.back());
   std::vector<std::uint32_t>& cursor = sc.cursor;
   cursor.assign(run->bucket_start.begin(), run->bucket_start.end() - 1);
-  LsaoTexelRecord* records = run->records.get();
+  LsaoTexelRecord* records = run->records;
   const bool two = ks.size() == 2;
   for (int lane = 0; lane < b.lanes; ++lane) {
     const int n = b.Line(lane).count;
@@ -834,7 +835,7 @@ std::vector<lsao_simd::Axis> make_axes(const LsaoPlan& plan, const std::vector<L
 namespace {
 
 Image gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep,
-                  const RunOptions& options, const std::vector<float>* frame_depth) {
+                  const RunOptions& options, const Buffer<float>* frame_depth) {
   const LsaoPlan& plan = sweep.plan;
   // Without texel records (another setting, or a sweep from lsao_sweep) the scalar gather.
   if (!texel_maps_apply(plan, s) || sweep.texel_runs.empty())
@@ -843,8 +844,8 @@ Image gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
   CHECK_EQ(plan.height, g.height());
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth =
-      frame_depth ? std::vector<float>() : depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth =
+      frame_depth ? Buffer<float>() : depth_with_background_as_nan(g, threads);
   Image normals;
   if (s.normal_aware_gather) normals = prepared_normals(g, threads);
 
@@ -878,14 +879,14 @@ Image gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
 }
 
 LsaoSweep sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& options,
-                     bool keep_buffer, const std::vector<float>* frame_depth) {
+                     bool keep_buffer, const Buffer<float>* frame_depth) {
   g.validate();
   LsaoSweep sweep;
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
   const int threads = resolve_threads(options.threads);
-  const std::vector<float> depth =
-      frame_depth ? std::vector<float>() : depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth =
+      frame_depth ? Buffer<float>() : depth_with_background_as_nan(g, threads);
   Image normals;
   if (LsaoTangent(s.tangent_strategy) != LsaoTangent::Fixed) normals = prepared_normals(g, threads);
 
@@ -927,7 +928,11 @@ LsaoSweep sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& 
       l = e;
     }
   }
-  if (in.texel_runs) sweep.texel_runs.resize(batches.size());
+  if (in.texel_runs) {
+    sweep.texel_runs.resize(batches.size());
+    sweep.record_arena = std::make_unique<LsaoRecordArena>();
+  }
+  in.arena = sweep.record_arena.get();
   if (options.progress) options.progress->total += std::int64_t(batches.size());
   parallel_for_rows(
       int(batches.size()), threads,
@@ -960,8 +965,7 @@ Image lsao_simd_kernel(const GBuffer& g, const LsaoSettings& s, const RunOptions
   g.validate();
   validate_lsao_settings(s);
   // Both phases read the depth with background as NaN: made once.
-  const std::vector<float> depth =
-      depth_with_background_as_nan(g, resolve_threads(options.threads));
+  const Buffer<float> depth = depth_with_background_as_nan(g, resolve_threads(options.threads));
   return gather_simd(g, s, sweep_simd(g, s, options, false, &depth), options, &depth);
 }
 

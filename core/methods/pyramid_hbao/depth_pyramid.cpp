@@ -33,7 +33,7 @@ DepthPyramidLevel level_zero(int width, int height) {
 }
 
 // The G-buffer's depth, background as NaN, once the G-buffer is known to be valid.
-std::vector<float> validated_depth(const GBuffer& g, int threads) {
+Buffer<float> validated_depth(const GBuffer& g, int threads) {
   g.validate();
   return depth_with_background_as_nan(g, threads);
 }
@@ -52,7 +52,7 @@ DepthPyramid::DepthPyramid(const GBuffer& g, int reduction, int levels, int thre
     : DepthPyramid(validated_depth(g, threads), g.width(), g.height(), reduction, levels, threads) {
 }
 
-DepthPyramid::DepthPyramid(const std::vector<float>& depth, int width, int height, int reduction,
+DepthPyramid::DepthPyramid(std::span<const float> depth, int width, int height, int reduction,
                            int levels, int threads)
     : reduction_(reduction) {
   validate_shape(width, height, reduction, levels);

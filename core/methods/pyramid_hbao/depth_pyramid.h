@@ -20,6 +20,7 @@
 //   float32 more than its children's.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "core/base/gbuffer.h"
@@ -45,8 +46,8 @@ struct PyramidTexel {
 struct DepthPyramidLevel {
   int width = 0;
   int height = 0;
-  int scale = 1;                     ///< K^l: full-resolution pixels per texel along each axis
-  std::vector<PyramidTexel> texels;  ///< row-major, width × height
+  int scale = 1;                ///< K^l: full-resolution pixels per texel along each axis
+  Buffer<PyramidTexel> texels;  ///< row-major, width × height; a working array
 
   const PyramidTexel& operator()(int x, int y) const {
     return texels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
@@ -64,8 +65,8 @@ class DepthPyramid {
 
   /// From linear depth, row-major width × height, NaN marking background (any non-finite or
   /// non-positive value is treated as background too).
-  DepthPyramid(const std::vector<float>& depth, int width, int height, int reduction,
-               int levels = 0, int threads = 0);
+  DepthPyramid(std::span<const float> depth, int width, int height, int reduction, int levels = 0,
+               int threads = 0);
 
   int levels() const { return int(levels_.size()); }
   int reduction() const { return reduction_; }

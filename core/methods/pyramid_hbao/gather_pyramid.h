@@ -49,8 +49,8 @@ class GatherPyramid {
   const GatherPyramidLevel* data() const { return levels_.data(); }
 
  private:
-  struct Arrays {
-    std::vector<float> depth, cx, cy;
+  struct Arrays {  // working arrays (working_memory.h)
+    Buffer<float> depth, cx, cy;
   };
   std::vector<GatherPyramidLevel> levels_;
   std::vector<Arrays> storage_;

@@ -16,13 +16,13 @@
 
 namespace aolab {
 
-std::vector<SaoZLevel> sao_z_pyramid(const std::vector<float>& depth, int width, int height,
+std::vector<SaoZLevel> sao_z_pyramid(std::span<const float> depth, int width, int height,
                                      int max_level, SaoGrid grid, int threads) {
   std::vector<SaoZLevel> levels(std::size_t(max_level) + 1);
   SaoZLevel& base = levels[0];
   base.width = width;
   base.height = height;
-  base.depth = depth;
+  base.depth.assign(depth.begin(), depth.end());
   base.source.resize(depth.size());
   for (std::size_t i = 0; i < depth.size(); ++i) base.source[i] = std::int32_t(i);
   // §2.2: z_{m+1}(x, y) = z_m(2x + ((y & 1) ⊕ 1), 2y + ((x & 1) ⊕ 1)), a rotated grid that
@@ -51,7 +51,7 @@ std::vector<SaoZLevel> sao_z_pyramid(const std::vector<float>& depth, int width,
   return levels;
 }
 
-Image sao_quad_normals(const GBuffer& g, const std::vector<float>& depth, ConstImageView fallback,
+Image sao_quad_normals(const GBuffer& g, std::span<const float> depth, ConstImageView fallback,
                        int threads) {
   const int w = g.width(), h = g.height();
   const CameraIntrinsics& cam = g.camera;
@@ -150,7 +150,7 @@ Image sao(const GBuffer& g, const SaoSettings& s, const RunOptions& options) {
   if (options.progress)
     options.progress->total += (simd ? 0 : h) + (s.filter ? 2 * std::int64_t(h) : 0);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   Image normals = prepared_normals(g, threads);
   if (s.normals == int(SaoNormals::Depth))
     normals = sao_quad_normals(g, depth, normals.view(), threads);

@@ -15,6 +15,10 @@
 // docs/methods/sao.md gives the details and the choices where the paper is silent.
 #pragma once
 
+#include <cstdint>
+#include <span>
+#include <vector>
+
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
@@ -161,21 +165,21 @@ inline const SettingField<SaoSettings> kSaoFields[] = {
 /// pixel it was subsampled from.
 struct SaoZLevel {
   int width = 0, height = 0;
-  std::vector<float> depth;
-  std::vector<std::int32_t> source;  ///< y·W + x of the full-resolution pixel
+  Buffer<float> depth;          ///< a working array, as `source`
+  Buffer<std::int32_t> source;  ///< y·W + x of the full-resolution pixel
 };
 
 /// The pyramid of levels 0..max_level (level 0 = `depth`, W × H, NaN = background); level
 /// m + 1 is ⌈w_m/2⌉ × ⌈h_m/2⌉, its texel (x, y) a copy of level m's texel of the rotated grid
 /// (coordinates clamped to level m). Threads as in RunOptions.
-std::vector<SaoZLevel> sao_z_pyramid(const std::vector<float>& depth, int width, int height,
+std::vector<SaoZLevel> sao_z_pyramid(std::span<const float> depth, int width, int height,
                                      int max_level, SaoGrid grid, int threads = 0);
 
 /// The normals of the 2×2 pixel quads (SaoNormals::Depth): for pixel (x, y), the cross
 /// product of the position differences across its quad's row and column (x ^ 1, y ^ 1 when
 /// inside the image, else the other neighbour), facing the camera; `fallback` (3 channels)
 /// where a needed neighbour is background.
-Image sao_quad_normals(const GBuffer& g, const std::vector<float>& depth, ConstImageView fallback,
+Image sao_quad_normals(const GBuffer& g, std::span<const float> depth, ConstImageView fallback,
                        int threads = 0);
 
 /// SAO of a G-buffer with normals. Returns a 1-channel image in [0, 1]; background = 1.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace aolab {
 
@@ -50,13 +51,13 @@ void filter_pass(const float* in, float* out, const float* depth, int w, int h, 
 
 }  // namespace
 
-void sao_bilateral_filter(Image& ao, const std::vector<float>& depth, const SaoBlurParams& p,
+void sao_bilateral_filter(Image& ao, std::span<const float> depth, const SaoBlurParams& p,
                           int threads, Progress* progress) {
   const int w = ao.width(), h = ao.height();
   std::vector<float> gauss(std::size_t(p.radius) + 1);
   for (int j = 0; j <= p.radius; ++j)
     gauss[std::size_t(j)] = float(std::exp(-double(j) * j / (2.0 * double(p.sigma) * p.sigma)));
-  std::vector<float> tmp(std::size_t(w) * std::size_t(h));
+  Buffer<float> tmp(std::size_t(w) * std::size_t(h));
   filter_pass(ao.data(), tmp.data(), depth.data(), w, h, true, p, gauss, threads, progress);
   filter_pass(tmp.data(), ao.data(), depth.data(), w, h, false, p, gauss, threads, progress);
 }

@@ -3,7 +3,7 @@
 // weights fall linearly to 0 with the depth difference to the centre.
 #pragma once
 
-#include <vector>
+#include <span>
 
 #include "core/base/image.h"
 #include "core/base/parallel.h"
@@ -23,7 +23,7 @@ struct SaoBlurParams {
 /// |z_j − z_0|/edge_depth) (1 when edge_depth is 0 or infinite). Background keeps its value and
 /// never contributes. A constant image comes back bit for bit. Rows are counted in `progress` (2
 /// passes of H rows).
-void sao_bilateral_filter(Image& ao, const std::vector<float>& depth, const SaoBlurParams& params,
+void sao_bilateral_filter(Image& ao, std::span<const float> depth, const SaoBlurParams& params,
                           int threads, Progress* progress);
 
 }  // namespace aolab

@@ -5,7 +5,7 @@
 // (docs/architecture.md, "Two kernels per method").
 #pragma once
 
-#include <vector>
+#include <span>
 
 #include "core/base/image.h"
 #include "core/base/parallel.h"
@@ -20,11 +20,11 @@ namespace aolab {
 /// texel the same depths and sources as sao_z_pyramid. Throws std::invalid_argument when the
 /// coarse levels hold more than 2^31 − 1 texels (the gathers' indices are 32-bit) or the image
 /// has 2^22 rows or more (the kernel's float quotient for a source's row).
-ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width, int height,
+ObscuranceLevels sao_levels_for_simd(std::span<const float> depth, int width, int height,
                                      int max_level, SaoGrid grid, bool with_sources, int threads);
 
 /// sao_bilateral_filter in vectors, then every pixel clamped to [0, 1] (sao()'s last step).
-void sao_bilateral_filter_simd(Image& ao, const std::vector<float>& depth,
-                               const SaoBlurParams& params, int threads, Progress* progress);
+void sao_bilateral_filter_simd(Image& ao, std::span<const float> depth, const SaoBlurParams& params,
+                               int threads, Progress* progress);
 
 }  // namespace aolab

@@ -64,7 +64,7 @@ namespace aolab {
 
 HWY_EXPORT(SaoFilterRow);
 
-ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width, int height,
+ObscuranceLevels sao_levels_for_simd(std::span<const float> depth, int width, int height,
                                      int max_level, SaoGrid grid, bool with_sources, int threads) {
   // The kernel finds a source's row from a float quotient, exact to ±1 below 2^22 rows.
   if (height >= (1 << 22))
@@ -115,7 +115,7 @@ ObscuranceLevels sao_levels_for_simd(const std::vector<float>& depth, int width,
 // values, 64 × H floats (180 KiB at H = 720), stay in a core's L2 while it is filtered.
 constexpr int kStripColumns = 64;
 
-void sao_bilateral_filter_simd(Image& ao, const std::vector<float>& depth, const SaoBlurParams& p,
+void sao_bilateral_filter_simd(Image& ao, std::span<const float> depth, const SaoBlurParams& p,
                                int threads, Progress* progress) {
   const int w = ao.width(), h = ao.height();
   std::vector<float> gauss(std::size_t(p.radius) + 1);

@@ -189,7 +189,7 @@ std::vector<Image> screen_space_limit_thicknesses(const GBuffer& g,
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
 
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
   const Frame frame{depth.data(), normals.data(), w, h, g.camera};
   const std::size_t n = wanted.size();

@@ -131,7 +131,7 @@ float vao_unoccluded_length(const VaoPipe& pipe, float surface_depth, float tole
 /// The G-buffer as the per-pixel code reads it: depth with background as NaN (so every
 /// comparison with it fails), prepared normals and, if asked for, colour clamped to [0, 1].
 struct VaoFrame {
-  std::vector<float> depth;
+  Buffer<float> depth;
   Image normals;
   Image color;  ///< 3 channels, or empty
   int width = 0, height = 0;

@@ -18,7 +18,7 @@ Image cross_bilateral_filter(ConstImageView image, const GBuffer& g, int taps, f
   for (int i = -half; i <= half; ++i)
     weights[std::size_t(i + half)] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
   // Every comparison with a background depth fails.
-  const std::vector<float> depth = depth_with_background_as_nan(g, threads);
+  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
 
   Image tmp(w, h, nc), out(w, h, nc);
   auto pass = [&](ConstImageView src, Image& dst, int dx, int dy) {

@@ -12,8 +12,8 @@
 namespace aolab {
 namespace {
 
-std::vector<float> ramp(int w, int h) {
-  std::vector<float> d(std::size_t(w) * h);
+Buffer<float> ramp(int w, int h) {
+  Buffer<float> d(std::size_t(w) * h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) d[std::size_t(y) * w + x] = float(y * 10000 + x);
   return d;
@@ -62,12 +62,12 @@ TEST(DepthMip, LevelIsFloorLog2OfTheDistanceInUnitsOfQ) {
 
 TEST(DepthMip, EveryTexelHoldsItsPixelsDepthForAnyThreadCount) {
   for (const auto& [w, h] : {std::pair{203, 117}, std::pair{64, 64}, std::pair{7, 3}}) {
-    std::vector<float> one = ramp(w, h), two = ramp(w, h);
+    Buffer<float> one = ramp(w, h), two = ramp(w, h);
     const DepthMipLayout m = depth_mip_layout(w, h, kMaxDepthMipLevel);
     build_depth_mip(one, m, 1);
     build_depth_mip(two, m, 2);
     EXPECT_EQ(one, two);
-    const std::vector<float> frame = ramp(w, h);
+    const Buffer<float> frame = ramp(w, h);
     for (int l = 0; l <= m.levels; ++l)
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

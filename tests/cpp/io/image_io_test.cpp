@@ -314,13 +314,13 @@ TEST_F(ImageIo, StridedViewIsWrittenRowByRow) {
   const ConstImageView window(&parent(1, 1), 3, 2, 1, 5);
   write_image(path("window.exr"), window);
   const Image back = read_image(path("window.exr"));
-  EXPECT_EQ(back.pixels(), (std::vector<float>{11, 12, 13, 21, 22, 23}));
+  EXPECT_EQ(back.pixels(), (Buffer<float>{11, 12, 13, 21, 22, 23}));
 }
 
 TEST_F(ImageIo, PngIsValueTimes255RoundedAndClamped) {
   const std::vector<float> values{0.0f, 0.5f, 1.0f, 1.7f, -0.2f, NAN, 0.25f, 0.9f};
   Image img(int(values.size()), 1, 1);
-  img.pixels() = values;
+  img.pixels().assign(values.begin(), values.end());
   write_image(path("ao.png"), img.view());
   const Image back = read_image(path("ao.png"));
   ASSERT_EQ(back.width(), int(values.size()));

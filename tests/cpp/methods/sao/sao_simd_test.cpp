@@ -126,7 +126,7 @@ TEST(SaoSimd, MatchesScalarOnReferenceScenes) {
 
 TEST(SaoSimd, PyramidIsTheScalarPyramid) {
   const SceneFixture f("blocks", 203, 117);
-  const std::vector<float> depth = depth_with_background_as_nan(f.g, 1);
+  const Buffer<float> depth = depth_with_background_as_nan(f.g, 1);
   for (const SaoGrid grid : {SaoGrid::Paper, SaoGrid::Reference}) {
     const auto scalar = sao_z_pyramid(depth, 203, 117, 9, grid, 1);
     const ObscuranceLevels simd = sao_levels_for_simd(depth, 203, 117, 9, grid, true, 2);
@@ -147,7 +147,7 @@ TEST(SaoSimd, PyramidIsTheScalarPyramid) {
 
 TEST(SaoSimd, FilterMatchesScalarFilter) {
   const SceneFixture f("blocks", 203, 117);
-  const std::vector<float> depth = depth_with_background_as_nan(f.g, 1);
+  const Buffer<float> depth = depth_with_background_as_nan(f.g, 1);
   SaoSettings raw;
   raw.radius = 0.25f;
   raw.filter = false;

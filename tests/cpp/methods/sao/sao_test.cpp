@@ -99,7 +99,7 @@ TEST(Sao, MipSelectionFollowsTheSwitchDistance) {
 // plane's normal.
 TEST(Sao, QuadNormalsOfAPlaneAreItsNormal) {
   SceneFixture f("plane", 96, 54, {{"tilt", 50.0}, {"azimuth", 20.0}});
-  const std::vector<float> depth = depth_with_background_as_nan(f.g);
+  const Buffer<float> depth = depth_with_background_as_nan(f.g);
   const Image gb = prepared_normals(f.g);
   const Image quad = sao_quad_normals(f.g, depth, gb.view(), 2);
   for (int y = 0; y < 54; ++y)
