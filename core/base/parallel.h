@@ -7,7 +7,11 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "core/base/image.h"
 
@@ -36,6 +40,38 @@ int resolve_threads(int threads);
 /// `rows_per_band` sets the band height (0: the default of 4 rows).
 void parallel_for_rows(int rows, int threads, const std::function<void(int, int)>& body,
                        Progress* progress = nullptr, int rows_per_band = 0);
+
+/// The scratch objects of one parallel loop: a band takes one (made by make() when none is
+/// free) and gives it back when done, so that a loop makes as many as run at once rather than
+/// one per band. Scratch arrays of a few hundred KiB made band after band are otherwise
+/// allocated and handed back to the system by malloc each time, their pages faulted in again
+/// (malloc keeps in its heap only what lies under thresholds it sets for itself). Only for
+/// scratch whose leftovers from an earlier band never change what a band computes: which
+/// band's leftovers a band finds depends on the threads' timing.
+template <class T>
+class ScratchPool {
+ public:
+  template <class Make>
+  std::unique_ptr<T> take(Make make) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        std::unique_ptr<T> scratch = std::move(free_.back());
+        free_.pop_back();
+        return scratch;
+      }
+    }
+    return make();
+  }
+  void give(std::unique_ptr<T> scratch) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    free_.push_back(std::move(scratch));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<T>> free_;
+};
 
 /// The per-pixel loop every method runs: a 1-channel `width` × `height` image whose pixel
 /// (x, y) is pixel(scratch, x, y), rows in parallel bands as parallel_for_rows; each band gets

@@ -867,12 +867,15 @@ Image gather_simd(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& swee
   Image out(w, h, 1, 1.0f);
   const int bands = (h + lsao_simd::kBandRows - 1) / lsao_simd::kBandRows;
   if (options.progress) options.progress->total += bands;
+  // A band clears the maps and sums it reads before it fills them.
+  ScratchPool<lsao_simd::Scratch> scratches;
   parallel_for_rows(
       bands, threads,
       [&](int b0, int b1) {
-        lsao_simd::Scratch scratch(in);
+        auto scratch = scratches.take([&] { return std::make_unique<lsao_simd::Scratch>(in); });
         for (int b = b0; b < b1; ++b)
-          HWY_DYNAMIC_DISPATCH(LsaoGatherBand)(in, b, scratch, out.data());
+          HWY_DYNAMIC_DISPATCH(LsaoGatherBand)(in, b, *scratch, out.data());
+        scratches.give(std::move(scratch));
       },
       options.progress, kGatherBandsPerTask);
   return out;
@@ -934,16 +937,19 @@ LsaoSweep sweep_simd(const GBuffer& g, const LsaoSettings& s, const RunOptions& 
   }
   in.arena = sweep.record_arena.get();
   if (options.progress) options.progress->total += std::int64_t(batches.size());
+  // A batch writes every element of the scratch it reads.
+  ScratchPool<lsao_simd::SweepScratch> scratches;
   parallel_for_rows(
       int(batches.size()), threads,
       [&](int b0, int b1) {
-        lsao_simd::SweepScratch scratch;
+        auto scratch = scratches.take([] { return std::make_unique<lsao_simd::SweepScratch>(); });
         for (int b = b0; b < b1; ++b) {
           const Batch& batch = batches[std::size_t(b)];
           HWY_DYNAMIC_DISPATCH(LsaoSweepBatch)
-          (in, batch.li, batch.l0, batch.l1, scratch,
+          (in, batch.li, batch.l0, batch.l1, *scratch,
            in.texel_runs ? &sweep.texel_runs[std::size_t(b)] : nullptr);
         }
+        scratches.give(std::move(scratch));
       },
       options.progress, kSweepBatchesPerTask);
   return sweep;
