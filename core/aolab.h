@@ -5,7 +5,8 @@
 // - core/base/      checks that throw (check.h), images and strided views (image.h), setting
 //                   tables (settings.h), row-parallel loops with progress and cancellation
 //                   (parallel.h), pinhole intrinsics (camera.h), the G-buffer and the
-//                   background rule (gbuffer.h), the SIMD target in use (simd_target.h).
+//                   background rule (gbuffer.h), the SIMD target in use (simd_target.h),
+//                   the cache of large working arrays (working_memory.h).
 // - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
 //                   rotation-aware Poisson-disk sets (poisson_disk.h).
 // - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
@@ -32,10 +33,12 @@
 //   here calls exit or abort: the library runs inside Blender.
 // - Threads. Heavy calls take a thread count (0 = all cores) and an optional Progress with
 //   a cancel flag. Randomness is a pure function of (seed, pixel, stream), so results are
-//   bit-identical for any thread count. No global mutable state: two computations can run
-//   at once.
+//   bit-identical for any thread count. No global mutable state but the working-memory
+//   cache, which a mutex guards: two computations can run at once.
 // - Memory. Inputs are non-owning views (ImageView), so callers' buffers (numpy arrays) are
-//   used without copies; results are owning Images.
+//   used without copies; results are owning Images. Every large array, results included,
+//   comes from a process-wide cache that keeps it for the next frame (working_memory.h):
+//   fresh pages would cost a page fault per 4 KiB every frame.
 #pragma once
 
 // core/base
@@ -47,6 +50,7 @@
 #include "core/base/settings.h"
 #include "core/base/simd_target.h"
 #include "core/base/triangle_mesh.h"
+#include "core/base/working_memory.h"
 
 // core/sampling
 #include "core/sampling/blue_noise.h"

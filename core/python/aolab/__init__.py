@@ -24,7 +24,8 @@ __all__ = [
     "load_gbuffer", "save_gbuffer", "write_image", "encode_image", "Progress", "Cancelled",
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
     "rtao", "ray_scene", "RayScene", "rtao_settings", "rtao_range", "RtaoRangeWarning",
-    "analytic_scene_mesh", "load_mesh", "mesh_for_gbuffer",
+    "analytic_scene_mesh", "load_mesh", "mesh_for_gbuffer", "working_memory",
+    "set_working_memory_limit", "release_working_memory",
 ]
 
 GBuffer = _core.GBuffer
@@ -37,6 +38,30 @@ def simd_target() -> str:
     (AVX-512), ``"AVX2"``, ``"SSE4"``, ``"NEON"``, ... (chosen at run time; the build is
     portable)."""
     return _core.simd_target()
+
+
+def working_memory() -> dict:
+    """The cache of working memory (docs/conventions.md, "Working memory"): the large arrays a
+    computation allocates (depth copy, prepared normals, pyramids, the result) come from it and
+    go back to it, so that the next frame reuses them instead of fresh pages from the system.
+    A dict of ``cached_bytes`` (kept idle for the next computation), ``cached_blocks``,
+    ``in_use_bytes`` (large arrays alive now, results a caller holds included) and
+    ``limit_bytes`` (the cap on ``cached_bytes``, 512 MiB unless set)."""
+    return _core.working_memory()
+
+
+def set_working_memory_limit(limit_bytes: int) -> None:
+    """Caps the bytes the cache keeps idle; 0 keeps nothing (every large array is freed when
+    done with, as before the cache). Lowering it frees the least recently used blocks down to
+    it. Anything but a whole number >= 0 (a bool, a float, a negative number) is a ValueError
+    naming ``limit_bytes`` and the value."""
+    _core.set_working_memory_limit(limit_bytes)
+
+
+def release_working_memory() -> None:
+    """Frees every block the cache keeps idle (the limit stays): after a burst of large
+    frames, to give the memory back at once."""
+    _core.release_working_memory()
 
 
 def methods() -> list[str]:

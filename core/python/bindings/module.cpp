@@ -14,6 +14,7 @@ void bind_files(py::module_& m);
 void bind_image_io(py::module_& m);
 void bind_analytic_scenes(py::module_& m);
 void bind_rtao(py::module_& m);
+void bind_working_memory(py::module_& m);
 }  // namespace aolab::python
 
 PYBIND11_MODULE(_core, m) {
@@ -28,4 +29,5 @@ PYBIND11_MODULE(_core, m) {
   bind_image_io(m);
   bind_analytic_scenes(m);
   bind_rtao(m);
+  bind_working_memory(m);
 }
