@@ -6,7 +6,8 @@
 //                   tables (settings.h), row-parallel loops with progress and cancellation
 //                   (parallel.h), pinhole intrinsics (camera.h), the G-buffer and the
 //                   background rule (gbuffer.h), the SIMD target in use (simd_target.h),
-//                   the cache of large working arrays (working_memory.h).
+//                   the cache of large working arrays (working_memory.h), the depth MIP
+//                   chain for far samples (depth_mip.h).
 // - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
 //                   rotation-aware Poisson-disk sets (poisson_disk.h).
 // - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
@@ -44,6 +45,7 @@
 // core/base
 #include "core/base/camera.h"
 #include "core/base/check.h"
+#include "core/base/depth_mip.h"
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
