@@ -70,6 +70,12 @@ def test_targets_name_the_worst_case():
     assert not by["Live"]["met"] and "101.0 ms (sao, c)" in by["Live"]["measured"]
 
 
+def test_paired_timing_alternates_the_two_runs():
+    calls = []
+    a, b = gb.paired_ms(lambda: calls.append("a"), lambda: calls.append("b"), 3)
+    assert calls == ["a", "b"] * 4 and a >= 0 and b >= 0
+
+
 def test_scaling_targets_follow_the_worst_ratio():
     large = [{"scene": "a", "method": "sao", "ms": 90.0, "small_ms": 10.0, "ratio": 9.0},
              {"scene": "b", "method": "sao", "ms": 132.0, "small_ms": 12.0, "ratio": 11.0}]

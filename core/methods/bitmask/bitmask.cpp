@@ -244,7 +244,7 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& s, const RunOptions& opti
                       s.sectors >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << s.sectors) - 1};
   const SectorTables tables(s.sectors);
   return run_slice_method(
-      g, s.slices, options,
+      g, s.slices, s.mip_distance, options,
       [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
           float* dir_sin) {
         return bitmask_pixel(f, params, tables, directions, x, y, dir_cos, dir_sin);

@@ -126,6 +126,11 @@ struct BitmaskSettings {
   bool jitter = true;
   /// Seed of the per-pixel random rotation and jitter. [0, 2^31 - 1].
   int seed = 0;
+  /// q, in pixels: far samples read the depth MIP chain, as HBAO's (HbaoSettings::mip_distance):
+  /// a sample r ≥ 2q pixels from P snaps to the pixel of its 2^l block, l = min(floor(log2(r/q)),
+  /// 5), and reads that pixel's exact depth from level l. 0: full resolution, as in the paper.
+  /// [0, 4096].
+  float mip_distance = 0.0f;
 };
 
 inline const SettingField<BitmaskSettings> kBitmaskFields[] = {
@@ -164,6 +169,10 @@ inline const SettingField<BitmaskSettings> kBitmaskFields[] = {
      "rotate the slices randomly per pixel"},
     {"jitter", &BitmaskSettings::jitter, 0, 1, "", "jitter the sample offsets randomly per pixel"},
     {"seed", &BitmaskSettings::seed, 0, 2147483647, "", "seed of the per-pixel randomness"},
+    {"mip_distance", &BitmaskSettings::mip_distance, 0, 4096, "px",
+     "q: a sample r >= 2q px away reads the depth MIP level floor(log2(r/q)) (at most 5), "
+     "snapped to a pixel of that level, which keeps large radii in the cache; 0 = full "
+     "resolution everywhere, as in the paper"},
 };
 
 /// Visibility bitmask AO of a G-buffer with normals. Returns a 1-channel image in [0, 1];

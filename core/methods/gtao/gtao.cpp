@@ -150,7 +150,7 @@ Image gtao(const GBuffer& g, const GtaoSettings& s, const RunOptions& options) {
   require_normal(g, "gtao");
   validate_settings(s, kGtaoFields);
   return run_slice_method(
-      g, s.slices, options,
+      g, s.slices, 0.0f, options,
       [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
           float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); },
       [&](const SliceFrame& f, int threads, Progress* progress) {

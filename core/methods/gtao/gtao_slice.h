@@ -84,14 +84,17 @@ template <class Visit>
 void march_slice_side(const SliceFrame& f, const HbaoReceiver& p, const SliceGeometry& sl,
                       int steps, float jitter, int side, Visit&& visit) {
   const float sign = side == 0 ? 1.0f : -1.0f;
+  // |step| in pixels, for the MIP level of far samples (no fused add: the SIMD kernel's bits).
+  const float step_len = std::sqrt(sl.step_x * sl.step_x + sl.step_y * sl.step_y);
   for (int i = 1; i <= steps; ++i) {
     const float t = sign * (float(i) - jitter);
     const float sx_f = p.px + t * sl.step_x, sy_f = p.py + t * sl.step_y;
     // Leaving the image along a straight line is final; the test also rejects inf/NaN.
     if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
-    const int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
+    int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
+    const std::size_t index = hbao_sample_index(f, (float(i) - jitter) * step_len, sx, sy);
     if (sx == p.x && sy == p.y) continue;
-    const float ds = f.depth[std::size_t(sy) * f.width + sx];
+    const float ds = f.depth[index];
     if (!(ds == ds)) continue;  // background never occludes
     if (!visit(sx, sy, ds)) break;
   }
@@ -131,13 +134,13 @@ inline bool slice_pixel(const SliceFrame& f, const HbaoDirections& directions, i
 /// are per-thread scratch of 2·`slices` floats. With Kernel::Simd, simd(frame, threads,
 /// progress) computes the image instead (the method's SIMD kernel, on the same working copies).
 template <class Pixel, class Simd>
-Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel,
-                       Simd&& simd) {
+Image run_slice_method(const GBuffer& g, int slices, float mip_distance, const RunOptions& options,
+                       Pixel&& pixel, Simd&& simd) {
   const int w = g.width(), h = g.height();
   const int threads = resolve_threads(options.threads);
-  const Buffer<float> depth = depth_with_background_as_nan(g, threads);
+  Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
-  const SliceFrame frame{depth.data(), normals.data(), w, h, g.camera};
+  const SliceFrame frame = hbao_frame(depth, normals, g.camera, mip_distance, threads);
   if (options.kernel == Kernel::Simd) return simd(frame, threads, options.progress);
   const HbaoDirections directions(2 * slices);
   return image_from_pixels(
@@ -152,7 +155,7 @@ template <class Pixel>
 Image run_slice_method(const GBuffer& g, int slices, const RunOptions& options, Pixel&& pixel) {
   RunOptions scalar = options;
   scalar.kernel = Kernel::Scalar;
-  return run_slice_method(g, slices, scalar, pixel, [](const SliceFrame&, int, Progress*) {
+  return run_slice_method(g, slices, 0.0f, scalar, pixel, [](const SliceFrame&, int, Progress*) {
     return Image();  // never called for Kernel::Scalar
   });
 }

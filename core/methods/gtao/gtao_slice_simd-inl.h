@@ -42,6 +42,7 @@ namespace slice_simd {
 struct Row {
   VF inv_fx, inv_fy, fx, fy, width, height;
   int y, w;
+  MipSampling<DF> mip;  // far samples on the depth MIP chain (HbaoFrame::mip)
 };
 
 inline Row make_row(DF df, const SliceFrame& f, int y) {
@@ -50,6 +51,7 @@ inline Row make_row(DF df, const SliceFrame& f, int y) {
   k.fx = hn::Set(df, f.cam.fx), k.fy = hn::Set(df, f.cam.fy);
   k.width = hn::Set(df, float(f.width)), k.height = hn::Set(df, float(f.height));
   k.y = y, k.w = f.width;
+  k.mip = MakeMipSampling(df, f);
   return k;
 }
 
@@ -215,6 +217,8 @@ HWY_INLINE int gather_steps(DF df, const SliceFrame& f, const Row& k, const Pixe
   const VF zero = hn::Zero(df);
   const VI row = hn::Set(di, k.y);
   const std::size_t lanes = hn::Lanes(df);
+  // |step| in pixels, for the MIP level (as march_slice_side: no fused add).
+  const VF step_len = hn::Sqrt(hn::Add(hn::Mul(step_x, step_x), hn::Mul(step_y, step_y)));
   for (int j = 0; j < n; ++j) {
     const VF t = hn::Sub(hn::Set(df, float(i0 + j)), p.jitter);
     const VF sx_f = hn::MulAdd(t, step_x, p.px), sy_f = hn::MulAdd(t, step_y, p.py);
@@ -222,10 +226,11 @@ HWY_INLINE int gather_steps(DF df, const SliceFrame& f, const Row& k, const Pixe
     alive = hn::And(alive, hn::And(hn::And(hn::Ge(sx_f, zero), hn::Lt(sx_f, k.width)),
                                    hn::And(hn::Ge(sy_f, zero), hn::Lt(sy_f, k.height))));
     if (hn::AllFalse(df, alive)) return j;
-    const VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
-    const VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
+    VI sx = hn::ConvertTo(di, hn::IfThenElseZero(alive, sx_f));  // snap to the texel
+    VI sy = hn::ConvertTo(di, hn::IfThenElseZero(alive, sy_f));
+    const VI index = k.mip.on ? MipSampleIndex(df, k.mip, hn::Mul(t, step_len), sx, sy)
+                              : hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
     const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
-    const VI index = hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
     const VF ds = hn::GatherIndex(df, f.depth, index);
     hn::Store(sx, di, sxs + j * lanes);
     hn::Store(sy, di, sys + j * lanes);

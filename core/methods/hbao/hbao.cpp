@@ -245,13 +245,7 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   // far samples on the MIP chain, its levels after the depth.
   Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
-  Frame frame{depth.data(), normals.data(), w, h, g.camera};
-  if (s.mip_distance > 0.0f) {
-    frame.mip = depth_mip_layout(w, h, kMaxDepthMipLevel);
-    build_depth_mip(depth, frame.mip, threads);
-    frame.depth = depth.data();
-    frame.inv_mip_distance = 1.0f / s.mip_distance;
-  }
+  const Frame frame = hbao_frame(depth, normals, g.camera, s.mip_distance, threads);
   if (options.kernel == Kernel::Simd) return hbao_simd(frame, s, threads, options.progress);
 
   const HbaoDirections directions(s.directions);
@@ -261,6 +255,18 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
       [&](std::vector<float>& dirs, int x, int y) {
         return hbao_pixel(frame, s, directions, x, y, dirs.data(), dirs.data() + s.directions);
       });
+}
+
+HbaoFrame hbao_frame(Buffer<float>& depth, const Image& normals, const CameraIntrinsics& cam,
+                     float mip_distance, int threads) {
+  HbaoFrame f{depth.data(), normals.data(), normals.width(), normals.height(), cam};
+  if (mip_distance > 0.0f) {
+    f.mip = depth_mip_layout(f.width, f.height, kMaxDepthMipLevel);
+    build_depth_mip(depth, f.mip, threads);  // may move the depth
+    f.depth = depth.data();
+    f.inv_mip_distance = 1.0f / mip_distance;
+  }
+  return f;
 }
 
 Method hbao_method() {

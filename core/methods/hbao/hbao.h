@@ -169,6 +169,11 @@ struct HbaoFrame {
   float inv_mip_distance = 0.0f;
 };
 
+/// The frame over `depth` (background as NaN) and prepared `normals`; with mip_distance q > 0
+/// the depth MIP chain is appended to `depth` (build_depth_mip) for far samples.
+HbaoFrame hbao_frame(Buffer<float>& depth, const Image& normals, const CameraIntrinsics& cam,
+                     float mip_distance, int threads);
+
 /// Where HBAO's sample at (sx, sy), `distance` pixels from P along its direction, reads its
 /// depth in f.depth; with the MIP chain (f.inv_mip_distance > 0) the sample first snaps to
 /// its level's pixel (sx, sy updated).

@@ -53,6 +53,54 @@ HWY_INLINE TangentTest<DF> ExactTangentTest(DF df, hn::Vec<DF> d_n_r0, hn::Vec<D
   return t;
 }
 
+/// What hbao_sample_index needs of the frame's depth MIP chain, on every lane.
+template <class DF>
+struct MipSampling {
+  bool on = false;  ///< f.inv_mip_distance > 0
+  hn::Vec<DF> inv_q;
+  hn::Vec<hn::RebindToSigned<DF>> levels, frame, slot, width_minus_1, max_x, max_y;
+};
+
+template <class DF>
+HWY_INLINE MipSampling<DF> MakeMipSampling(DF df, const HbaoFrame& f) {
+  const hn::RebindToSigned<DF> di;
+  MipSampling<DF> m;
+  m.on = f.inv_mip_distance > 0.0f;
+  m.inv_q = hn::Set(df, f.inv_mip_distance);
+  m.levels = hn::Set(di, f.mip.levels);
+  m.frame = hn::Set(di, f.mip.frame), m.slot = hn::Set(di, f.mip.slot);
+  m.width_minus_1 = hn::Set(di, f.width - 1);
+  m.max_x = hn::Set(di, f.width - 1), m.max_y = hn::Set(di, f.height - 1);
+  return m;
+}
+
+/// hbao_sample_index with the MIP chain on every lane: the level of a sample `distance` pixels
+/// from P, its texel's index in the chain, and (sx, sy) snapped to the level's pixel
+/// (depth_mip_pixel). A lane that has left the image holds texel (0, 0), inside every level.
+template <class DF>
+HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> MipSampleIndex(DF, const MipSampling<DF>& m,
+                                                          hn::Vec<DF> distance,
+                                                          hn::Vec<hn::RebindToSigned<DF>>& sx,
+                                                          hn::Vec<hn::RebindToSigned<DF>>& sy) {
+  const hn::RebindToSigned<DF> di;
+  // depth_mip_level: the exponent of r/q, clamped to [0, levels].
+  const auto ratio = hn::Mul(distance, m.inv_q);
+  auto level = hn::Sub(hn::ShiftRight<23>(hn::BitCast(di, ratio)), hn::Set(di, 127));
+  level = hn::Min(hn::Max(level, hn::Zero(di)), m.levels);
+  const auto bx = hn::Shr(sx, level), by = hn::Shr(sy, level);
+  // The level's offset and width (DepthMipLayout): frame + (l − 1)·slot for l ≥ 1, and
+  // ceil(w / 2^l) = (w − 1 + 2^l) >> l.
+  const auto one = hn::Set(di, 1), size = hn::Shl(one, level);
+  const auto offset = hn::IfThenElseZero(hn::Gt(level, hn::Zero(di)),
+                                         hn::Add(m.frame, hn::Mul(hn::Sub(level, one), m.slot)));
+  const auto width = hn::Shr(hn::Add(m.width_minus_1, size), level);
+  const auto index = hn::Add(offset, hn::Add(hn::Mul(by, width), bx));
+  const auto half = hn::ShiftRight<1>(size);
+  sx = hn::Min(hn::Add(hn::Shl(bx, level), half), m.max_x);
+  sy = hn::Min(hn::Add(hn::Shl(by, level), half), m.max_y);
+  return index;
+}
+
 }  // namespace aolab::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 

@@ -56,11 +56,8 @@ struct Receiver {
 struct RowConstants {
   VF inv_fx, inv_fy, fx, fy, width, height, radius, radius2, inv_radius;
   int y, w;
-  bool small;  // width and height < 2^23: TexelOf may be used
-  // Far samples on the depth MIP chain (HbaoFrame::mip): 1/q, or 0 when off.
-  bool mip;
-  VF inv_mip_distance;
-  VI mip_levels, max_x, max_y, mip_frame, mip_slot;
+  bool small;           // width and height < 2^23: TexelOf may be used
+  MipSampling<DF> mip;  // far samples on the depth MIP chain (HbaoFrame::mip)
 };
 
 // int(v) for 0 ≤ v < 2^23: v + 2^23 holds trunc(v) in its low mantissa bits. Three
@@ -239,29 +236,6 @@ HWY_INLINE Direction MakeDirection(DF df, const HbaoSettings& s, const Receiver&
 // overlap their latency, few enough that the buffers (16 KiB at 16 lanes) stay in L1.
 constexpr int kBufferSteps = 32;
 
-// hbao_sample_index with the MIP chain on every lane: the level of a sample `distance` pixels
-// from P, its texel's index in the chain, and (sx, sy) snapped to the level's pixel
-// (depth_mip_pixel). Lanes that have left the image hold texel (0, 0), inside every level.
-HWY_INLINE VI MipSampleIndex(const RowConstants& k, VF distance, VI& sx, VI& sy) {
-  const DI di;
-  // depth_mip_level: the exponent of r/q, clamped to [0, levels].
-  const VF ratio = hn::Mul(distance, k.inv_mip_distance);
-  VI level = hn::Sub(hn::ShiftRight<23>(hn::BitCast(di, ratio)), hn::Set(di, 127));
-  level = hn::Min(hn::Max(level, hn::Zero(di)), k.mip_levels);
-  const VI bx = hn::Shr(sx, level), by = hn::Shr(sy, level);
-  // The level's offset and width (DepthMipLayout): frame + (l − 1)·slot for l ≥ 1, and
-  // ceil(w / 2^l) = (w + 2^l − 1) >> l.
-  const VI one = hn::Set(di, 1), size = hn::Shl(one, level);
-  const VI offset = hn::IfThenElseZero(
-      hn::Gt(level, hn::Zero(di)), hn::Add(k.mip_frame, hn::Mul(hn::Sub(level, one), k.mip_slot)));
-  const VI width = hn::Shr(hn::Add(hn::Set(di, k.w - 1), size), level);
-  const VI index = hn::Add(offset, hn::Add(hn::Mul(by, width), bx));
-  const VI half = hn::ShiftRight<1>(size);
-  sx = hn::Min(hn::Add(hn::Shl(bx, level), half), k.max_x);
-  sy = hn::Min(hn::Add(hn::Shl(by, level), half), k.max_y);
-  return index;
-}
-
 // The texels and gathered depths of steps [i0, i0 + n) of direction d into the buffers at
 // `at` step-vectors; `alive` (the lanes still in the image) is updated. Returns the steps
 // marched: fewer than n when every lane has left the image.
@@ -289,8 +263,8 @@ HWY_INLINE int GatherSteps(DF df, const HbaoFrame& f, const Receiver& p, const R
     const VF sx_in = hn::IfThenElseZero(alive, sx_f), sy_in = hn::IfThenElseZero(alive, sy_f);
     VI sx = k.small ? TexelOf(df, sx_in) : hn::ConvertTo(di, sx_in);
     VI sy = k.small ? TexelOf(df, sy_in) : hn::ConvertTo(di, sy_in);
-    const VI index = k.mip ? MipSampleIndex(k, hn::Mul(t, d.step_len), sx, sy)
-                           : hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
+    const VI index = k.mip.on ? MipSampleIndex(df, k.mip, hn::Mul(t, d.step_len), sx, sy)
+                              : hn::Add(hn::Mul(sy, hn::Set(di, k.w)), sx);
     const MF self = hn::RebindMask(df, hn::And(hn::Eq(sx, p.x), hn::Eq(sy, row)));
     const std::size_t o = (at + j) * lanes;
     hn::Store(sx, di, b.sx + o);
@@ -396,11 +370,7 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
   k.inv_radius = hn::Set(df, 1.0f / s.radius);
   k.y = y, k.w = w;
   k.small = w < (1 << 23) && f.height < (1 << 23);
-  k.mip = f.inv_mip_distance > 0.0f;
-  k.inv_mip_distance = hn::Set(df, f.inv_mip_distance);
-  k.mip_levels = hn::Set(di, f.mip.levels);
-  k.max_x = hn::Set(di, w - 1), k.max_y = hn::Set(di, f.height - 1);
-  k.mip_frame = hn::Set(di, f.mip.frame), k.mip_slot = hn::Set(di, f.mip.slot);
+  k.mip = MakeMipSampling(df, f);
   const float* depth_row = f.depth + std::size_t(y) * w;
   const float* normal_row = f.normals + 3 * std::size_t(y) * w;
   const float py = float(y) + 0.5f;

@@ -92,11 +92,14 @@ def load_frames(specs: list[str], scenes_dir: Path | None, corpus: bool) -> list
     return sorted(frames, key=lambda f: (not f.target, f.name))
 
 
-def time_preset(method: str, g, radius: float, repeat: int) -> float:
-    """ms of the method's medium preset (its blur included), SIMD kernel, 2 threads."""
+def preset_run(method: str, g, radius: float):
+    """A call of the method's medium preset (its blur included), SIMD kernel, 2 threads."""
     preset = kernel_bench.bench_preset(method, PRESET)
-    return kernel_bench.median_ms(
-        lambda: aolab.compute(method, g, radius=radius, threads=THREADS, preset=preset), repeat)
+    return lambda: aolab.compute(method, g, radius=radius, threads=THREADS, preset=preset)
+
+
+def time_preset(method: str, g, radius: float, repeat: int) -> float:
+    return kernel_bench.median_ms(preset_run(method, g, radius), repeat)
 
 
 def scene_times(methods: list[str], frames: list[Frame], repeat: int, progress=print
@@ -148,19 +151,30 @@ def upsampled(g, factor: int):
                          background_depth=g.background_depth, emission=rep(g.emission))
 
 
-def scaling(methods: list[str], frames: list[Frame], times: list[SceneTimes], repeat: int,
-            progress=print) -> list[dict]:
-    """Per method and target scene at its R: 3840×2160 (upsampled) ms and its ratio to the
-    scene's own 1280×720 time from ``times``."""
-    small = {(t.scene, t.method): t.ms for t in times}
+def paired_ms(first, second, repeat: int) -> tuple[float, float]:
+    """Median ms of two runs timed alternately after a warm-up of each: a ratio of the two
+    then compares them under the same load, where timing one after the other would let the
+    machine's drift between them into it."""
+    first(), second()
+    a, b = [], []
+    for _ in range(repeat):
+        a.append(kernel_bench.median_ms(first, 1, warmup=False))
+        b.append(kernel_bench.median_ms(second, 1, warmup=False))
+    return statistics.median(a), statistics.median(b)
+
+
+def scaling(methods: list[str], frames: list[Frame], repeat: int, progress=print
+            ) -> list[dict]:
+    """Per method and target scene at its R: 3840×2160 (upsampled) ms and its ratio to
+    1280×720, the two timed alternately (paired_ms)."""
     out = []
     for frame in (f for f in frames if f.target):
         large = upsampled(frame.g, UPSCALE)
         for method in methods:
-            ms = time_preset(method, large, frame.radius, repeat)
-            out.append({"scene": frame.name, "method": method, "ms": ms,
-                        "small_ms": small[(frame.name, method)],
-                        "ratio": ms / small[(frame.name, method)]})
+            small_ms, ms = paired_ms(preset_run(method, frame.g, frame.radius),
+                                     preset_run(method, large, frame.radius), repeat)
+            out.append({"scene": frame.name, "method": method, "ms": ms, "small_ms": small_ms,
+                        "ratio": ms / small_ms})
         if progress:
             progress(f"# timed {frame.name} at {large.width}x{large.height}")
     return out
@@ -396,7 +410,7 @@ def _geometry(opts: Options, frames: list[Frame]) -> dict:
     if pairs:
         print("\n## HBAO 8x8: scalar code (1 thread) against the SIMD kernel (2 threads)\n")
         print(speedup_table(pairs))
-    large = scaling(methods, frames, times, max(1, min(opts.repeat, 3))) if opts.scaling else []
+    large = scaling(methods, frames, max(1, min(opts.repeat, 3))) if opts.scaling else []
     if large:
         print(f"\n## {TARGET_SIZE[0] * UPSCALE}x{TARGET_SIZE[1] * UPSCALE} against "
               f"{TARGET_SIZE[0]}x{TARGET_SIZE[1]}, each scene at its R\n")

@@ -64,6 +64,8 @@ std::vector<std::pair<std::string, BitmaskSettings>> variants(float radius) {
   add("steps 40 (three chunks)", [](BitmaskSettings& s) { s.steps = 40; });
   add("no rotation, no jitter", [](BitmaskSettings& s) { s.random_rotation = s.jitter = false; });
   add("sectors 7", [](BitmaskSettings& s) { s.sectors = 7; });
+  // q = 2 px: on these small frames every level of the chain is read.
+  add("far samples on the MIP chain", [](BitmaskSettings& s) { s.mip_distance = 2.0f; });
   add("sectors 64", [](BitmaskSettings& s) { s.sectors = 64; });
   add("sectors 45, cosine",
       [](BitmaskSettings& s) { s.sectors = 45, s.weighting = int(BitmaskWeighting::Cosine); });

@@ -249,12 +249,27 @@ TEST(Bitmask, LargeRadiiBeyondTheSceneGiveTheSameAo) {
     }
 }
 
+// Another seed, and far samples on the depth MIP chain (q = 4 px), change the noise, not the
+// mean.
 TEST(Bitmask, SeedChangesNoiseButNotMean) {
   SceneFixture f("blocks", 200, 120);
-  BitmaskSettings s0, s1;
-  s0.radius = s1.radius = 0.5f;
+  BitmaskSettings s0, s1, s2;
+  s0.radius = s1.radius = s2.radius = 0.5f;
   s1.seed = 7;
-  expect_other_noise_same_mean(bitmask(f.g, s0), bitmask(f.g, s1), 3e-3);
+  s2.mip_distance = 4.0f;
+  const Image base = bitmask(f.g, s0);
+  expect_other_noise_same_mean(base, bitmask(f.g, s1), 3e-3);
+  expect_other_noise_same_mean(base, bitmask(f.g, s2), 3e-3);
+}
+
+// The chain's samples are real pixels with their exact depths: open planes stay 1.
+TEST(Bitmask, MipChainKeepsOpenPlanesExactlyUnoccluded) {
+  for (float tilt : {0.0f, 60.0f}) {
+    SceneFixture f("plane", 203, 117, {{"tilt", tilt}});
+    BitmaskSettings s;
+    s.radius = 2.0f, s.steps = 16, s.mip_distance = 1.0f;
+    EXPECT_EQ(testing::min_valid(bitmask(f.g, s), f.g), 1.0f) << "tilt " << tilt;
+  }
 }
 
 }  // namespace
