@@ -237,14 +237,24 @@ std::vector<LevelRows> level_rows(const Frame& f, const std::vector<Level>& leve
   const int w = f.w, h = f.h;
   std::vector<LevelRows> rows(levels.size());
   for (LevelRows& r : rows) r.span_lo.assign(h, w), r.span_hi.assign(h, -1);
+  // A row's spans are found in local arrays and stored once per level: stored per pixel,
+  // the two threads' 4-row bands wrote the same cache lines of span_lo/span_hi (16 rows to
+  // a line) for every pixel, and a second thread made the plan slower, not faster.
   parallel_for_rows(h, threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
+    std::vector<int> lo(levels.size()), hi(levels.size());
+    for (int y = y0; y < y1; ++y) {
+      std::fill(lo.begin(), lo.end(), w);
+      std::fill(hi.begin(), hi.end(), -1);
+      const int* level = f.level.data() + std::size_t(y) * w;
       for (int x = 0; x < w; ++x) {
-        const int l = f.level[std::size_t(y) * w + x];
+        const int l = level[x];
         if (l < 0) continue;
-        rows[l].span_lo[y] = std::min(rows[l].span_lo[y], x);
-        rows[l].span_hi[y] = std::max(rows[l].span_hi[y], x);
+        lo[l] = std::min(lo[l], x);
+        hi[l] = std::max(hi[l], x);
       }
+      for (std::size_t l = 0; l < levels.size(); ++l)
+        rows[l].span_lo[y] = lo[l], rows[l].span_hi[y] = hi[l];
+    }
   });
   parallel_for_rows(
       int(levels.size()), threads,
