@@ -373,15 +373,18 @@ def plot_svg(methods: list[str], times: list[SceneTimes], path: Path) -> None:
     import matplotlib.pyplot as plt
     plt.rcParams["svg.hashsalt"] = "aolab"
     fig, ax = plt.subplots(figsize=(8, 5.2))
-    for m in methods:
+    # Eleven methods: more than a colour cycle holds, so each has a colour and a marker.
+    colours, markers = plt.get_cmap("tab20").colors[::2] + ("black",), "osv^DPX*h<>"
+    for i, m in enumerate(methods):
         mine = [t for t in times if t.method == m and t.target]
         if not mine:
             continue
         per = [[t.px_ms[px] for t in mine] for px in PIXEL_RADII]
-        line, = ax.plot(PIXEL_RADII, [statistics.median(v) for v in per], marker="o",
-                        label=m, linewidth=1.5)
+        colour = colours[i % len(colours)]
+        ax.plot(PIXEL_RADII, [statistics.median(v) for v in per], marker=markers[i % 11],
+                label=m, linewidth=1.5, color=colour)
         ax.fill_between(PIXEL_RADII, [min(v) for v in per], [max(v) for v in per],
-                        color=line.get_color(), alpha=0.12, linewidth=0)
+                        color=colour, alpha=0.05, linewidth=0)
     ax.axhline(FRAME_MS, color="black", linestyle="--", linewidth=1)
     ax.text(PIXEL_RADII[0], FRAME_MS * 1.04, f"target {FRAME_MS:.0f} ms", fontsize=8)
     ax.set_xscale("log", base=2)
