@@ -58,7 +58,7 @@ template <class DF>
 struct MipSampling {
   bool on = false;  ///< f.inv_mip_distance > 0
   hn::Vec<DF> inv_q;
-  hn::Vec<hn::RebindToSigned<DF>> levels, frame, slot, width_minus_1, max_x, max_y;
+  hn::Vec<hn::RebindToSigned<DF>> levels, frame, slot, max_x, max_y;  // max_x: w − 1
 };
 
 template <class DF>
@@ -69,7 +69,6 @@ HWY_INLINE MipSampling<DF> MakeMipSampling(DF df, const HbaoFrame& f) {
   m.inv_q = hn::Set(df, f.inv_mip_distance);
   m.levels = hn::Set(di, f.mip.levels);
   m.frame = hn::Set(di, f.mip.frame), m.slot = hn::Set(di, f.mip.slot);
-  m.width_minus_1 = hn::Set(di, f.width - 1);
   m.max_x = hn::Set(di, f.width - 1), m.max_y = hn::Set(di, f.height - 1);
   return m;
 }
@@ -93,7 +92,7 @@ HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> MipSampleIndex(DF, const MipSampling<
   const auto one = hn::Set(di, 1), size = hn::Shl(one, level);
   const auto offset = hn::IfThenElseZero(hn::Gt(level, hn::Zero(di)),
                                          hn::Add(m.frame, hn::Mul(hn::Sub(level, one), m.slot)));
-  const auto width = hn::Shr(hn::Add(m.width_minus_1, size), level);
+  const auto width = hn::Shr(hn::Add(m.max_x, size), level);
   const auto index = hn::Add(offset, hn::Add(hn::Mul(by, width), bx));
   const auto half = hn::ShiftRight<1>(size);
   sx = hn::Min(hn::Add(hn::Shl(bx, level), half), m.max_x);

@@ -50,19 +50,21 @@ THREADS = 2
 
 @dataclass
 class Frame:
-    """A still scene as the benchmark times it."""
+    """A still scene as the benchmark times it: its R, the radius on screen R covers, and
+    (target scenes) the R of each of PIXEL_RADII, found once (each is a median over the
+    frame)."""
     name: str
-    family: str
     g: object
     radius: float
     radius_px: float
     target: bool
+    pixel_radii: dict = field(default_factory=dict)
 
 
 @dataclass
 class SceneTimes:
     """One method on one scene: ms at the scene's R, and (target scenes) at each pixel
-    radius; HBAO's scalar/SIMD pairs when measured."""
+    radius."""
     scene: str
     method: str
     size: tuple
@@ -85,8 +87,9 @@ def load_frames(specs: list[str], scenes_dir: Path | None, corpus: bool) -> list
         target = (g.width, g.height) == TARGET_SIZE
         if not (target or corpus or specs):
             continue
-        frames.append(Frame(folder.name, scenes.family(folder), g, radius,
-                            scenes.median_projected_radius(g, radius), target))
+        radii = {px: scenes.radius_for_pixels(g, px) for px in PIXEL_RADII} if target else {}
+        frames.append(Frame(folder.name, g, radius, scenes.median_projected_radius(g, radius),
+                            target, radii))
     if not frames:
         raise ValueError("no still scene to time: name scenes, or pass --corpus")
     return sorted(frames, key=lambda f: (not f.target, f.name))
@@ -110,10 +113,8 @@ def scene_times(methods: list[str], frames: list[Frame], repeat: int, progress=p
             row = SceneTimes(frame.name, method, (frame.g.width, frame.g.height), frame.radius,
                              frame.radius_px, frame.target,
                              time_preset(method, frame.g, frame.radius, repeat))
-            if frame.target:
-                for px in PIXEL_RADII:
-                    r = scenes.radius_for_pixels(frame.g, px)
-                    row.px_ms[px] = time_preset(method, frame.g, r, repeat)
+            for px, r in frame.pixel_radii.items():
+                row.px_ms[px] = time_preset(method, frame.g, r, repeat)
             rows.append(row)
         if progress:
             progress(f"# timed {frame.name} ({frame.g.width}x{frame.g.height}, R = "
@@ -128,9 +129,7 @@ def hbao_speedups(frames: list[Frame], repeat: int) -> list[dict]:
     settings = kernel_bench.configuration("hbao", PRESET)
     out = []
     for frame in (f for f in frames if f.target):
-        radii = {"own": frame.radius}
-        radii.update({px: scenes.radius_for_pixels(frame.g, px) for px in PIXEL_RADII})
-        for key, r in radii.items():
+        for key, r in {"own": frame.radius, **frame.pixel_radii}.items():
             def run(kernel, threads, r=r):
                 return aolab.compute("hbao", frame.g, radius=r, threads=threads,
                                      kernel=kernel, **settings)
@@ -381,7 +380,8 @@ def plot_svg(methods: list[str], times: list[SceneTimes], path: Path) -> None:
             continue
         per = [[t.px_ms[px] for t in mine] for px in PIXEL_RADII]
         colour = colours[i % len(colours)]
-        ax.plot(PIXEL_RADII, [statistics.median(v) for v in per], marker=markers[i % 11],
+        ax.plot(PIXEL_RADII, [statistics.median(v) for v in per],
+                marker=markers[i % len(markers)],
                 label=m, linewidth=1.5, color=colour)
         ax.fill_between(PIXEL_RADII, [min(v) for v in per], [max(v) for v in per],
                         color=colour, alpha=0.05, linewidth=0)

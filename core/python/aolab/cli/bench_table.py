@@ -47,7 +47,7 @@ def add_parser(sub):
     bt.add_argument("--no-scenes", action="store_true",
                     help="only the blocks table: no scene is timed")
     bt.add_argument("--svg", help="also write the time against the radius on screen, per "
-                    "method, to this SVG file (docs/benchmarks.svg)")
+                    "method, to this SVG file (docs/benchmarks_radius.svg)")
     bt.add_argument("--json", help="also write the rows to this JSON file")
     bt.add_argument("--profile", metavar="DIR",
                     help="also record each method's SIMD kernel with perf into DIR and print "
