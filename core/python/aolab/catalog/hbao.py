@@ -39,6 +39,10 @@ ENTRY = MethodEntry(
         "directions": int_bound(2, 64, "N_d: up to the method's most (64); with many steps "
                                 "far past the largest budget; log scale", log=True),
         "steps": int_bound(2, 64, "N_s: the same span as N_d; log scale", log=True),
+        "mip_distance": choice_bound(
+            (0, 4, 8, 16, 32), "q, px; 0 = off, the paper's. SAO's q is 8 (LOG_MAX_OFFSET "
+            "3), XeGTAO's about 10 (DepthMIPSamplingOffset 3.3); halved and doubled. It "
+            "changes the output, so the search weighs its time against its error"),
         "incremental_attenuation": choice_bound(
             (False, True), "eq. 2 or eq. 3: only with the linear attenuation (without any, both "
             "compute the same)", when=lambda v: v["attenuation"] == "linear"),
