@@ -12,6 +12,7 @@ import pytest
 import aolab
 from aolab import scenes
 from aolab.checks import geometry_bench as gb
+from aolab.checks import mip_bench as mb
 
 
 def test_median_projected_radius_on_a_plane():
@@ -89,10 +90,11 @@ def test_targets_name_the_worst_case():
     assert not by["Live"]["met"] and "101.0 ms (sao, c)" in by["Live"]["measured"]
 
 
-def test_paired_timing_alternates_the_two_runs():
+def test_alternated_timing_takes_the_runs_in_turn():
     calls = []
-    a, b = gb.paired_ms(lambda: calls.append("a"), lambda: calls.append("b"), 3)
-    assert calls == ["a", "b"] * 4 and a >= 0 and b >= 0
+    ms = gb.alternated_ms([lambda: calls.append("a"), lambda: calls.append("b"),
+                           lambda: calls.append("c")], 3)
+    assert calls == ["a", "b", "c"] * 4 and len(ms) == 3 and min(ms) >= 0
 
 
 def test_scaling_targets_follow_the_worst_ratio():
@@ -149,3 +151,52 @@ def test_cli_refuses_an_unknown_scene_before_any_timing():
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr.startswith("aolab: scene 'no_such_scene': no reference.exr found")
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_mip_accuracy_table_means_pairs_and_floor():
+    def errors(name, off, q4, floor):
+        mae = {}
+        for m in mb.METHODS:
+            for q in mb.ACCURACY_Q:
+                for region in mb.REGIONS:
+                    mae[(m, q, region)] = off if q == 0 else q4
+        change = {(m, q): 0.0 if q == 0 else 0.01 for m in mb.METHODS for q in mb.ACCURACY_Q}
+        return mb.SceneErrors(name, mae, {"occluded": floor, "all": floor}, change)
+    table = mb.accuracy_table([errors("a", 0.1, 0.2, 0.03), errors("b", 0.3, 0.25, 0.05)])
+    lines = table.splitlines()
+    assert len(lines) == 2 + len(mb.METHODS) * len(mb.ACCURACY_Q) + 1
+    # q off: mean 0.2 of 0.1 and 0.3, the interval within them; no difference to itself.
+    assert lines[2].startswith("| hbao | off | 0.0000 | 0.2000 [0.1000, 0.3000] | — |")
+    # q = 4: +0.1 on one scene, -0.05 on the other.
+    assert lines[3].startswith("| hbao | q = 4 | 0.0100 | 0.2250 [0.2000, 0.2500] | "
+                               "+0.0250 (1 better, 1 worse; p = 1) |")
+    assert lines[-1].startswith("| noise floor (2 scenes) |  |  | 0.0400 [0.0300, 0.0500] |")
+
+
+def test_cli_mip_times_and_scores_with_the_noise_floor(tmp_path):
+    out = tmp_path / "mip.json"
+    r = _cli("--mip", "--scene", "engine", "--scene", "organic_duck", "--repeat", "1",
+             "--json", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "## mip_distance: time" in r.stdout and "## mip_distance: accuracy on 2" in r.stdout
+    data = json.loads(out.read_text())
+    # Only the 1280x720 scene is timed, at each radius on screen and each q.
+    assert {(t["scene"], t["method"], t["px"]) for t in data["times"]} == {
+        ("engine", m, px) for m in mb.METHODS for px in mb.TIME_RADII}
+    assert all(len(t["ms"]) == len(mb.TIME_Q) for t in data["times"])
+    for scene in data["accuracy"]:
+        assert all(scene["change"][f"{m}/0"] == 0 for m in mb.METHODS)
+        assert all(0 <= v <= 1 for v in scene["mae"].values())
+        # q moves samples beyond 2q px onto other points of the same surfaces: the output
+        # changes, a little (not at all where R covers less than 2q px on screen).
+        assert all(0 <= scene["change"][f"{m}/{q:g}"] < 0.05
+                   for m in mb.METHODS for q in mb.ACCURACY_Q)
+        assert all(scene["change"][f"{m}/4"] > 0 for m in mb.METHODS)
+        assert scene["floor"] is None or 0 < scene["floor"]["all"] < 0.1
+
+
+def test_cli_mip_refuses_the_other_tables_options():
+    r = _cli("hbao", "--mip", "--scaling")
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.strip() == ("aolab: --mip times hbao and bitmask at their medium preset "
+                                "and takes no METHOD, --scaling")

@@ -186,28 +186,29 @@ def _source_coordinates(n: int, factor: int) -> np.ndarray:
     return (np.arange(n * factor) + 0.5) / factor - 0.5
 
 
-def paired_ms(first, second, repeat: int) -> tuple[float, float]:
-    """Median ms of two runs timed alternately after a warm-up of each: a ratio of the two
-    then compares them under the same load, where timing one after the other would let the
+def alternated_ms(runs: list, repeat: int) -> list[float]:
+    """Median ms of each run, the runs timed in turn after a warm-up of each: their ratios
+    then compare them under the same load, where timing one after the other would let the
     machine's drift between them into it."""
-    first(), second()
-    a, b = [], []
+    for run in runs:
+        run()
+    ms = [[] for _ in runs]
     for _ in range(repeat):
-        a.append(kernel_bench.median_ms(first, 1, warmup=False))
-        b.append(kernel_bench.median_ms(second, 1, warmup=False))
-    return statistics.median(a), statistics.median(b)
+        for run, out in zip(runs, ms):
+            out.append(kernel_bench.median_ms(run, 1, warmup=False))
+    return [statistics.median(m) for m in ms]
 
 
 def scaling(methods: list[str], frames: list[Frame], repeat: int, progress=print
             ) -> list[dict]:
     """Per method and target scene at its R: 3840×2160 (upsampled) ms and its ratio to
-    1280×720, the two timed alternately (paired_ms)."""
+    1280×720, the two timed alternately (alternated_ms)."""
     out = []
     for frame in (f for f in frames if f.target):
         large = upsampled(frame.g, UPSCALE)
         for method in methods:
-            small_ms, ms = paired_ms(preset_run(method, frame.g, frame.radius),
-                                     preset_run(method, large, frame.radius), repeat)
+            small_ms, ms = alternated_ms([preset_run(method, frame.g, frame.radius),
+                                          preset_run(method, large, frame.radius)], repeat)
             out.append({"scene": frame.name, "method": method, "ms": ms, "small_ms": small_ms,
                         "ratio": ms / small_ms})
         if progress:
@@ -419,7 +420,7 @@ class Options:
     svg: str | None = None
 
 
-def _check(opts: Options) -> list[Frame]:
+def check(opts: Options) -> list[Frame]:
     """Everything the command line names, checked before the first timing (the run takes
     minutes, and a bad --json found after it would lose them): methods, presets, paths and
     scenes; the scenes loaded."""
@@ -460,16 +461,21 @@ def _geometry(opts: Options, frames: list[Frame]) -> dict:
             "targets": targets(methods, times, pairs, large)}
 
 
+def print_header(repeat: int) -> None:
+    """The run's first line: when, which commit, how many runs, the machine and its load."""
+    print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
+          f"{kernel_bench.commit()}, median of {repeat} runs; {kernel_bench.machine()}; "
+          f"SIMD target {kernel_bench.simd_target()}")
+
+
 def run_table(opts: Options) -> int:
     """``aolab bench-table``: the geometry tables, the blocks table (every method's scalar
     code against its SIMD kernel), where each target stands; the rows written to --json, each
     SIMD kernel profiled into --profile; the exit status."""
-    frames = _check(opts)
+    frames = check(opts)
     size = tuple(opts.size) if opts.size else kernel_bench.SIZE
     shown = opts.preset or f"{kernel_bench.DEFAULT_BENCH_PRESET} (default where a method has none)"
-    print(f"# aolab bench-table {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit "
-          f"{kernel_bench.commit()}, median of {opts.repeat} runs; {kernel_bench.machine()}; "
-          f"SIMD target {kernel_bench.simd_target()}")
+    print_header(opts.repeat)
     geometry = _geometry(opts, frames) if frames else {}
     print(f"\n## Scalar code against SIMD kernel: {kernel_bench.SCENE} {size[0]}x{size[1]}, "
           f"R = {kernel_bench.RADIUS}, preset {shown}, without the blur\n")

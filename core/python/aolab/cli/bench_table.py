@@ -4,7 +4,7 @@ kernel_bench, docs/benchmarks.md)."""
 
 from __future__ import annotations
 
-from ..checks import geometry_bench
+from ..checks import geometry_bench, mip_bench
 from ..util.arguments import MAX_RUNS, int_option, size_option
 
 
@@ -48,6 +48,11 @@ def add_parser(sub):
                     help="only the blocks table: no scene is timed")
     bt.add_argument("--svg", help="also write the time against the radius on screen, per "
                     "method, to this SVG file (docs/benchmarks_radius.svg)")
+    bt.add_argument("--mip", action="store_true",
+                    help="instead: HBAO's and the bitmask's mip_distance (far samples on the "
+                    "depth MIP chain), its time at 64 and 256 px on screen (q off, 4, 8, "
+                    "alternated) and its accuracy on every still scene against the reference "
+                    "and its noise floor (q off, 4, 8, 16, 32)")
     bt.add_argument("--json", help="also write the rows to this JSON file")
     bt.add_argument("--profile", metavar="DIR",
                     help="also record each method's SIMD kernel with perf into DIR and print "
@@ -56,7 +61,8 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    return geometry_bench.run_table(geometry_bench.Options(
+    run_table = mip_bench.run if args.mip else geometry_bench.run_table
+    return run_table(geometry_bench.Options(
         methods=args.methods, preset=args.preset, repeat=args.repeat, scaling=args.scaling,
         radii=args.radii, size=args.size, json_path=args.json, profile=args.profile,
         scenes=args.scene, scenes_dir=args.scenes_dir, geometry=not args.no_scenes,
