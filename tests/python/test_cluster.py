@@ -135,13 +135,13 @@ def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_pa
     its local workers and their Blenders. The command ends with status 130, no Blender is
     left, and the cache holds complete entries only; the same command then resumes."""
     cache = tmp_path / "cache"
-    # Twelve frames (past the animation's last key the camera holds still), so that the batch
-    # cannot finish between the first Blender's start and the signal even on a loaded
-    # machine: with four, one CI run saw the command end normally (status 0) first.
     args = [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
-            "1-12", "--spp", "1024", "--cache", str(cache), "--workers", "2"]
+            FRAMES, "--spp", "1024", "--cache", str(cache), "--workers", "2"]
+    # A background shell (CI's) starts children with SIGINT ignored, and the command would then
+    # run to its end (status 0); a terminal's Ctrl-C reaches a command with the default.
     run = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           start_new_session=True)
+                           start_new_session=True,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 120
         while not blender_children_of(set(), str(cache)) and time.monotonic() < deadline:
