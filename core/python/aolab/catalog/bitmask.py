@@ -4,7 +4,7 @@ its settings fix."""
 
 from __future__ import annotations
 
-from .kinds import MethodEntry, choice_bound, float_bound, int_bound
+from .kinds import MIP_DISTANCE_BOUND, MethodEntry, choice_bound, float_bound, int_bound
 
 
 # Visibility bitmask — Therrien, Levesque, Gilet 2023. The paper fixes 32 sectors and a
@@ -34,10 +34,7 @@ ENTRY = MethodEntry(
                            "gaps between the samples' sectors; log scale", log=True),
         "sectors": choice_bound((8, 16, 32, 64), "N: the paper's 32 (one uint), halved, quartered "
                                 "and doubled; the cost hardly depends on it"),
-        "mip_distance": choice_bound(
-            (0, 4, 8, 16, 32), "q, px; 0 = off, the paper's. SAO's q is 8 (LOG_MAX_OFFSET "
-            "3), XeGTAO's about 10 (DepthMIPSamplingOffset 3.3); halved and doubled. It "
-            "changes the output, so the search weighs its time against its error"),
+        "mip_distance": MIP_DISTANCE_BOUND,
         "thickness": float_bound(0.01, 100.0, "fraction of R: from a sheet to a height field "
                                  "(beyond 100 R nothing changes on the study's scenes); log scale",
                                  log=True),

@@ -4,7 +4,7 @@ its settings fix."""
 
 from __future__ import annotations
 
-from .kinds import MethodEntry, choice_bound, int_bound
+from .kinds import MIP_DISTANCE_BOUND, MethodEntry, choice_bound, int_bound
 
 
 # HBAO — Bavoil, Sainz, Dimitrov 2008. The talk's Figure 1 uses N_d = 8 directions and
@@ -39,10 +39,7 @@ ENTRY = MethodEntry(
         "directions": int_bound(2, 64, "N_d: up to the method's most (64); with many steps "
                                 "far past the largest budget; log scale", log=True),
         "steps": int_bound(2, 64, "N_s: the same span as N_d; log scale", log=True),
-        "mip_distance": choice_bound(
-            (0, 4, 8, 16, 32), "q, px; 0 = off, the paper's. SAO's q is 8 (LOG_MAX_OFFSET "
-            "3), XeGTAO's about 10 (DepthMIPSamplingOffset 3.3); halved and doubled. It "
-            "changes the output, so the search weighs its time against its error"),
+        "mip_distance": MIP_DISTANCE_BOUND,
         "incremental_attenuation": choice_bound(
             (False, True), "eq. 2 or eq. 3: only with the linear attenuation (without any, both "
             "compute the same)", when=lambda v: v["attenuation"] == "linear"),

@@ -54,6 +54,14 @@ SHARED_BOUNDS = {
 }
 
 
+#: q of the depth MIP chain (`mip_distance`), searched alike for the methods that have it
+#: (HBAO and the visibility bitmask).
+MIP_DISTANCE_BOUND = choice_bound(
+    (0, 4, 8, 16, 32), "q, px; 0 = off, the paper's. SAO's q is 8 (LOG_MAX_OFFSET 3), "
+    "XeGTAO's about 10 (DepthMIPSamplingOffset 3.3); halved and doubled. It changes the "
+    "output, so the search weighs its time against its error")
+
+
 @dataclass(frozen=True)
 class MethodEntry:
     """All the study knows of one method.
