@@ -114,12 +114,20 @@ def read_csv(path: Path) -> list[dict]:
 
 
 class PlotPoints(HTMLParser):
-    """Collects the attributes of every plotted point and horizontal line in report.html."""
+    """Collects every plotted point and horizontal line of report.html, with the attributes of
+    a static (SVG) point: data-key, data-metric, data-x, data-y; from the SVG elements and from
+    the plotly.js figures (report.plotly_figure: a series trace's customdata are the keys,
+    layout.meta.column the metric; an hline trace's meta names its row). ``figures``: plot id
+    -> its plotly.js figure; ``images_index``: the page's image files of every scene."""
 
     def __init__(self):
         super().__init__()
         self.points, self.hlines, self.plots, self.images = [], [], [], []
         self.bars, self.checks = [], []
+        self.figures: dict[str, dict] = {}
+        self.images_index: dict = {}
+        self._figure: str | None = None
+        self._text: list[str] = []
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -128,7 +136,7 @@ class PlotPoints(HTMLParser):
             self.points.append(a)
         if "hline" in classes and "data-key" in a:
             self.hlines.append(a)
-        if tag == "svg" and "plot" in classes:
+        if tag in ("svg", "div") and "plot" in classes:
             self.plots.append(a)
         if tag == "img":
             self.images.append(a)
@@ -136,6 +144,32 @@ class PlotPoints(HTMLParser):
             self.bars.append(a)
         if tag == "tr" and "data-verdict" in a:
             self.checks.append(a)
+        if tag == "script" and ("figure" in classes or "images" in classes):
+            self._figure, self._text = a.get("data-plot", ""), []
+
+    def handle_data(self, data):
+        if self._figure is not None:
+            self._text.append(data)
+
+    def handle_endtag(self, tag):
+        if tag != "script" or self._figure is None:
+            return
+        fig = json.loads("".join(self._text))
+        if not self._figure:     # the images of every scene (report.Page.index)
+            self.images_index, self._figure = fig, None
+            return
+        self.figures[self._figure] = fig
+        column = fig["layout"]["meta"]["column"]
+        for t in fig["data"]:
+            meta = t.get("meta") or {}
+            if meta.get("role") == "series":
+                self.points += [{"data-key": k, "data-metric": column, "data-x": x,
+                                 "data-y": y, "class": "point"}
+                                for k, x, y in zip(t["customdata"], t["x"], t["y"])]
+            elif meta.get("role") == "hline":
+                self.hlines.append({"data-key": meta["key"], "data-metric": column,
+                                    "data-y": t["y"][0], "class": "hline " + meta["cls"]})
+        self._figure = None
 
 
 def parse_report(path: Path) -> PlotPoints:

@@ -17,7 +17,7 @@ from aolab import scenes
 from aolab import cli, regions
 from aolab import named_presets as presets
 from aolab.catalog.kinds import MethodEntry
-from aolab.study import compare, results_doc
+from aolab.study import compare, report_files, results_doc
 from aolab.study import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
@@ -42,9 +42,14 @@ def study(tmp_path_factory):
 
 def test_writes_the_report_files_and_nothing_half_written(study):
     out = study["out"]
-    assert sorted(p.name for p in out.iterdir()) == ["report.html", "results.csv", "results.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "report_files",
+                                                     "results.csv", "results.json"]
     assert study["json"]["meta"]["partial"] is False
     assert "PARTIAL" not in study["html"]
+    # report_files/ holds exactly the files the page names: no temporary or stale file
+    named = report_files.referenced(study["html"])
+    assert {f"report_files/{p.name}" for p in (out / "report_files").iterdir()} == named
+    assert any(n.endswith(".webp") for n in named) and any(n.endswith(".js") for n in named)
 
 
 def studied_methods() -> list[str]:
@@ -462,7 +467,7 @@ def test_a_method_without_presets_runs_its_defaults_and_registering_is_checked()
 
 def test_rgb_outputs_and_errors_are_recorded_not_scored(room, monkeypatch):
     study = compare.Study(compare.Options(repeat=1, warmup=0))
-    images = compare._Images(1e9)
+    images = compare._Images(1e9, room, 480)
     rgb = np.ones((room.g.height, room.g.width, 3), np.float32)
     monkeypatch.setattr(aolab, "compute", lambda *a, **k: rgb)
     cfg = presets.Setting("vao_pp", "default", {}, False, "default")
@@ -513,8 +518,8 @@ def test_interrupt_keeps_partial_results(tmp_path, monkeypatch, capsys):
     assert data["meta"]["partial"] is True and data["meta"]["complete_scenes"] == ["grille"]
     html = (staging / "report.html").read_text(encoding="utf-8")
     assert "PARTIAL results" in html
-    assert sorted(p.name for p in staging.iterdir()) == ["report.html", "results.csv",
-                                                         "results.json"]
+    assert sorted(p.name for p in staging.iterdir()) == ["report.html", "report_files",
+                                                         "results.csv", "results.json"]
 
 
 def test_command_line_errors_are_clear(tmp_path):

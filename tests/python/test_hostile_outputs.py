@@ -13,10 +13,10 @@ import pytest
 
 import aolab
 from aolab import cli
-from aolab.study import compare
+from aolab.study import compare, report_files
 from aolab.render import reference
 
-FILES = ["report.html", "results.csv", "results.json"]
+FILES = ["report.html", "report_files", "results.csv", "results.json"]
 
 
 def small_scenes(root: Path, names=("alpha", "beta")) -> Path:
@@ -31,14 +31,22 @@ def small_scenes(root: Path, names=("alpha", "beta")) -> Path:
     return root
 
 
-def compare_cli(scenes: Path, out: Path) -> int:
+def compare_cli(scenes: Path, out: Path, method: str = "lsao") -> int:
     return cli.main(["compare", "--scenes-dir", str(scenes), "--out", str(out), "--methods",
-                     "lsao", "--repeat", "1", "--warmup", "0", "--threads", "2",
+                     method, "--repeat", "1", "--warmup", "0", "--threads", "2",
                      "--no-progress"])
 
 
 def snapshot(folder: Path) -> dict:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+    """Every file below ``folder`` (report_files/ too): relative path -> bytes."""
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file()}
+
+
+def names_found(out: Path) -> bool:
+    """Whether every file that out/report.html names is there."""
+    html = (out / "report.html").read_text(encoding="utf-8")
+    return all((out / name).is_file() for name in report_files.referenced(html))
 
 
 # ---------------------------------------------------------------------------------------
@@ -119,6 +127,29 @@ def test_an_interrupt_while_publishing_finishes_the_publish(tmp_path, monkeypatc
     assert sorted(p.name for p in out.iterdir()) == FILES
     assert not (tmp_path / "out.partial").exists()
     assert json.loads((out / "results.json").read_text())["meta"]["partial"] is False
+
+
+def test_a_new_report_never_leaves_the_one_in_place_without_its_files(tmp_path, monkeypatch):
+    """report_files/ is published file by file: while the new files move in, the earlier
+    report.html still finds all of its own (a name holds one content); once the new page is
+    in, the files only the earlier one named are removed."""
+    scenes = small_scenes(tmp_path / "scenes", names=("alpha",))
+    out = tmp_path / "out"
+    assert compare_cli(scenes, out, "lsao") == 0 and names_found(out)
+    before = report_files.referenced((out / "report.html").read_text(encoding="utf-8"))
+    seen = []
+    real = report_files.move_in
+
+    def checking(staging, dest):
+        real(staging, dest)
+        seen.append(names_found(dest))   # the earlier page, beside the new files
+
+    monkeypatch.setattr(report_files, "move_in", checking)
+    assert compare_cli(scenes, out, "hbao") == 0
+    assert seen == [True] and names_found(out)
+    after = report_files.referenced((out / "report.html").read_text(encoding="utf-8"))
+    assert before - after   # lsao's images are gone from the page ...
+    assert {f"report_files/{p.name}" for p in (out / "report_files").iterdir()} == after
 
 
 def test_the_staging_folder_sits_beside_the_output_folder():

@@ -23,8 +23,9 @@ def add_parser(sub):
         "grid) on each reference scene at the scene's R, times it (warm-up, median of "
         "--repeat runs; the blur apart) and scores it against the 1024-spp Cycles reference on "
         "the whole frame and on regions, beside the AO = 1 baseline and the scene's peers "
-        "(Cycles at fewer samples, EEVEE). Writes DIR/report.html, results.csv and "
-        "results.json (docs/comparison.md). Ctrl-C keeps the partial results.")
+        "(Cycles at fewer samples, EEVEE). Writes DIR/report.html (its images and scripts "
+        "in DIR/report_files/), results.csv and results.json (docs/comparison.md). Ctrl-C "
+        "keeps the partial results.")
     c.add_argument("scenes", nargs="*", metavar="SCENE",
                    help="reference_scenes/<name> folders or names (default: the default "
                    "study's scenes, manifest \"default_study\"; --corpus: every scene)")

@@ -1,5 +1,6 @@
 """The comparison study: ``compare`` (every method against the reference on every scene,
-timed and scored), ``report`` (report.html), ``results_doc`` (docs/results.md), ``tune``
+timed and scored), ``report`` (report.html) with ``report_files`` (its folder of images and
+scripts, and report.js), ``results_doc`` (docs/results.md), ``tune``
 (the tuned presets), ``pareto`` (the fronts of error against time that report and tune
 share), ``limits`` (the screen-space limit of each scene) and ``radius_study``.
 

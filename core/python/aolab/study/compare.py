@@ -10,10 +10,11 @@ configuration has one) is timed apart in the same way. The output is scored agai
 1024-spp reference on the scored pixels and on each region of aolab.regions, beside the
 "AO = 1" baseline and the peers of reference_scenes/<name>/peers/ (Cycles at fewer samples,
 an independent 1024-spp render, EEVEE's GTAO). Results go to DIR/results.csv,
-DIR/results.json and DIR/report.html. While the study runs they are written to the staging
-folder DIR.partial/ beside DIR (atomically, after every scene) and moved into DIR only when the
-study is complete: Ctrl-C keeps what is done in DIR.partial/ and leaves the results of an
-earlier complete run in DIR untouched (docs/conventions.md, "Output folders").
+DIR/results.json and DIR/report.html, with the report's images and scripts in
+DIR/report_files/. While the study runs they are written to the staging folder DIR.partial/
+beside DIR (atomically, after every scene) and moved into DIR only when the study is complete:
+Ctrl-C keeps what is done in DIR.partial/ and leaves the results of an earlier complete run in
+DIR untouched (docs/conventions.md, "Output folders").
 """
 
 from __future__ import annotations
@@ -43,11 +44,11 @@ from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
                       frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
                       resolve_scenes)
-from ..scoring import check_same_bits, digest
+from ..scoring import check_same_bits, digest, signed_error_rgb
 from ..util import files
 from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
 from ..util.provenance import git_commit, machine_info
-from . import report, stats
+from . import report, report_files, stats
 from .pareto import hd_scale
 from .report import WEAK_FRACTION
 
@@ -502,63 +503,95 @@ def _downscale(a: np.ndarray, width: int) -> np.ndarray:
 
 
 class _Images:
-    """Per scene and method: the best configuration within the time budget (lowest MAE on
-    all scored pixels) and the fastest one, as the fallback when none fits."""
+    """A scene's images for the report: every scored configuration's AO and signed error
+    (encoded as it is offered, so that no full-size image is kept), and per method the best
+    configuration within the time budget (lowest MAE on all scored pixels) and the fastest
+    one, as the fallback when none fits, for the image grid."""
 
-    def __init__(self, budget_ms: float):
+    def __init__(self, budget_ms: float, scene: Scene, width: int, encoded: bool = True):
         self.budget = budget_ms
-        self.best: dict[str, tuple] = {}
-        self.fastest: dict[str, tuple] = {}
+        self.scene = scene
+        self.width = width
+        #: False: no image is encoded (a sequence's frames after the first, never shown).
+        self.encoded = encoded
+        self.best: dict[str, dict] = {}
+        self.fastest: dict[str, dict] = {}
+        #: "method/label" -> {"ao": WebP bytes, "error": WebP bytes}
+        self.configs: dict[str, dict] = {}
+        self._last = None   # (the last image encoded, its encoding)
+
+    def encode(self, row: dict, ao: np.ndarray) -> None:
+        """Keeps the row's AO and signed error (ao - reference, 0 off the scored pixels),
+        downscaled to at most ``width`` px and encoded."""
+        if not self.encoded:
+            return
+        if self._last is None or self._last[0] is not ao:   # (a blur group shares its image)
+            valid = self.scene.regions["all"]
+            err = np.where(valid, ao.astype(np.float64) - self.scene.reference, 0.0)
+            self._last = (ao, {
+                "ao": report_files.webp_bytes(_downscale(ao, self.width)),
+                "error": report_files.webp_bytes(signed_error_rgb(_downscale(err, self.width)))})
+        self.configs[f'{row["method"]}/{row["label"]}'] = self._last[1]
 
     def offer(self, row: dict, ao: np.ndarray) -> None:
         if "metrics" not in row or row.get("total_ms") is None:
             return
+        self.encode(row, ao)
         m, t = row["metrics"]["all"]["mae"], row["total_ms"]
         name = row["method"]
         best = self.best.get(name)
-        if t <= self.budget and (best is None or m < best[0]["metrics"]["all"]["mae"]):
-            self.best[name] = (row, ao)
-        if name not in self.fastest or t < self.fastest[name][0]["total_ms"]:
-            self.fastest[name] = (row, ao)
+        if t <= self.budget and (best is None or m < best["metrics"]["all"]["mae"]):
+            self.best[name] = row
+        if name not in self.fastest or t < self.fastest[name]["total_ms"]:
+            self.fastest[name] = row
 
     def chosen(self):
         for name in self.fastest:
             if name in self.best:
-                yield self.best[name][0], self.best[name][1], True
+                yield self.best[name], True
             else:
-                yield self.fastest[name][0], self.fastest[name][1], False
+                yield self.fastest[name], False
 
 
-def _peer_images(scene: Scene, rows: list[dict], budget_ms: float):
-    """EEVEE, the Cycles rung with most samples within the budget (else the cheapest), and
-    the scene's screen-space limit."""
+#: Peers whose images the report shows: those plotted (the Cycles ladder, EEVEE) and the
+#: screen-space limits (the image grid shows the chosen one).
+IMAGED_PEERS = ("cycles", "eevee", LIMIT_KIND)
+
+
+def _peer_images(scene: Scene, rows: list[dict], images: _Images):
+    """Encodes every peer of IMAGED_PEERS; yields, for the grid, EEVEE, the Cycles rung with
+    most samples within the budget (else the cheapest), and the scene's screen-space limit."""
     by_name = {r["method"]: r for r in rows if r["scene"] == scene.name}
+    for p in scene.peers:
+        if p.kind in IMAGED_PEERS and p.name in by_name:
+            images.encode(by_name[p.name], p.ao)
     cycles = [p for p in scene.peers if p.kind == "cycles" and p.render_time_s is not None]
-    fits = [p for p in cycles if p.render_time_s * 1000 <= budget_ms]
+    fits = [p for p in cycles if p.render_time_s * 1000 <= images.budget]
     pick = max(fits, key=lambda p: p.entry.get("samples", 0)) if fits else (
         min(cycles, key=lambda p: p.render_time_s) if cycles else None)
     chosen = [p for p in scene.peers if p.kind == "eevee"] + ([pick] if pick else [])
     for p in chosen:
         if p.name in by_name:
-            yield by_name[p.name], p.ao, p is not pick or bool(fits)
+            yield by_name[p.name], p is not pick or bool(fits)
     if scene.limit is not None and scene.limit.name in by_name:
-        yield by_name[scene.limit.name], scene.limit.ao, True
+        yield by_name[scene.limit.name], True
 
 
-def scene_images(scene: Scene, images: _Images, rows: list[dict], width: int) -> dict:
-    """Downscaled float images of a scene for the report: the reference, and per shown
-    configuration its AO and signed error (ao - reference, 0 off the scored pixels)."""
+def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
+    """A scene's images for the report, encoded (report_files.webp_bytes): the reference,
+    every imaged configuration's AO and signed error ("configs", by "method/label"), and the
+    image grid's entries, each naming its configuration."""
     valid = scene.regions["all"]
     entries = []
-    shown = list(images.chosen()) + list(_peer_images(scene, rows, images.budget))
-    for row, ao, within in shown:
-        err = np.where(valid, ao.astype(np.float64) - scene.reference, 0.0)
-        entries.append({"key": row["key"], "method": row["method"], "label": row["label"],
+    shown = list(images.chosen()) + list(_peer_images(scene, rows, images))
+    for row, within in shown:
+        entries.append({"key": row["key"], "config": f'{row["method"]}/{row["label"]}',
+                        "method": row["method"], "label": row["label"],
                         "kind": row["kind"], "total_ms": row.get("total_ms"),
-                        "mae": row["metrics"]["all"]["mae"], "within_budget": within,
-                        "ao": _downscale(ao, width), "error": _downscale(err, width)})
-    return {"reference": _downscale(np.where(valid, scene.reference, 1.0), width),
-            "entries": entries}
+                        "mae": row["metrics"]["all"]["mae"], "within_budget": within})
+    reference = _downscale(np.where(valid, scene.reference, 1.0), images.width)
+    return {"reference": report_files.webp_bytes(reference), "configs": images.configs,
+            "entries": entries, "size": [reference.shape[1], reference.shape[0]]}
 
 
 def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
@@ -662,14 +695,19 @@ class Study:
 
     def publish(self) -> None:
         """Moves the complete study's files from the staging folder into the output folder,
-        each with an atomic rename (results.json, which says whether the study is complete,
-        last), and removes the staging folder. Other files in the output folder are left
-        alone."""
+        each with an atomic rename: first the report's images and scripts (report_files/,
+        named by their content, beside the earlier report's), then results.csv, report.html
+        and results.json (which says whether the study is complete) last; then removes the
+        files of report_files/ that the new report.html does not name, and the staging
+        folder. Interrupted anywhere, the output folder's report.html finds all its files.
+        Other files in the output folder are left alone."""
         out, staging = Path(self.opts.out), self.staging
         out.mkdir(parents=True, exist_ok=True)
+        report_files.move_in(staging, out)
         for name in OUTPUT_FILES:
             if (staging / name).exists():   # (a publish that was interrupted moved some)
                 os.replace(staging / name, out / name)
+        report_files.prune(out / "report.html")
         try:
             staging.rmdir()
         except OSError:  # someone put something else there: leave it
@@ -743,7 +781,8 @@ class Study:
         floors, previous = [], None
         for frame, frame_name in zip(frames, names):
             scene = self._run_scene(frame_folder(folder, frame), plan, threads, bar,
-                                    name=frame_name, sequence=(name, frame))
+                                    name=frame_name, sequence=(name, frame),
+                                    shown=frame == frames[0])
             if previous is not None:
                 floors.append(self._flicker(previous, scene))
             previous = scene
@@ -783,9 +822,10 @@ class Study:
                              min(_samples(previous), _samples(scene)))
 
     def _run_scene(self, folder: Path, plan: dict, threads: int, bar, name: str | None = None,
-                   sequence: tuple[str, int] | None = None) -> Scene:
+                   sequence: tuple[str, int] | None = None, shown: bool = True) -> Scene:
         """One scene (or, with ``name`` and ``sequence`` = (its name, the frame), one frame of
-        a sequence, whose images are then kept for the flicker)."""
+        a sequence, whose images are then kept for the flicker); ``shown``: its images are
+        made for the report (a sequence shows its first frame's)."""
         opts = self.opts
         if bar is not None:
             bar.set_description(f"{name or folder.name}: loading")
@@ -805,7 +845,7 @@ class Study:
             # ALL's times are per 1280x720 frame; a crop's stay the crop's (pareto.hd_scale)
             "time_scale": 1.0 if opts.crop else hd_scale(scene.g.width, scene.g.height),
         }
-        images = _Images(opts.budget_ms)
+        images = _Images(opts.budget_ms, scene, opts.image_width, encoded=shown)
         # The baseline, AO = 1 everywhere: no occlusion at all, no time.
         base = _row(scene, "baseline", BASELINE, "AO=1", preset="", settings={},
                     note="no occlusion at all (AO = 1 everywhere)")
@@ -825,7 +865,8 @@ class Study:
                     bar.update(1)
         self._rtao_ladder(scene, threads, images, bar)
         self._noise_floor(scene)
-        self.images[scene.name] = scene_images(scene, images, self.rows, opts.image_width)
+        if shown:
+            self.images[scene.name] = scene_images(scene, images, self.rows)
         if sequence is None:   # a sequence is complete with its last frame (_run_sequence)
             self.complete_scenes.append(scene.name)
         self.write(partial=True)

@@ -1,30 +1,37 @@
-"""report.html of ``aolab compare``: one self-contained file (inline SVG plots, base64 PNG
-images, inline CSS and a small inline self-check script; nothing from the network).
+"""report.html of ``aolab compare``, with its files in report_files/ beside it
+(report_files.py: images as WebP, plotly.js, report.js; nothing from the network, so the folder
+works copied anywhere and from a file:// URL).
 
-Every plotted point is an SVG element of class ``point`` whose ``data-key`` is the key of
-its row in results.csv, with ``data-metric`` (the results.csv column on the y axis),
-``data-x`` (total_ms) and ``data-y`` (the metric's value), so a test can match every point to
-its row. On load, the script checks that every image decoded and every plot has points and
-writes the outcome into document.title: "AO Lab report: ok ..." or "AO Lab report: error ...".
+The accuracy-against-time plots are plotly.js figures, each held as JSON in the page (a
+<script type="application/json" class="figure" data-plot="ID"> beside its <div class="plot"
+id="ID">) and drawn by report.js: one trace per method and per peer series, hover naming the
+configuration, a legend that hides and shows methods, a click that opens the point's AO image
+and error map. Every plotted point's customdata is the key of its row in results.csv, its x
+total_ms and its y the value of the column in layout.meta.column, so a test can match every
+point to its row. Without plotly.js (not installed) the same plots are static SVG (svg_plot,
+also docs/results.md's), whose points are elements of class ``point`` with ``data-key``,
+``data-metric``, ``data-x`` and ``data-y``.
+
+On load, the page checks that every image decoded and every plot has points and writes the
+outcome into document.title: "AO Lab report: ok ..." or "AO Lab report: error ...".
 """
 
 from __future__ import annotations
 
-import base64
 import html
+import json
 import math
-import struct
-import zlib
 from pathlib import Path
 
 import numpy as np
 
 import aolab
 
+from .. import catalog
 from ..regions import REGIONS
-from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB, signed_error_rgb
+from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB
 from ..util import files
-from . import pareto, stats
+from . import pareto, report_files, stats
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
@@ -56,33 +63,6 @@ SPLIT_LABELS = ("default", "tuned-100ms", "tuned-500ms")
 #: beside it to tell what time alone would buy.
 EEVEE_CHECK_BUDGET_MS = 100
 LARGEST_TUNED_BUDGET_MS = 500
-
-
-# ----------------------------------------------------------------------------------------
-# PNG
-
-
-def png_bytes(image: np.ndarray) -> bytes:
-    """An 8-bit PNG of a float image in [0, 1]: (H, W) grey or (H, W, 3) RGB."""
-    a = np.clip(np.nan_to_num(image, nan=0.0), 0.0, 1.0)
-    a = np.round(a * 255).astype(np.uint8)
-    h, w = a.shape[:2]
-    colour = 2 if a.ndim == 3 else 0
-    rows = a.reshape(h, -1)
-    raw = np.concatenate([np.zeros((h, 1), np.uint8), rows], axis=1).tobytes()
-
-    def chunk(tag: bytes, data: bytes) -> bytes:
-        return (struct.pack(">I", len(data)) + tag + data +
-                struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
-
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, colour, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
-
-
-def _img(image: np.ndarray, alt: str, cls: str = "") -> str:
-    data = base64.b64encode(png_bytes(image)).decode("ascii")
-    return (f'<img class="{cls}" alt="{html.escape(alt)}" width="{image.shape[1]}" '
-            f'height="{image.shape[0]}" src="data:image/png;base64,{data}">')
 
 
 # ----------------------------------------------------------------------------------------
@@ -200,14 +180,9 @@ def _axes(out: list[str], ticks: list[float], py, box: tuple, x_label: str,
                f'text-anchor="middle">{html.escape(y_label)}</text>')
 
 
-def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_better: bool,
-             hlines: list[dict], standalone: bool = False) -> str:
-    """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
-    comparable kinds highlighted and horizontal reference lines (baseline, noise floor).
-    ``standalone`` embeds the style, for an .svg file of its own."""
-    width, height = 672, 360
-    ml, mr, mt, mb = 62, 232, 16, 44
-    pw, ph = width - ml - mr, height - mt - mb
+def plot_points(rows: list[dict], column: str) -> tuple[list[dict], list[tuple]]:
+    """The series of ``rows`` (series_for) and their timed points with a value of
+    ``column``: (series, row, time, value)."""
     series = series_for(rows)
     pts = []
     for s in series:
@@ -215,9 +190,12 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
             x, y = number(r.get("total_ms")), metric(r, column)
             if x is not None and x > 0 and y is not None:
                 pts.append((s, r, x, y))
-    lines = [h for h in hlines if number(h.get("value")) is not None]
-    if not pts:
-        return f'<p class="missing">No timed point has a value of {html.escape(label)}.</p>'
+    return series, pts
+
+
+def plot_ranges(pts: list[tuple], lines: list[dict], lower_is_better: bool) -> tuple:
+    """(x0, x1, y0, y1): the log10 decades of the time axis and the value axis's range, for
+    the points of plot_points and the horizontal lines."""
     xs = [p[2] for p in pts]
     ys = [p[3] for p in pts] + [h["value"] for h in lines]
     x0, x1 = math.floor(math.log10(min(xs))), math.ceil(math.log10(max(xs)))
@@ -230,6 +208,30 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
         y0, y1 = max(0.0, lo - 0.05 * (1 - lo) - 0.01), 1.0
     if y1 <= y0:
         y1 = y0 + 1
+    return x0, x1, y0, y1
+
+
+def plot_front(pts: list[tuple], lower_is_better: bool) -> list[str]:
+    """The keys of the Pareto front among plot_points' points of the comparable kinds
+    (FRONT_KINDS), fastest first."""
+    return pareto_front([(x, y, r["key"]) for s, r, x, y in pts if r["kind"] in FRONT_KINDS],
+                        lower_is_better)
+
+
+def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_better: bool,
+             hlines: list[dict], standalone: bool = False) -> str:
+    """An accuracy-against-time scatter plot (log time axis) with the Pareto front of the
+    comparable kinds highlighted and horizontal reference lines (baseline, noise floor): the
+    static plots of docs/results.md, and the report's when plotly.js is missing.
+    ``standalone`` embeds the style, for an .svg file of its own."""
+    width, height = 672, 360
+    ml, mr, mt, mb = 62, 232, 16, 44
+    pw, ph = width - ml - mr, height - mt - mb
+    series, pts = plot_points(rows, column)
+    lines = [h for h in hlines if number(h.get("value")) is not None]
+    if not pts:
+        return f'<p class="missing">No timed point has a value of {html.escape(label)}.</p>'
+    x0, x1, y0, y1 = plot_ranges(pts, lines, lower_is_better)
 
     def px(x):
         return ml + (math.log10(x) - x0) / (x1 - x0) * pw
@@ -267,8 +269,7 @@ def svg_plot(plot_id: str, rows: list[dict], column: str, label: str, lower_is_b
             out.append(f'<text x="{ml + pw - 4}" y="{Y - 4:.2f}" class="hlabel {h["cls"]}" '
                        f'text-anchor="end">{html.escape(h["label"])}</text>')
     # Pareto front of the comparable kinds.
-    comparable = [(x, y, r["key"]) for s, r, x, y in pts if r["kind"] in FRONT_KINDS]
-    front = pareto_front(comparable, lower_is_better)
+    front = plot_front(pts, lower_is_better)
     front_set = set(front)
     if len(front) > 1:
         where = {r["key"]: (x, y) for s, r, x, y in pts}
@@ -371,6 +372,191 @@ def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
                         "label": "noise floor" + (" (est.)" if floor.get("estimated") else ""),
                         "title": floor["source"]})
     return out
+
+
+# ----------------------------------------------------------------------------------------
+# Interactive plots (plotly.js)
+
+#: plotly.js marker symbols of series_for's markers.
+SYMBOLS = {"circle": "circle", "square": "square", "triangle": "triangle-up",
+           "diamond": "diamond"}
+#: Horizontal lines (hlines_for's cls): colour and dash, as the static plots' CSS draws them.
+HLINE_STYLES = {"baseline": ("#c0392b", "7px,4px"), "floor": ("#27ae60", "2px,3px"),
+                "weak": ("#e67e22", "3px,5px"), "limit": ("#2e7d32", "10px,3px,2px,3px")}
+
+
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "on" if v else "off"
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def changed_settings(row: dict, defaults: dict) -> list[str]:
+    """"name value" for each of a method row's settings that differs from the method's
+    default (``defaults``: aolab.method_info's, by name), and "+ blur" when the shared blur is
+    on (the builtin blur switch it turns off is not named); empty for the defaults, and for
+    peers (their label says what they are)."""
+    if row["kind"] != "method":
+        return []
+    settings = dict(row.get("settings") or {})
+    blur = settings.pop("blur", False)
+    entry = catalog.entry(row["method"])
+    builtin = entry.builtin_blur if entry is not None else None
+    out = []
+    for name, v in settings.items():
+        if name not in defaults or (blur and name == builtin):
+            continue
+        d = defaults[name]
+        same = (math.isclose(v, d, rel_tol=1e-9, abs_tol=1e-12)
+                if isinstance(v, float) and isinstance(d, (int, float)) else v == d)
+        if not same:
+            out.append(f"{name} {_value(v)}")
+    if blur:
+        out.append("+ blur")
+    return out
+
+
+def interval(row: dict, column: str) -> tuple[float, float] | None:
+    """A row's 95 % interval over the scenes of ``column`` (results.json's "intervals": the
+    ALL rows have them for the whole-frame and occluded MAE and the time), when finite."""
+    iv = (row.get("intervals") or {}).get(column)
+    if not iv or number(iv[0]) is None or number(iv[1]) is None:
+        return None
+    return float(iv[0]), float(iv[1])
+
+
+def _with_interval(value: float, iv: tuple | None, fmt: str) -> str:
+    return format(value, fmt) + (f" [{iv[0]:{fmt}}, {iv[1]:{fmt}}]" if iv else "")
+
+
+def hover_text(row: dict, defaults: dict, image: str) -> str:
+    """What hovering a point shows (plotly.js's subset of HTML): the method, the preset, the
+    settings that differ from the method's defaults, the time, the MAE on all scored pixels
+    and on the occluded region (with their 95 % intervals over the scenes where the row has
+    them), SSIM, and ``image``: what clicking it opens."""
+    def esc(text: str) -> str:    # plotly.js's text: <, > and & escaped, quotes as they are
+        return html.escape(text, quote=False)
+
+    lines = [f'<b>{esc(row["method"])}</b> {esc(row["label"])}'
+             + (f' (preset {esc(row["preset"])})' if row.get("preset")
+                and row["preset"] != row["label"] else "")]
+    changed = changed_settings(row, defaults)
+    if row["kind"] == "method":
+        changed = changed or ["the method's defaults"]
+    for i in range(0, len(changed), 3):
+        lines.append(esc(", ".join(changed[i:i + 3])))
+    t = number(row.get("total_ms"))
+    if t is not None:
+        lines.append(_with_interval(t, interval(row, "total_ms"), ".1f") + " ms")
+    for column, name in (("all_mae", "MAE"), ("occluded_mae", "MAE occluded")):
+        v = metric(row, column)
+        if v is not None:
+            lines.append(f"{name} {_with_interval(v, interval(row, column), '.4f')}")
+    ssim = metric(row, "all_ssim")
+    if ssim is not None:
+        lines.append(f"SSIM {ssim:.4f}")
+    if row.get("n_scenes"):
+        lines.append(f'mean over {row["n_scenes"]} scene(s)')
+    lines.append(f"<i>{esc(image)}</i>")
+    return "<br>".join(lines)
+
+
+def _error_bar(values: list, intervals: list) -> dict | None:
+    """plotly.js error bars from 95 % intervals ((lo, hi) or None per point)."""
+    if not any(intervals):
+        return None
+    plus, minus = [], []
+    for v, iv in zip(values, intervals):
+        lo, hi = iv or (v, v)
+        plus.append(hi - v)
+        minus.append(v - lo)
+    return {"type": "data", "symmetric": False, "array": plus, "arrayminus": minus,
+            "thickness": 1, "width": 0, "color": "rgba(0,0,0,0.22)"}
+
+
+def plotly_figure(rows: list[dict], column: str, label: str, lower_is_better: bool,
+                  hlines: list[dict], hovers: dict) -> dict | None:
+    """The plotly.js figure ({"data", "layout"}) of svg_plot's plot: one trace per series
+    (one per method, the Cycles ladder, rtao, EEVEE), one for the Pareto front (its step line
+    and a ring around each of its points), and one per horizontal line. ``hovers``: row key
+    -> hover_text. A point's customdata is its row's key (a limit line's ends: the limit's);
+    a trace's meta says what it is ({"role": "series", "kind"}, {"role": "hline", "key",
+    "cls"} or {"role": "front"}), layout.meta the plotted column. None when no point has a
+    value."""
+    series, pts = plot_points(rows, column)
+    lines = [h for h in hlines if number(h.get("value")) is not None]
+    if not pts:
+        return None
+    x0, x1, y0, y1 = plot_ranges(pts, lines, lower_is_better)
+    front = plot_front(pts, lower_is_better)
+    on_front = set(front)
+    data = []
+    for h in lines:
+        colour, dash = HLINE_STYLES[h["cls"]]
+        line = {"type": "scatter", "mode": "lines", "name": h["label"],
+                "x": [10.0 ** x0, 10.0 ** x1], "y": [h["value"], h["value"]],
+                "line": {"color": colour, "dash": dash, "width": 1.3},
+                "hovertemplate": f'{html.escape(h["title"])}: %{{y:.4g}}<extra></extra>',
+                "meta": {"role": "hline", "key": h["key"], "cls": h["cls"]}}
+        if h["cls"] == "limit":    # a click on its ends opens the limit's images
+            line["customdata"] = [h["key"], h["key"]]
+        data.append(line)
+    where = {r["key"]: (x, y) for s, r, x, y in pts}
+    if front:   # its step line and a ring around each of its points
+        data.append({"type": "scatter", "mode": "lines+markers", "name": "Pareto front",
+                     "x": [where[k][0] for k in front], "y": [where[k][1] for k in front],
+                     "line": {"color": "rgba(0,0,0,0.55)", "width": 1.4, "shape": "hv"},
+                     "marker": {"symbol": "circle-open", "size": 14, "color": "#000",
+                                "line": {"width": 1.6}},
+                     "hoverinfo": "skip", "meta": {"role": "front"}})
+    for s in series:
+        mine = [(r, x, y) for t, r, x, y in pts if t is s]
+        if not mine:
+            continue
+        xs, ys = [x for _, x, _ in mine], [y for _, _, y in mine]
+        front_here = [r["key"] in on_front for r, _, _ in mine]
+        trace = {"type": "scatter", "mode": "lines+markers" if s["line"] else "markers",
+                 "name": s["name"], "x": xs, "y": ys,
+                 "customdata": [r["key"] for r, _, _ in mine],
+                 "text": [hovers[r["key"]] + ("<br><b>on the Pareto front</b>" if f else "")
+                          for (r, _, _), f in zip(mine, front_here)],
+                 "hovertemplate": "%{text}<extra></extra>",
+                 "marker": {"color": s["colour"], "symbol": SYMBOLS[s["marker"]], "size": 8,
+                            "opacity": 0.9, "line": {"color": "#fff", "width": 0.8}},
+                 "meta": {"role": "series", "kind": s["rows"][0]["kind"]}}
+        if s["line"]:
+            trace["line"] = {"color": s["colour"], "width": 1.2, "dash": "4px,3px"}
+        ey = _error_bar(ys, [interval(r, column) for r, _, _ in mine])
+        # (a time interval reaching 0 has no place on the log axis)
+        ex = _error_bar(xs, [iv if iv and iv[0] > 0 else None
+                             for iv in (interval(r, "total_ms") for r, _, _ in mine)])
+        if ey:
+            trace["error_y"] = ey
+        if ex:
+            trace["error_x"] = ex
+        data.append(trace)
+    axis = {"gridcolor": "#e4e4e4", "zeroline": False, "linecolor": "#888", "mirror": True,
+            "showline": True, "ticks": "outside", "tickfont": {"size": 11}}
+    layout = {"width": 720, "height": 440, "margin": {"l": 56, "r": 8, "t": 12, "b": 44},
+              "xaxis": {**axis, "type": "log", "range": [x0, x1], "title": {
+                  "text": "time per frame, ms (log scale; method + blur)",
+                  "font": {"size": 12}}},
+              "yaxis": {**axis, "range": [y0, y1],
+                        "title": {"text": html.escape(label), "font": {"size": 12}}},
+              "legend": {"font": {"size": 11}, "tracegroupgap": 2},
+              "hovermode": "closest", "hoverlabel": {"align": "left", "font": {"size": 11}},
+              "plot_bgcolor": "#fff", "paper_bgcolor": "#fff",
+              "font": {"family": "system-ui, sans-serif"}, "meta": {"column": column}}
+    return {"data": data, "layout": layout}
+
+
+def _json_script(value, cls: str, **attrs) -> str:
+    """``value`` as JSON in an inert <script type="application/json"> ("</" escaped)."""
+    extra = "".join(f' {k.replace("_", "-")}="{html.escape(v)}"' for k, v in attrs.items())
+    text = json.dumps(value, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    return f'<script type="application/json" class="{cls}"{extra}>{text}</script>'
 
 
 # ----------------------------------------------------------------------------------------
@@ -964,11 +1150,29 @@ def _colour_bar() -> str:
             '</svg>')
 
 
-def image_grid(scene: str, imgs: dict | None, budget_ms: float) -> str:
-    if not imgs:
+def image_files(scene: str, imgs: dict, out: report_files.Files) -> dict:
+    """A scene's encoded images (compare.scene_images) added to ``out``: {"reference": its
+    name, "configs": {"method/label": [AO's name, signed error's name]}, "size": [w, h]}."""
+    return {"reference": out.add(f"{scene}_reference", ".webp", imgs["reference"]),
+            "configs": {c: [out.add(f"{scene}_{c}_ao", ".webp", d["ao"]),
+                            out.add(f"{scene}_{c}_error", ".webp", d["error"])]
+                        for c, d in imgs["configs"].items()},
+            "size": list(imgs["size"])}
+
+
+def _img(src: str, alt: str, size: list, cls: str = "") -> str:
+    return (f'<img class="{cls}" alt="{html.escape(alt)}" width="{size[0]}" height="{size[1]}" '
+            f'src="{html.escape(src)}">')
+
+
+def image_grid(scene: str, imgs: dict | None, names: dict | None, budget_ms: float) -> str:
+    """The reference, then each entry of compare.scene_images with its AO and signed error;
+    ``names``: image_files' names of the scene's images."""
+    if not imgs or not names:
         return "<p class='missing'>No images (the scene did not finish).</p>"
+    size = names["size"]
     cards = [f'<figure class="card"><figcaption><b>Cycles 1024 spp reference</b></figcaption>'
-             f'{_img(imgs["reference"], f"{scene} reference")}</figure>']
+             f'{_img(names["reference"], f"{scene} reference", size)}</figure>']
     for e in imgs["entries"]:
         if e["kind"] == "method":
             caption = (f'<b>{html.escape(e["method"])}</b> {html.escape(e["label"])}, '
@@ -979,11 +1183,12 @@ def image_grid(scene: str, imgs: dict | None, budget_ms: float) -> str:
             what = "oracle" if e["kind"] == "limit" else "render"
             t = f'{e["total_ms"] / 1000:.1f} s {what}' if e.get("total_ms") else "no time"
             caption = f'<b>{html.escape(e["method"])}</b> ({t}), MAE {e["mae"]:.4f}'
+        ao, err = names["configs"].get(e["config"]) or (None, None)
+        shots = (f'{_img(ao, e["key"] + " AO", size)}'
+                 f'{_img(err, e["key"] + " signed error", size, "err")}' if ao else
+                 "<p class='missing'>no image</p>")
         cards.append(f'<figure class="card" data-key="{html.escape(e["key"])}"><figcaption>'
-                     f'{caption}</figcaption>'
-                     f'{_img(e["ao"], e["key"] + " AO")}'
-                     f'{_img(signed_error_rgb(e["error"]), e["key"] + " signed error", "err")}'
-                     f'</figure>')
+                     f'{caption}</figcaption>{shots}</figure>')
     return (f'<div class="grid">{"".join(cards)}</div><div class="legendbar">Signed error '
             f'(method − reference), saturating at ±{ERROR_SCALE:g}: {_colour_bar()}</div>')
 
@@ -1032,28 +1237,50 @@ tr.floor{background:#eaf7ee;font-style:italic}
 .card img{display:inline-block;margin:4px 4px 0 0;vertical-align:top} figcaption{font-size:12px}
 .legendbar{font-size:12px;margin:6px 0;display:flex;align-items:center;gap:8px}
 .missing{color:#a05a00} .note{color:#555;font-size:13px} .scroll{overflow-x:auto}
+div.plot{border:1px solid #ddd;background:#fff;width:720px;height:440px}
+tr.has-image{cursor:pointer} tr.has-image:hover{background:#eef4fb}
+#viewer{position:fixed;inset:0;background:rgba(0,0,0,0.55);z-index:10;overflow:auto}
+#viewer[hidden]{display:none}
+.viewer-box{background:#fff;margin:3vh auto;max-width:1500px;padding:12px 16px;
+ position:relative;border-radius:4px}
+.viewer-box button{position:absolute;right:10px;top:8px;font-size:20px;border:0;
+ background:none;cursor:pointer}
+.viewer-caption{font-size:13px;margin:0 30px 8px 0}
+.viewer-row{display:flex;flex-wrap:wrap;gap:8px;align-items:flex-start;margin:6px 0}
+.viewer-scene{width:100%;font-weight:bold;font-size:13px}
+figure.shot{margin:0} figure.shot img{display:block;max-width:100%;height:auto;
+ border:1px solid #ddd} figure.shot figcaption{font-size:12px;color:#555;max-width:480px}
 """
 
 CHECK_SCRIPT = """
 window.addEventListener('load', function () {
-  var problems = [];
-  var imgs = document.images;
-  for (var i = 0; i < imgs.length; i++) {
-    if (!imgs[i].complete || imgs[i].naturalWidth === 0)
-      problems.push('image "' + imgs[i].alt + '" did not decode');
-  }
-  var svgs = document.querySelectorAll('svg.plot');
-  if (svgs.length === 0) problems.push('no plot');
-  var points = 0;
-  for (var j = 0; j < svgs.length; j++) {
-    var n = svgs[j].querySelectorAll('.point').length;
-    points += n;
-    if (n === 0) problems.push('plot ' + svgs[j].id + ' has no points');
-  }
-  var outcome = problems.length ? 'error ' + problems.join('; ')
-      : 'ok (' + imgs.length + ' images, ' + svgs.length + ' plots, ' + points + ' points)';
-  document.title = 'AO Lab report: ' + outcome;
-  document.body.setAttribute('data-check', outcome);
+  var ready = (window.aolabReport && window.aolabReport.ready) || Promise.resolve();
+  ready.then(function () {
+    var problems = [];
+    var imgs = document.images;
+    for (var i = 0; i < imgs.length; i++) {
+      if (!imgs[i].complete || imgs[i].naturalWidth === 0)
+        problems.push('image "' + imgs[i].alt + '" did not decode');
+    }
+    var plots = document.querySelectorAll('svg.plot, div.plot');
+    if (plots.length === 0) problems.push('no plot');
+    if (document.querySelector('div.plot') && !window.Plotly)
+      problems.push('plotly.js did not load');
+    var points = 0;
+    for (var j = 0; j < plots.length; j++) {
+      var n = 0, p = plots[j];
+      if (p.tagName.toLowerCase() === 'svg') n = p.querySelectorAll('.point').length;
+      else (p._fullData || []).forEach(function (t) {
+        if (t.meta && t.meta.role === 'series') n += t.x.length;
+      });
+      points += n;
+      if (n === 0) problems.push('plot ' + p.id + ' has no points');
+    }
+    var outcome = problems.length ? 'error ' + problems.join('; ')
+        : 'ok (' + imgs.length + ' images, ' + plots.length + ' plots, ' + points + ' points)';
+    document.title = 'AO Lab report: ' + outcome;
+    document.body.setAttribute('data-check', outcome);
+  });
 });
 """
 
@@ -1124,15 +1351,85 @@ error (blue lighter / red darker than the reference).</li>
 </ul></details>"""
 
 
-def scene_section(name: str, title: str, rows: list[dict], info: dict | None, imgs: dict | None,
-                  budget_ms: float, plot_prefix: str) -> str:
+class Page:
+    """What rendering one report.html collects and shares between its sections: the files it
+    names (``out``), whether the plots are interactive (plotly.js is in ``out``), the image
+    files of each scene (image_files) and the methods' default settings."""
+
+    def __init__(self, out: report_files.Files, interactive: bool):
+        self.out = out
+        self.interactive = interactive
+        self.images: dict[str, dict] = {}
+        self._defaults: dict[str, dict] = {}
+
+    def add_images(self, scene: str, imgs: dict | None, sequence: bool = False) -> None:
+        """Adds a scene's images (compare.scene_images); a sequence's are its first frame's,
+        and its scenes are not among those of the means over the scenes (ALL)."""
+        if imgs:
+            self.images[scene] = {**image_files(scene, imgs, self.out),
+                                  "note": "first frame" if sequence else "",
+                                  "in_all": not sequence}
+
+    def defaults(self, method: str) -> dict:
+        if method not in self._defaults:
+            try:
+                info = aolab.method_info(method)["settings"]
+            except ValueError:      # a peer, the baseline or rtao: no method settings
+                info = []
+            self._defaults[method] = {s["name"]: s["default"] for s in info}
+        return self._defaults[method]
+
+    def image_note(self, scene: str, row: dict) -> str:
+        """What clicking a point of ``row`` in ``scene``'s plots opens, for its hover."""
+        config = f'{row["method"]}/{row["label"]}'
+        names = ([n for n, i in self.images.items() if i["in_all"]] if scene == AGGREGATE
+                 else [scene])
+        have = [n for n in names if config in (self.images.get(n) or {}).get("configs", {})]
+        if not have:
+            return "no image"
+        if scene == AGGREGATE:
+            return f"click: its image and error map on each of {len(have)} scene(s)"
+        return "click: image and error map" + (f' ({self.images[scene]["note"]})'
+                                               if self.images[scene]["note"] else "")
+
+    def index(self) -> str:
+        """Every scene's image files, for report.js."""
+        return _json_script({"order": list(self.images), "scenes": self.images}, "images")
+
+
+#: The scene name of the means over the scenes (compare.AGGREGATE_SCENE).
+AGGREGATE = "ALL"
+
+
+def plots_html(page: Page, name: str, rows: list[dict], floor: dict | None,
+               plot_prefix: str) -> str:
+    """The three plots of a section (PLOTS): plotly.js figures, or static SVG when plotly.js
+    is not installed."""
+    plots = []
+    hovers = ({r["key"]: hover_text(r, page.defaults(r["method"]), page.image_note(name, r))
+               for r in rows} if page.interactive else {})
+    for column, label, lower in PLOTS:
+        plot_id = f"{plot_prefix}-{column}"
+        lines = hlines_for(rows, column, floor)
+        if not page.interactive:
+            plots.append(svg_plot(plot_id, rows, column, label, lower, lines))
+            continue
+        fig = plotly_figure(rows, column, label, lower, lines, hovers)
+        if fig is None:
+            plots.append(f'<p class="missing">No timed point has a value of '
+                         f'{html.escape(label)}.</p>')
+            continue
+        plots.append(f'<div class="plot" id="{html.escape(plot_id)}" data-metric="{column}" '
+                     f'data-section="{html.escape(name)}"></div>'
+                     + _json_script(fig, "figure", data_plot=plot_id))
+    return f'<div class="plots">{"".join(plots)}</div>'
+
+
+def scene_section(page: Page, name: str, rows: list[dict], info: dict | None,
+                  imgs: dict | None, budget_ms: float, plot_prefix: str) -> str:
     parts = []
     floor = info.get("noise_floor") if info else None
-    plots = []
-    for column, label, lower in PLOTS:
-        plots.append(svg_plot(f"{plot_prefix}-{column}", rows, column, label, lower,
-                              hlines_for(rows, column, floor)))
-    parts.append(f'<div class="plots">{"".join(plots)}</div>')
+    parts.append(plots_html(page, name, rows, floor, plot_prefix))
     if info is not None:
         peers = info.get("peers") or []
         if not peers:
@@ -1144,7 +1441,7 @@ def scene_section(name: str, title: str, rows: list[dict], info: dict | None, im
         if floor is None:
             parts.append("<p class='missing'>Reference noise floor unknown (no independent "
                          "1024-spp or 256-spp render).</p>")
-        parts.append(image_grid(name, imgs, budget_ms))
+        parts.append(image_grid(name, imgs, page.images.get(name), budget_ms))
     parts.append(f'<div class="scroll">{table(rows, floor)}</div>')
     return "\n".join(parts)
 
@@ -1273,24 +1570,46 @@ def study_sections(results: dict, agg: list[dict]) -> str:
     return "\n".join(parts)
 
 
-def render_html(results: dict, images: dict) -> str:
+VIEWER = ('<div id="viewer" hidden><div class="viewer-box" role="dialog" aria-label="images">'
+          '<button type="button" aria-label="close">×</button><div class="viewer-body"></div>'
+          '</div></div>')
+
+
+def render_html(results: dict, images: dict, out: report_files.Files | None = None,
+                plotly: str | None = None, script: str | None = None) -> str:
+    """The page. ``images``: compare.scene_images per scene, whose files are added to
+    ``out``; ``plotly`` and ``script``: the names in ``out`` of plotly.js and report.js,
+    loaded at the page's end. Without plotly.js the plots are static SVG and the page says so
+    in one line."""
     meta = results["meta"]
     rows = results["rows"]
+    scenes = meta.get("scenes", [])
+    interactive = plotly is not None
+    page = Page(out if out is not None else report_files.Files(), interactive)
+    for name in scenes:
+        info = results["scenes"].get(name) or {}
+        page.add_images(name, images.get(name), bool(info.get("sequence")))
     body = ["<h1>AO Lab: what accuracy costs in time</h1>"]
+    if not interactive:
+        body.append("<p class='missing'>Static plots: plotly.js is not installed "
+                    "(scripts/install-deps.sh installs it), so the plots cannot show a point's "
+                    "configuration on hover.</p>")
+    else:
+        body.append("<noscript><p class='missing'>The plots need JavaScript; the tables "
+                    "below hold every number.</p></noscript>")
     if meta.get("partial"):
         complete = ", ".join(meta.get("complete_scenes", [])) or "none"
         body.append('<div class="banner">PARTIAL results: the study was interrupted or is still '
                     f'running. Complete scenes: {html.escape(complete)}.</div>')
     body.append(_meta_table(results))
     body.append(_how_to_read(results))
-    scenes = meta.get("scenes", [])
-    agg = [r for r in rows if r["scene"] == "ALL"]
+    agg = [r for r in rows if r["scene"] == AGGREGATE]
     if agg:
         body.append('<h2 id="all">All scenes</h2><p class="note">Each point is the mean over the '
                     'complete scenes where the configuration ran (times and scores averaged; '
                     'peers only over the scenes that have them: see each row\'s note). The '
                     'noise floor is per scene: see the scenes below.</p>')
-        body.append(scene_section("ALL", "All scenes", agg, None, None, meta.get("budget_ms", 0),
+        body.append(scene_section(page, AGGREGATE, agg, None, None, meta.get("budget_ms", 0),
                                   "plot-ALL"))
         body.append(study_sections(results, agg))
     for name in scenes:
@@ -1306,13 +1625,15 @@ def render_html(results: dict, images: dict) -> str:
                         'region pixels: ' + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in
                                                       info.get("region_pixels", {}).items())
                         + "</p>")
-        body.append(scene_section(name, name, mine, info, images.get(name),
+        body.append(scene_section(page, name, mine, info, images.get(name),
                                   meta.get("budget_ms", 0), f"plot-{name}"))
         if info and info.get("sequence"):
             body.append(sequence_section(name, rows, info, meta.get("budget_ms", 0)))
     if results.get("notes"):
         notes = "".join(f"<li>{html.escape(n)}</li>" for n in results["notes"])
         body.append(f"<h2>Notes</h2><ul>{notes}</ul>")
+    body += [VIEWER, page.index()]
+    body += [f'<script src="{html.escape(s)}"></script>' for s in (plotly, script) if s]
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             "<meta name='viewport' content='width=device-width, initial-scale=1'>"
             "<title>AO Lab report</title>"
@@ -1321,5 +1642,15 @@ def render_html(results: dict, images: dict) -> str:
 
 
 def write_report(path: Path, results: dict, images: dict) -> None:
-    """Writes report.html atomically."""
-    files.write_text(path, render_html(results, images))
+    """Writes report.html and the files it names into report_files/ beside it (plotly.js
+    when installed, report.js, the images: report_files.Files), each atomically, the files
+    before the page; then removes the files of report_files/ that the page no longer names."""
+    path = Path(path)
+    out = report_files.Files()
+    found = report_files.plotly_js()
+    plotly = out.add("plotly-basic", ".min.js", found.read_bytes()) if found else None
+    script = out.add("report", ".js", report_files.SCRIPT.read_bytes())
+    page = render_html(results, images, out, plotly, script)
+    out.write(path.parent)
+    files.write_text(path, page)
+    report_files.prune(path)
