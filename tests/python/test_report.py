@@ -176,6 +176,13 @@ def test_the_self_check_reports_a_broken_image(small_report, tmp_path):
     assert title.startswith("AO Lab report: error") and "did not decode" in title
 
 
+def test_report_html_alone_says_its_plots_did_not_load(small_report, tmp_path):
+    shutil.copy(small_report, tmp_path / "report.html")     # without report_files/
+    dom = dump_dom(tmp_path / "report.html")
+    assert "The plots did not load" in dom and "plotly.js did not load" in dom
+    assert "<table" in dom      # the tables are there
+
+
 def test_without_plotly_js_the_report_says_so_and_draws_static_plots(
         small_report, tmp_path, monkeypatch):
     results = json.loads((small_report.parent / "results.json").read_text())

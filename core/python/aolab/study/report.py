@@ -1264,8 +1264,14 @@ window.addEventListener('load', function () {
     }
     var plots = document.querySelectorAll('svg.plot, div.plot');
     if (plots.length === 0) problems.push('no plot');
-    if (document.querySelector('div.plot') && !window.Plotly)
+    if (document.querySelector('div.plot') && !window.Plotly) {
       problems.push('plotly.js did not load');
+      var line = document.createElement('p');
+      line.className = 'missing';
+      line.textContent = 'The plots did not load: their scripts are missing from ' +
+          'report_files/ (copy the whole folder, not report.html alone).';
+      document.body.insertBefore(line, document.body.firstChild);
+    }
     var points = 0;
     for (var j = 0; j < plots.length; j++) {
       var n = 0, p = plots[j];
