@@ -202,6 +202,11 @@ class Browser:
         self.close()
 
 
+#: Pixels within which two points of a plot may both answer a hover (plotly.js's markers are
+#: 8 px wide).
+NEAR = 10
+
+
 def poll(b: Browser, expression: str, timeout: float = 10.0):
     """The first truthy value of ``expression`` in the page, evaluated every 50 ms (the last
     value after ``timeout`` seconds)."""
@@ -215,25 +220,30 @@ def poll(b: Browser, expression: str, timeout: float = 10.0):
 
 def plot_point(b: Browser, plot: str, name: str | None = None, key: str | None = None) -> dict:
     """A point of a plot of report.html (aolab.study.report.plotly_figure), its plot scrolled
-    into view: {"key", "x", "y" (page pixels), "d" (pixels to the nearest other point)}. The
-    point whose row is ``key``, or of the trace ``name`` the one farthest from every other
-    point (so that hovering it can show only it)."""
+    into view: {"key", "x", "y" (page pixels), "d" (pixels to the nearest other point),
+    "near" (the keys of the points within NEAR px, which a hover there may show instead)}.
+    The point whose row is ``key``; else, of the trace ``name`` (else of every method's
+    trace), the one farthest from every other point."""
     return b.evaluate(f"""(() => {{
         const gd = document.getElementById({json.dumps(plot)});
         gd.scrollIntoView({{block: 'center'}});
         const fl = gd._fullLayout, r = gd.getBoundingClientRect(), all = [];
         gd._fullData.forEach(t => {{
             if (!t.meta || t.meta.role !== 'series') return;
-            t.x.forEach((x, j) => all.push({{name: t.name, key: t.customdata[j],
-                x: r.left + fl.xaxis._offset + fl.xaxis.c2p(x),
+            t.x.forEach((x, j) => all.push({{name: t.name, kind: t.meta.kind,
+                key: t.customdata[j], x: r.left + fl.xaxis._offset + fl.xaxis.c2p(x),
                 y: r.top + fl.yaxis._offset + fl.yaxis.c2p(t.y[j])}}));
         }});
+        const key = {json.dumps(key)}, name = {json.dumps(name)};
+        const wanted = a => key ? a.key === key : name ? a.name === name : a.kind === 'method';
         let best = null;
-        all.filter(a => a.name === {json.dumps(name)} || a.key === {json.dumps(key)})
-           .forEach(a => {{
-            const d = Math.min(...all.filter(o => o !== a).map(
-                o => Math.hypot(o.x - a.x, o.y - a.y)));
-            if (!best || d > best.d) best = {{...a, d}};
+        all.filter(wanted).forEach(a => {{
+            const others = all.filter(o => o !== a);
+            const dist = o => Math.hypot(o.x - a.x, o.y - a.y);
+            const d = Math.min(...others.map(dist));
+            if (!best || d > best.d)
+                best = {{key: a.key, x: a.x, y: a.y, d: d,
+                         near: others.filter(o => dist(o) < {NEAR}).map(o => o.key)}};
         }});
         return best;
     }})()""")
