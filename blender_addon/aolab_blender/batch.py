@@ -8,6 +8,8 @@
     --spp N             reference samples          --gbuffer-samples N (default 1)
     --passes a,b        G-buffer passes (depth always)
     --resolution WxH    override the scene's resolution (percentage 100)
+    --scale PCT         render at PCT % of the output size (after --resolution), as the
+                        add-on's Resolution does (its minimum 4x4 checked)
     --camera NAME       render from this camera instead of the scene camera
     --extra JSON        extra sidecar entries
     --peers             render the comparison peers instead (Cycles ladder, EEVEE;
@@ -41,7 +43,8 @@ from aolab.bridge.constants import LADDER_SPP  # noqa: E402
 from aolab.bridge.passes import parse_passes  # noqa: E402
 from aolab.util.arguments import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
                                   int_list_option, int_option)
-from aolab.render.reference import MAX_FRAME, parse_resolution  # noqa: E402
+from aolab.bridge.intrinsics import image_size  # noqa: E402
+from aolab.render.reference import MAX_FRAME, MIN_RESOLUTION, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
 from aolab_blender.scene_record import BridgeError  # noqa: E402
@@ -78,7 +81,22 @@ def parse(argv):
     p.add_argument("--no-eevee", action="store_true")
     p.add_argument("--mesh-only", action="store_true")
     p.add_argument("--frame", type=int_option("--frame", -MAX_FRAME, MAX_FRAME))
+    p.add_argument("--scale", type=int_option("--scale", 1, 100))
     return p.parse_args(argv)
+
+
+def scale_output(render, percent: int) -> None:
+    """The output size made `percent` % of what it is (resolution x percentage, each side
+    truncated as Blender and the add-on's Resolution truncate, percentage 100); a BridgeError
+    when a side would fall below Blender's 4-pixel minimum, which it would raise silently."""
+    w, h = image_size(render.resolution_x, render.resolution_y, render.resolution_percentage)
+    size = max(1, w * percent // 100), max(1, h * percent // 100)
+    if min(size) < MIN_RESOLUTION:
+        raise BridgeError(f"at {percent} % of {w}x{h} the render would be {size[0]}x{size[1]}; "
+                          f"Blender renders at least {MIN_RESOLUTION}x{MIN_RESOLUTION}: "
+                          "raise the scale")
+    render.resolution_x, render.resolution_y = size
+    render.resolution_percentage = 100
 
 
 def main(argv):
@@ -95,6 +113,8 @@ def main(argv):
     if args.resolution:
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
         scene.render.resolution_percentage = 100
+    if args.scale is not None:
+        scale_output(scene.render, args.scale)
 
     def stage(name: str) -> None:
         print(f"AOLAB_STAGE {name}", flush=True)

@@ -124,7 +124,7 @@ def scene_hash(scene, size: tuple[int, int]) -> str:
 
 
 def find_reference(inputs: dict, spp: int | None) -> Path | None:
-    return properties.jobs.find_reference(
+    return properties.jobs.find_by_content(
         inputs["cache"], scene_hash=inputs["scene_hash"], size=inputs["size"],
         radius=None if spp is None else inputs["radius"], spp=spp,
         passes=tuple(inputs["passes"]))

@@ -6,9 +6,13 @@ comparison study, its report and the add-on (no bpy).
 - The signed error map (method − reference): white at 0, blue where the method is lighter
   (under-occlusion), red where it is darker (over-occlusion), full colour at
   |error| >= ERROR_SCALE, background grey.
+- The noise of a ray-traced reference (:func:`reference_noise`): how far above its true value
+  a method's MAE can read against a reference of N rays per pixel.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -55,6 +59,26 @@ def metrics_mask(g) -> np.ndarray | None:
     reference, or no finite reference on geometry)."""
     mask = scored_mask(g)
     return mask if mask.any() else None
+
+
+def reference_noise(reference: np.ndarray, samples: int, mask: np.ndarray) -> float | None:
+    """The mean absolute noise, over ``mask``, of a reference whose pixels are each the mean
+    of ``samples`` binary rays (rtao, Cycles' AO pass): E|e| ≈ sqrt(2/pi)·sigma per pixel,
+    sigma² = p(1 − p)/(N − 1) with p the reference's own value (N − 1: the unbiased estimate
+    of an N-ray mean's variance from that mean itself). None when ``samples`` < 2 or no pixel
+    is in ``mask``.
+
+    What it bounds (docs/comparison.md, "Advise: the quick reference and its noise"): a
+    method's MAE against a reference with zero-mean noise e reads high by E|d − e| − |d|,
+    which lies in [0, E|e|] at every pixel (Jensen below, the triangle inequality above; d =
+    method − noise-free AO): 0 where the method is far off, E|e| where it is exact. Stratified
+    rays are less noisy than independent ones, so this is an upper estimate."""
+    m = np.asarray(mask, bool)
+    if samples < 2 or not m.any():
+        return None
+    p = np.clip(np.asarray(reference, np.float64)[m], 0.0, 1.0)
+    sigma = np.sqrt(p * (1.0 - p) / (samples - 1))
+    return float(math.sqrt(2.0 / math.pi) * np.mean(sigma))
 
 
 def signed_error_rgb(err: np.ndarray, scale: float = ERROR_SCALE,

@@ -4,15 +4,18 @@ A Job runs one function in a daemon thread. The main thread (a modal operator's 
 an operator's execute() waiting in a loop) polls `progress`, `stage` and `done`, and reads
 `result` or `error` once done; `cancel()` sets a flag the task checks and terminates the
 child process it may be waiting on. Tasks receive plain Python data prepared on the main
-thread and never touch bpy: images and results are made on the main thread afterwards.
+thread and never touch bpy: images and results are made on the main thread afterwards. The
+tasks: preview, reference, compare, quick compare (the methods against rtao at a few rays:
+aolab.study.quick_reference), advise (aolab.study.advise: every preset, the front drawn) and
+report.
 
 References are rendered by `aolab reference` in a child /usr/bin/python3 (reference_job.py,
 with this aolab package first on its path; not sys.executable, which inside Blender is
 whichever python3.11 comes first on PATH, possibly one without numpy: docs/blender_facts.md,
 "Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its cache
-is content-keyed by the file's bytes; `find_reference` also finds a render by the scene's
-content hash (the add-on's export.content_hash, stored in each sidecar), so that a re-saved,
-unchanged scene is served from the cache.
+is content-keyed by the file's bytes; `find_by_content` (aolab.render.reference) also finds
+a render by the scene's content hash (the add-on's export.content_hash, stored in each
+sidecar), so that a re-saved, unchanged scene is served from the cache.
 """
 
 from __future__ import annotations
@@ -25,13 +28,15 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
+
 import aolab
 
-from ..bridge.constants import RESULT_EXR, RESULT_JSON
-from ..render.reference import package_path
+from ..bridge.constants import RESULT_EXR
+# find_by_content: the add-on's cache lookup by scene content (inputs.find_reference)
+from ..render.reference import find_by_content, package_path  # noqa: F401
 from ..scoring import error_map, metrics_mask, nothing_to_score
-from ..study import compare
-from ..util import files
+from ..study import advise, compare, quick_reference
 
 PYTHON = "/usr/bin/python3"
 DRIVER = "aolab.addon.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
@@ -141,38 +146,6 @@ def _kill_later(proc) -> None:
         os.killpg(proc.pid, signal.SIGKILL)
 
 
-def find_reference(cache: Path, *, scene_hash: str, size: tuple[int, int],
-                   radius: float | None = None, spp: int | None = None,
-                   passes: tuple[str, ...] = ()) -> Path | None:
-    """The newest cached render of this scene content at this size (and R, samples, with
-    these passes, when given), or None."""
-    best, best_time = None, -1.0
-    cache = Path(cache)
-    if not cache.is_dir():
-        return None
-    for side_path in cache.glob(f"[!.]*/{RESULT_JSON}"):
-        try:
-            side = json.loads(files.read_text(side_path, "cached sidecar"))
-            if not side_path.with_name(RESULT_EXR).exists():
-                continue
-        except (OSError, ValueError):
-            continue
-        if side.get("scene_hash") != scene_hash:
-            continue
-        if (side.get("width"), side.get("height")) != tuple(size):
-            continue
-        if radius is not None and side.get("ao_distance") != radius:
-            continue
-        if spp is not None and side.get("samples") != spp:
-            continue
-        if not set(passes) <= set(side.get("passes", ())):
-            continue
-        mtime = side_path.stat().st_mtime
-        if mtime > best_time:
-            best, best_time = side_path.parent, mtime
-    return best
-
-
 def _child_env() -> dict:
     """The environment of reference_job.py: this aolab package first on its path, so that the
     child (and the Blender it starts) use the same build as the add-on."""
@@ -268,14 +241,10 @@ def reference_task(job: Job, plan: dict) -> dict:
 def compare_task(job: Job, plan: dict) -> dict:
     """The methods on the reference's own G-buffer, scored against its AO."""
     job.report(0.0, "loading the reference")
-    g = aolab.load_gbuffer(Path(plan["folder"]) / RESULT_EXR)
-    # A frame of background alone (an empty scene, a camera facing away) renders fine, but
-    # leaves nothing to score: said before any method runs, as aolab compare says it.
-    problem = nothing_to_score(g)
-    if problem:
-        raise JobError(f"nothing to compare: {problem}")
+    g = scorable(aolab.load_gbuffer(Path(plan["folder"]) / RESULT_EXR))
     runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"])
-    return {"folder": plan["folder"], "runs": runs, "reference": g.reference}
+    return {"folder": plan["folder"], "runs": runs, "reference": g.reference,
+            "reference_info": quick_reference.cycles(g).info()}
 
 
 def report_task(job: Job, plan: dict) -> dict:
@@ -287,3 +256,72 @@ def report_task(job: Job, plan: dict) -> dict:
                            out=out, threads=plan["threads"], progress=False)
     compare.Study(opts).run()
     return {"report": str(out / "report.html")}
+
+
+def gbuffer_with_mesh(job: Job, plan: dict, scale: tuple[float, float]) -> Path:
+    """The folder of a cached render of the scene with its triangles (plan["cached"]), else
+    a 1-sample render with the `mesh` pass of the copy plan["blend"]."""
+    if plan.get("cached"):
+        return Path(plan["cached"])
+    return render_reference(job, plan["blend"], spp=1, radius=plan["radius"], size=plan["size"],
+                            passes=plan["passes"], cache=plan["cache"], scale=scale)
+
+
+def scorable(g):
+    """``g``, whose ``reference`` is what it is scored against; a JobError when no pixel can
+    be scored. A frame of background alone (an empty scene, a camera facing away) renders
+    fine, but leaves nothing to score: said before any method runs, as aolab compare says
+    it."""
+    problem = nothing_to_score(g)
+    if problem:
+        raise JobError(f"nothing to compare: {problem}")
+    return g
+
+
+def _quick(job: Job, folder: Path, plan: dict, at: float) -> tuple:
+    """The G-buffer of ``folder`` scored against its quick reference (rtao at plan["rays"]),
+    and that reference."""
+    job.check()
+    job.report(at, f"quick reference: rtao {plan['rays']} rays")
+    g = aolab.load_gbuffer(Path(folder) / RESULT_EXR)
+    if not np.asarray(g.valid_mask(), bool).any():
+        scorable(g)   # says the frame has no geometry, before tracing
+    ref = quick_reference.quick(g, radius=plan["radius"], rays=plan["rays"],
+                                threads=plan["threads"])
+    g.reference = ref.ao
+    return scorable(g), ref
+
+
+def quick_compare_task(job: Job, plan: dict) -> dict:
+    """The methods scored against the quick reference: rtao at plan["rays"] on the scene's
+    G-buffer and triangles (cached, or rendered at 1 sample with the `mesh` pass)."""
+    folder = gbuffer_with_mesh(job, plan, (0.0, 0.7))
+    g, ref = _quick(job, folder, plan, 0.7)
+    runs = run_methods(job, g, plan["runs"], radius=plan["radius"], threads=plan["threads"],
+                       scale=(0.8, 1.0))
+    return {"folder": str(folder), "runs": runs, "reference": ref.ao,
+            "reference_info": ref.info()}
+
+
+def advise_task(job: Job, plan: dict) -> dict:
+    """Advise (aolab.study.advise) on the scene: against the cached Cycles reference
+    (plan["cycles"]) when there is one, else the quick reference; the front drawn."""
+    if plan.get("cycles"):
+        folder = Path(plan["cycles"])
+        job.report(0.0, "loading the Cycles reference")
+        g = scorable(aolab.load_gbuffer(folder / RESULT_EXR))
+        ref = quick_reference.cycles(g)
+    else:
+        folder = gbuffer_with_mesh(job, plan, (0.0, 0.3))
+        g, ref = _quick(job, folder, plan, 0.3)
+    lo, hi = 0.35, 0.97
+
+    def step(i: int, n: int, config: dict) -> None:
+        job.check()
+        job.report(lo + (hi - lo) * i / max(n, 1),
+                   f"advise: {config['method']} {'/'.join(config['names'])} ({i + 1}/{n})")
+
+    result = advise.run(g, ref, plan["radius"], name=plan["scene"], threads=plan["threads"],
+                        on_step=step)
+    job.report(hi, "drawing the front")
+    return {"folder": str(folder), "advice": result, "image": advise.plot(result)}

@@ -12,6 +12,7 @@
     aolab mesh SCENE... [options]         export each scene's triangles as rendered (cached)
     aolab limits [SCENE...] [options]     compute the screen-space limit of each scene (committed)
     aolab compare [SCENE...] [options]    score every method against the references: report
+    aolab advise SCENE [--budget MS]      which method and preset for this scene within a budget
     aolab presets [METHOD...]             the named presets of each method and their settings
     aolab tune [options]                  search each method's settings for the Pareto front
     aolab radius-study [SCENE...]         HBAO, Pyramid HBAO and Scalable AO against the radius
@@ -36,13 +37,13 @@ import warnings
 import aolab
 
 from ..util.arguments import Parser
-from . import (analytic, bench, bench_table, bridge_check, compare, limits, mesh, methods,
-               presets, radius_study, reference, rtao, rtao_check, run, tune)
+from . import (advise, analytic, bench, bench_table, bridge_check, compare, limits, mesh,
+               methods, presets, radius_study, reference, rtao, rtao_check, run, tune)
 
 #: Every command, in the order of the list above: a module with ``add_parser(sub)`` (its
 #: parser) and ``run(args)`` (its call: the exit status).
 COMMANDS = (methods, analytic, run, rtao, rtao_check, bridge_check, bench, bench_table,
-            reference, mesh, limits, compare, presets, tune, radius_study)
+            reference, mesh, limits, compare, advise, presets, tune, radius_study)
 
 
 # --- errors ---------------------------------------------------------------------------------

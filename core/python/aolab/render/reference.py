@@ -209,6 +209,9 @@ class Plan:
     mesh_only: bool = False
     # The animation frame rendered (scene.frame_set), or None: the file's current frame.
     frame: int | None = None
+    # Render at this percentage of the scene's output size (after `resolution`), as the
+    # add-on's Resolution does (`aolab advise`), or None: the output size itself.
+    scale: int | None = None
 
     def key(self, blender: str | None = None) -> str:
         """The cache folder's name: the scene's name and a digest of everything the render
@@ -225,6 +228,8 @@ class Plan:
                         "mesh_only": True}
         if self.frame is not None:  # only then, so that still renders keep their keys
             material["frame"] = self.frame
+        if self.scale is not None:  # likewise
+            material["scale"] = self.scale
         material["blender"] = blender_version(blender)
         digest = hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
         return f"{self.key_prefix()}{digest[:KEY_DIGEST_CHARS]}"
@@ -249,10 +254,11 @@ class Plan:
 def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = None,
               methods: list[str] | None = None, passes: list[str] | None = None,
               resolution: tuple[int, int] | None = None, camera: str | None = None,
-              gbuffer_samples: int = 1) -> Plan:
+              gbuffer_samples: int = 1, scale: int | None = None) -> Plan:
     """What to render: explicit arguments first, then the scene's manifest, then defaults.
     Passes follow from the methods (all registered ones by default) and the manifest's
-    effects unless given explicitly."""
+    effects unless given explicitly. ``scale``: a percentage of the output size, 1 to 100
+    (Plan.scale)."""
     m = scene.manifest
     if passes is None:
         names = aolab.methods() if methods is None else methods
@@ -270,7 +276,10 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
         resolution = tuple(m["resolution"])
     if resolution is not None:
         resolution = check_resolution(resolution)
-    return Plan(scene, spp, radius, passes, resolution, camera or m.get("camera"), gbuffer_samples)
+    if scale is not None and not (isinstance(scale, int) and 1 <= scale <= 100):
+        raise ReferenceError(f"scale must be a percentage, an integer in [1, 100], got {scale!r}")
+    return Plan(scene, spp, radius, passes, resolution, camera or m.get("camera"), gbuffer_samples,
+                scale=scale)
 
 
 def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
@@ -344,6 +353,8 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         cmd += ["--camera", plan.camera]
     if plan.frame is not None:
         cmd += ["--frame", str(plan.frame)]
+    if plan.scale is not None:
+        cmd += ["--scale", str(plan.scale)]
     if plan.peers:
         cmd += ["--peers", "--ladder", ",".join(str(v) for v in plan.ladder) or "none"]
         if not plan.eevee:
@@ -390,6 +401,40 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
             proc.kill()
             proc.wait()
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def find_by_content(cache: Path, *, scene_hash: str, size: tuple[int, int],
+                    radius: float | None = None, spp: int | None = None,
+                    passes: tuple[str, ...] = ()) -> Path | None:
+    """The newest render in ``cache`` of this scene content (the ``scene_hash`` of its sidecar:
+    the add-on's scene_record.content_hash, which a re-saved, unchanged file keeps) at this
+    size, and R, samples, with these passes when given; or None. The cache's own keys are
+    the file's bytes (Plan.key): this finds a render whichever file or tool made it."""
+    best, best_time = None, -1.0
+    cache = Path(cache)
+    if not cache.is_dir():
+        return None
+    for side_path in cache.glob(f"[!.]*/{RESULT_JSON}"):
+        try:
+            side = json.loads(files.read_text(side_path, "cached sidecar"))
+            if not side_path.with_name(RESULT_EXR).exists():
+                continue
+        except (OSError, ValueError):
+            continue
+        if side.get("scene_hash") != scene_hash:
+            continue
+        if (side.get("width"), side.get("height")) != tuple(size):
+            continue
+        if radius is not None and side.get("ao_distance") != radius:
+            continue
+        if spp is not None and side.get("samples") != spp:
+            continue
+        if not set(passes) <= set(side.get("passes", ())):
+            continue
+        mtime = side_path.stat().st_mtime
+        if mtime > best_time:
+            best, best_time = side_path.parent, mtime
+    return best
 
 
 def _die_with_parent(cmd: list[str]) -> list[str]:

@@ -399,15 +399,17 @@ def _csv_value(v):
     return v
 
 
-def _json_safe(v):
+def json_safe(v):
+    """``v`` for a strict JSON file: NaN as null, infinities as "inf" / "-inf", numpy
+    scalars as Python numbers, through dicts, lists and tuples."""
     if isinstance(v, float) and not math.isfinite(v):
         return None if math.isnan(v) else ("inf" if v > 0 else "-inf")
     if isinstance(v, dict):
-        return {k: _json_safe(x) for k, x in v.items()}
+        return {k: json_safe(x) for k, x in v.items()}
     if isinstance(v, (list, tuple)):
-        return [_json_safe(x) for x in v]
+        return [json_safe(x) for x in v]
     if isinstance(v, np.generic):
-        return _json_safe(v.item())
+        return json_safe(v.item())
     return v
 
 
@@ -453,7 +455,7 @@ def write_results(out: Path, results: dict) -> None:
         writer.writerow({k: _csv_value(v) for k, v in flat(row).items()})
     # Together: a full disk never leaves a new results.csv beside the last run's JSON.
     files.write_together([(out / "results.csv", buf.getvalue().encode()),
-                          (out / "results.json", json.dumps(_json_safe(results),
+                          (out / "results.json", json.dumps(json_safe(results),
                                                             indent=1).encode())])
 
 

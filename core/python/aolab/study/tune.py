@@ -231,15 +231,24 @@ class TuneScene:
     time_scale: float = 1.0
 
 
-def load_scene(folder: Path, crop) -> TuneScene:
-    """A scene as ``aolab compare`` loads it (load_cropped), with the scored pixels, the
-    occluded region of aolab.regions, its family and AO = 1's whole-frame MAE."""
-    g, reference, radius, _ = load_cropped(folder, crop)
+def make_scene(name: str, g, reference: np.ndarray, radius: float, *, family_name: str = "",
+               folder: Path | None = None, time_scale: float | None = None) -> TuneScene:
+    """A scene to evaluate configurations on, from a G-buffer and the reference it is scored
+    against: the scored pixels, the occluded region of aolab.regions and AO = 1's
+    whole-frame MAE. ``time_scale`` defaults to the 1280x720 frame's (pareto.hd_scale)."""
     valid = scored_mask(g, reference)
     one = float(np.mean(np.abs(1.0 - reference[valid].astype(np.float64))))
-    scale = 1.0 if crop is not None else pareto.hd_scale(g.width, g.height)
-    return TuneScene(folder.name, family(folder), g, radius, reference,
-                     occluded_pixels(valid, reference), valid, one, Path(folder), scale)
+    scale = pareto.hd_scale(g.width, g.height) if time_scale is None else time_scale
+    return TuneScene(name, family_name, g, radius, reference,
+                     occluded_pixels(valid, reference), valid, one, folder, scale)
+
+
+def load_scene(folder: Path, crop) -> TuneScene:
+    """A scene as ``aolab compare`` loads it (load_cropped), with its family; a crop's times
+    stay the crop's."""
+    g, reference, radius, _ = load_cropped(folder, crop)
+    return make_scene(folder.name, g, reference, radius, family_name=family(folder),
+                      folder=Path(folder), time_scale=1.0 if crop is not None else None)
 
 
 def load_scenes(folders: list[Path], crop) -> list[TuneScene]:
