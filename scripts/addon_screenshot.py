@@ -1,13 +1,15 @@
 """Run by scripts/addon_screenshot.sh in Blender's full UI under Xvfb:
 
-    blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE READY
+    blender --factory-startup --python scripts/addon_screenshot.py -- BUILD.py CACHE READY [MODE]
 
 Builds a reference scene, enables the AO Lab add-on, opens the 3D viewport's sidebar on the
-AO Lab tab, with an Image Editor beside it, then clicks through Preview, Render Reference
-(64 samples, cached) and Compare with their real modal operators (INVOKE_DEFAULT, driven by
-the event loop), shows the lowest-MAE method's error map in the Image Editor, and writes the
-file READY. The shell script then captures the X screen (xwd) and writes READY + ".done",
-and this script quits. Exits with code 1 (and no READY) if a step fails.
+AO Lab tab, with an Image Editor beside it, then clicks through its real modal operators
+(INVOKE_DEFAULT, driven by the event loop) and writes the file READY. MODE "compare" (the
+default): Preview, Render Reference (64 samples, cached) and Compare, the lowest-MAE method's
+error map in the Image Editor. MODE "advise": Quick Compare (three methods ticked) and Advise
+at the 33 ms budget, its front in the Image Editor. The shell script then captures the X
+screen (xwd) and writes READY + ".done", and this script quits. Exits with code 1 (and no
+READY) if a step fails.
 
 The X screen rather than bpy.ops.screen.screenshot: that operator reads back Blender's own
 frame buffer, which Blender 4.3 on Mesa's llvmpipe returns black (measured), while the X
@@ -22,7 +24,14 @@ import traceback
 import addon_utils
 import bpy
 
-BUILD, CACHE, READY = sys.argv[sys.argv.index("--") + 1:][:3]
+ARGS = sys.argv[sys.argv.index("--") + 1:]
+BUILD, CACHE, READY = ARGS[:3]
+MODE = ARGS[3] if len(ARGS) > 3 else "compare"
+#: Advise's screenshot: the methods ticked for Quick Compare (a short table leaves room for
+#: the advice below it) and the budget shown.
+ADVISE_TICKED = ("gtao", "hbao", "sao")
+ADVISE_BUDGET = "33"
+ADVISE_SCROLL = 1    # pages down the sidebar, to the advice
 CAPTURE_TIMEOUT = 120  # s to wait for the shell script's capture
 SCALE = 25           # % of the scene's 1280x720: 320x180
 SAMPLES = 64         # a quick reference; the panel's default is 1024
@@ -49,9 +58,10 @@ def build_scene():
     scene = bpy.context.scene
     scene.aolab.preview_scale = SCALE
     scene.aolab.reference_samples = SAMPLES
+    scene.aolab.advise_budget = ADVISE_BUDGET
     for method in scene.aolab.methods:
         group = getattr(scene.aolab, "m_" + method)
-        group.use_method = True
+        group.use_method = MODE != "advise" or method in ADVISE_TICKED
         if PRESET in preset_names(method):
             group.preset = PRESET
 
@@ -106,18 +116,32 @@ def click_tab_and_widen():
     window.event_simulate(type="LEFTMOUSE", value="RELEASE", x=x - SIDEBAR_EXTRA, y=y)
 
 
+def scroll_sidebar(pages: int) -> None:
+    """Scrolls the sidebar down by `pages` pages (View2D's scroll operator in the region), so
+    that what lies below its height shows: the advice is below the methods and results."""
+    window, view, _ = areas()
+    with bpy.context.temp_override(window=window, area=view, region=region(view, "UI")):
+        for _ in range(pages):
+            bpy.ops.view2d.scroll_down(page=True)
+
+
 def show_results():
-    """The lowest-MAE method's error map in the Image Editor, the camera view framed, and
-    the larger UI scale."""
+    """The lowest-MAE method's error map (or, after Advise, the front) in the Image Editor,
+    the camera view framed, and the larger UI scale."""
     window, view, editor = areas()
-    rows = [r for r in bpy.context.window_manager.aolab.results if r.has_metrics]
-    best = min(rows, key=lambda r: r.mae)
-    editor.spaces.active.image = bpy.data.images[best.error_image]
+    if MODE == "advise":
+        editor.spaces.active.image = bpy.data.images["AO Lab advise"]
+    else:
+        rows = [r for r in bpy.context.window_manager.aolab.results if r.has_metrics]
+        best = min(rows, key=lambda r: r.mae)
+        editor.spaces.active.image = bpy.data.images[best.error_image]
     bpy.context.preferences.view.ui_scale = UI_SCALE
     with bpy.context.temp_override(window=window, area=editor, region=region(editor)):
         bpy.ops.image.view_all(fit_view=True)
     with bpy.context.temp_override(window=window, area=view, region=region(view)):
         bpy.ops.view3d.view_center_camera()
+    if MODE == "advise":
+        scroll_sidebar(ADVISE_SCROLL)
 
 
 def tick():
@@ -137,11 +161,13 @@ def tick():
             click_tab_and_widen()
             return 1.0
         elif step == 2:
-            invoke(bpy.ops.aolab.preview)
+            invoke(bpy.ops.aolab.quick_compare if MODE == "advise" else bpy.ops.aolab.preview)
         elif step == 3:
-            invoke(bpy.ops.aolab.render_reference)
+            invoke(bpy.ops.aolab.advise if MODE == "advise" else
+                   bpy.ops.aolab.render_reference)
         elif step == 4:
-            invoke(bpy.ops.aolab.compare)
+            if MODE != "advise":
+                invoke(bpy.ops.aolab.compare)
         elif step == 5:
             show_results()
             return 2.0

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Screenshot of Blender's UI with the AO Lab panel and its results: docs/images/addon_panel.png
-# (Blender 3.4; docs/images/addon_panel_blender4.png is the same on Blender 4.3).
+# (Blender 3.4; docs/images/addon_panel_blender4.png is the same on Blender 4.3); with MODE
+# advise, the panel's Quick Compare and advice: docs/images/addon_advise.png (and
+# addon_advise_blender4.png).
 #
-#   scripts/addon_screenshot.sh [OUT.png] [SCENE_BUILD.py]
+#   scripts/addon_screenshot.sh [OUT.png] [SCENE_BUILD.py] [compare|advise]
 #
 # Installs the add-on into temporary Blender user folders (your preferences are untouched),
 # starts Blender's full UI under Xvfb (xvfb-run; Debian packages xvfb xauth, and x11-apps and
@@ -15,6 +17,12 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$(realpath -m "${1:-$root/docs/images/addon_panel.png}")"
 scene="$(realpath "${2:-$root/reference_scenes/room/build.py}")"
+mode="${3:-compare}"
+case "$mode" in
+  compare) screen=1920x1080 ;;
+  advise) screen=1920x1440 ;;   # taller: the advice lies below the methods and the results
+  *) echo "addon_screenshot: MODE must be compare or advise, got '$mode'" >&2; exit 2 ;;
+esac
 cache="${AOLAB_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aolab/references}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
@@ -27,10 +35,10 @@ rm -f "$out"
 # the X screen is captured here (xwd, converted by ImageMagick), and $tmp/ready.done lets
 # Blender quit.
 export AOLAB_SHOT_OUT="$out" AOLAB_SHOT_READY="$tmp/ready" AOLAB_SHOT_BLENDER="${AOLAB_BLENDER:-blender}"
-export AOLAB_SHOT_ARGS="${PYTHONPATH:+--python-use-system-env}"
-xvfb-run -a -s "-screen 0 1920x1080x24" bash -c '
+export AOLAB_SHOT_ARGS="${PYTHONPATH:+--python-use-system-env}" AOLAB_SHOT_MODE="$mode"
+xvfb-run -a -s "-screen 0 ${screen}x24" bash -c '
   "$AOLAB_SHOT_BLENDER" --factory-startup -noaudio --enable-event-simulate $AOLAB_SHOT_ARGS \
-    --python-exit-code 1 --python "$0" -- "$1" "$2" "$AOLAB_SHOT_READY" &
+    --python-exit-code 1 --python "$0" -- "$1" "$2" "$AOLAB_SHOT_READY" "$AOLAB_SHOT_MODE" &
   pid=$!
   while kill -0 $pid 2>/dev/null && [ ! -f "$AOLAB_SHOT_READY" ]; do sleep 0.5; done
   if [ -f "$AOLAB_SHOT_READY" ]; then

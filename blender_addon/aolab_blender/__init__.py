@@ -9,7 +9,7 @@ modules import one way (docs/blender_addon.md, "Modules"). Everything else comes
 
 import bpy
 
-from . import live, operators, preferences, properties, ui
+from . import images, live, operators, preferences, properties, ui
 
 bl_info = {
     "name": "AO Lab",
@@ -36,6 +36,7 @@ def register():
 
 def unregister():
     live.unregister()   # first: no timer may fire into unregistered properties
+    images.release()    # the preview icons (the front Advise draws)
     properties.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

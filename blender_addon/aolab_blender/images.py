@@ -1,15 +1,19 @@
 """Results as Blender images (bpy; main thread only).
 
-Images are named "AO Lab <method>", "AO Lab <method> error" and "AO Lab reference": float
-RGBA buffers in Non-Color (the values are shown as they are, like the command line's PNGs,
-which write value x 255 with no transfer curve). A repeated Preview or Compare overwrites
-them in place (rescaled when the size changed), so an Image Editor showing one updates.
+Images are named "AO Lab <method>", "AO Lab <method> error", "AO Lab reference" and "AO Lab
+advise" (the front Advise draws): float RGBA buffers in Non-Color (the values are shown as
+they are, like the command line's PNGs, which write value x 255 with no transfer curve). A
+repeated Preview or Compare overwrites them in place (rescaled when the size changed), so an
+Image Editor showing one updates. The front is also a preview icon (set_preview), which the
+panel draws inside itself; release() frees the previews when the add-on is disabled.
 """
 
 import bpy
 import numpy as np
 
 PREFIX = "AO Lab "
+#: The front Advise draws: image_name(ADVICE), and the preview icon of that name.
+ADVICE = "advise"
 
 
 def image_name(method: str, kind: str = "") -> str:
@@ -100,3 +104,42 @@ def show(context, name: str) -> str | None:
     area.spaces.active.image = image
     area.tag_redraw()
     return None
+
+
+#: The add-on's preview icons (bpy.utils.previews), made on first use.
+_previews = {}
+
+
+def set_preview(name: str, pixels: np.ndarray) -> int:
+    """Writes an (H, W, 3 or 4) colour array (row 0 at the top) into the preview icon
+    `name`, at its own size; returns its icon_id (UILayout.template_icon shows it)."""
+    import bpy.utils.previews
+    if "collection" not in _previews:
+        _previews["collection"] = bpy.utils.previews.new()
+    collection = _previews["collection"]
+    preview = collection.get(name) or collection.new(name)
+    h, w = pixels.shape[:2]
+    preview.image_size = (w, h)
+    preview.image_pixels_float.foreach_set(blender_rgba(pixels[..., :3]).ravel())
+    return preview.icon_id
+
+
+def preview(name: str):
+    """The ImagePreview `name`, or None."""
+    collection = _previews.get("collection")
+    return collection.get(name) if collection is not None else None
+
+
+def preview_icon(name: str) -> int:
+    """The icon_id of the preview `name`; 0 when there is none, and in background mode
+    (`blender -b`), where Blender makes no icons."""
+    found = preview(name)
+    return found.icon_id if found is not None else 0
+
+
+def release() -> None:
+    """Frees the preview icons (the add-on is being disabled)."""
+    collection = _previews.pop("collection", None)
+    if collection is not None:
+        import bpy.utils.previews
+        bpy.utils.previews.remove(collection)

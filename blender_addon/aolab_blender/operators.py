@@ -1,6 +1,7 @@
 """The add-on's operators (bpy).
 
-Preview, Render Reference, Compare and Write Report share one pattern (_JobOperator):
+Preview, Render Reference, Compare, Quick Compare, Advise and Write Report share one pattern
+(_JobOperator):
 `prepare()` reads everything it needs from Blender on the main thread and checks what the
 user can fix (inputs.py: UserError); an aolab.addon.jobs.Job runs the heavy part in a
 thread (aolab's C++ with the GIL released, or a child process rendering the reference);
@@ -164,6 +165,23 @@ class _JobOperator:
         return self._end(context)
 
 
+def _with_gbuffer(context, inputs: dict) -> dict:
+    """The plan of a job that needs the scene's G-buffer with inputs["passes"]: a cached
+    render of this content and size (any samples, R), else a copy of the file to render."""
+    plan = {**inputs, "cached": find_reference(inputs, spp=None)}
+    if plan["cached"] is None:
+        plan["blend"], plan["tmpdir"] = save_copy(context)
+    return plan
+
+
+def _quick_plan(context, inputs: dict) -> dict:
+    """_with_gbuffer with the scene's triangles (the `mesh` pass) and the quick reference's
+    rays."""
+    inputs = {**inputs, "passes": list(inputs["passes"]) + ["mesh"],
+              "rays": context.scene.aolab.quick_rays}
+    return _with_gbuffer(context, inputs)
+
+
 def _store_results(context, result: dict, kind: str, size) -> None:
     session = context.window_manager.aolab
     session.results.clear()
@@ -184,8 +202,16 @@ def _store_results(context, result: dict, kind: str, size) -> None:
     session.results_kind, session.results_scene = kind, context.scene.name
     session.results_size = f"{size[0]}x{size[1]}"
     session.gbuffer_folder = result["folder"]
+    ref = result.get("reference_info") or {}
+    session.results_reference = ref.get("label", "")
+    session.results_noise = ref["noise"] if ref.get("noise") is not None else -1.0
     if kind == "Compare":
         session.reference_folder = result["folder"]
+
+
+def _lowest_mae(result: dict) -> str:
+    best = min(result["runs"], key=lambda r: r["metrics"]["mae"])
+    return f"lowest MAE: {best['method']} {best['metrics']['mae']:.4f}"
 
 
 class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):
@@ -196,11 +222,7 @@ class AOLAB_OT_preview(_JobOperator, bpy.types.Operator):
     task = "preview_task"
 
     def prepare(self, context):
-        inputs = scene_inputs(context)
-        plan = {**inputs, "cached": find_reference(inputs, spp=None)}
-        if plan["cached"] is None:
-            plan["blend"], plan["tmpdir"] = save_copy(context)
-        return plan
+        return _with_gbuffer(context, scene_inputs(context))
 
     def finish(self, context, result):
         _store_results(context, result, "Preview", self._plan["size"])
@@ -244,9 +266,88 @@ class AOLAB_OT_compare(_JobOperator, bpy.types.Operator):
 
     def finish(self, context, result):
         _store_results(context, result, "Compare", self._plan["size"])
-        best = min(result["runs"], key=lambda r: r["metrics"]["mae"])
-        return f"Compared {len(result['runs'])} methods; lowest MAE: {best['method']} " \
-               f"{best['metrics']['mae']:.4f}"
+        return f"Compared {len(result['runs'])} methods; {_lowest_mae(result)}"
+
+
+class AOLAB_OT_quick_compare(_JobOperator, bpy.types.Operator):
+    """Score the ticked methods in seconds against a quick reference: rtao at the Quick Rays
+    against the scene's triangles (exported with its G-buffer, cached), its noise stated
+    beside the scores. Compare, against the Cycles reference, has the final word"""
+    bl_idname = "aolab.quick_compare"
+    bl_label = "Quick Compare"
+    task = "quick_compare_task"
+
+    def prepare(self, context):
+        return _quick_plan(context, scene_inputs(context))
+
+    def finish(self, context, result):
+        _store_results(context, result, "Quick Compare", self._plan["size"])
+        q = result["reference_info"]
+        warning = f" ({q['warning']})" if q.get("warning") else ""
+        return f"Quick Compare against {q['label']} (noise {q['noise']:.4f}): " \
+               f"{_lowest_mae(result)}{warning}"
+
+
+class AOLAB_OT_advise(_JobOperator, bpy.types.Operator):
+    """Which method for this scene? Every method's presets (tuned ones included), timed and
+    scored against the cached Cycles reference, else the quick reference: this scene's
+    accuracy-against-time front, and the best configuration within the Budget"""
+    bl_idname = "aolab.advise"
+    bl_label = "Advise"
+    task = "advise_task"
+
+    def prepare(self, context):
+        inputs = scene_inputs(context, need_runs=False)
+        cycles = find_reference(inputs, spp=context.scene.aolab.reference_samples)
+        if cycles is not None:
+            return {**inputs, "cycles": str(cycles)}
+        return _quick_plan(context, inputs)
+
+    def finish(self, context, result):
+        session = context.window_manager.aolab
+        advice = result["advice"]
+        session.advice_json = json.dumps(advice)
+        session.advice_scene = context.scene.name
+        session.advice_size = f"{advice['width']}x{advice['height']}"
+        name = images.image_name(images.ADVICE)
+        images.set_image(name, result["image"][..., :3])
+        images.set_preview(name, result["image"])
+        return f"Advise: {len(advice['trials'])} configurations against " \
+               f"{advice['reference']['label']} in {advice['seconds']:.1f} s"
+
+
+class AOLAB_OT_apply_advice(bpy.types.Operator):
+    """Tick this method and apply its preset: Preview and Live then show the advised
+    configuration"""
+    bl_idname = "aolab.apply_advice"
+    bl_label = "Apply"
+    bl_options = {"REGISTER", "UNDO", "INTERNAL"}
+
+    # F821 below: pyflakes reads the annotation's string as a forward reference to a type.
+    method: bpy.props.StringProperty(name="Method")  # noqa: F821
+    preset: bpy.props.StringProperty(name="Preset")  # noqa: F821
+
+    def execute(self, context):
+        scene = context.scene
+        if not properties.available() or self.method not in scene.aolab.methods:
+            self.report({"ERROR"}, f"no method {self.method!r} in this AO Lab")
+            return {"CANCELLED"}
+        try:
+            names = properties.presets.names(self.method)
+        except ValueError as e:
+            names, problem = [], str(e)
+        else:
+            problem = "run Advise again"
+        if self.preset not in names:
+            self.report({"ERROR"}, f"{self.method} has no preset {self.preset!r} in its menu "
+                                   f"now: {problem}")
+            return {"CANCELLED"}
+        group = properties.method_group(scene, self.method)
+        group.use_method = True
+        group.preset = self.preset
+        properties.apply_preset(group, context)   # also when the menu showed it already
+        self.report({"INFO"}, f"{self.method} at {self.preset}: ticked, for Preview and Live")
+        return {"FINISHED"}
 
 
 class AOLAB_OT_write_report(_JobOperator, bpy.types.Operator):
@@ -320,4 +421,5 @@ class AOLAB_OT_open_report(bpy.types.Operator):
 
 
 CLASSES = (AOLAB_OT_preview, AOLAB_OT_render_reference, AOLAB_OT_compare,
+           AOLAB_OT_quick_compare, AOLAB_OT_advise, AOLAB_OT_apply_advice,
            AOLAB_OT_write_report, AOLAB_OT_cancel, AOLAB_OT_show_image, AOLAB_OT_open_report)

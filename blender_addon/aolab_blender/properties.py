@@ -28,13 +28,20 @@ try:
     from aolab import settings as method_settings
     from aolab.addon import jobs
     from aolab.bridge import intrinsics, passes
+    from aolab.study import advise, quick_reference
 except ImportError as e:  # not built, or built for another Python
     aolab = presets = method_settings = intrinsics = jobs = passes = None
+    advise = quick_reference = None
     IMPORT_ERROR = str(e)
 else:
     IMPORT_ERROR = None
 
 NOT_BUILT = "module not built: run scripts/setup.sh"
+#: The quick reference's rays and Advise's budgets (aolab.study's; the properties are made
+#: even when aolab is missing, and then nothing uses them).
+QUICK_RAYS = quick_reference.QUICK_RAYS if quick_reference is not None else 64
+BUDGETS_MS = advise.BUDGETS_MS if advise is not None else (16, 33, 100)
+BUDGET_ITEMS = [(str(b), f"{b} ms", f"{b} ms per 1280x720 frame") for b in BUDGETS_MS]
 
 METHOD_PREFIX = "m_"
 UI_FIELDS = ("use_method", "show_expanded", "preset", "use_blur")
@@ -85,9 +92,14 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     message: bpy.props.StringProperty()
     message_is_error: bpy.props.BoolProperty()
     results: bpy.props.CollectionProperty(type=AOLAB_PG_result)
-    results_kind: bpy.props.StringProperty()   # "Preview", "Compare" or "Live"
+    results_kind: bpy.props.StringProperty()   # "Preview", "Compare", "Quick Compare", "Live"
     results_scene: bpy.props.StringProperty()
     results_size: bpy.props.StringProperty()
+    results_reference: bpy.props.StringProperty()   # what Compare scored against, its label
+    results_noise: bpy.props.FloatProperty(default=-1.0)   # its noise (-1: unknown)
+    advice_json: bpy.props.StringProperty()   # the last Advise (aolab.study.advise.run)
+    advice_scene: bpy.props.StringProperty()
+    advice_size: bpy.props.StringProperty()
     reference_folder: bpy.props.StringProperty()   # the last reference rendered or compared
     gbuffer_folder: bpy.props.StringProperty()     # the G-buffer of the last Preview / Compare
     report_path: bpy.props.StringProperty()
@@ -172,7 +184,7 @@ def _preset_items(self, context):
 _preset_items.cache = {}
 
 
-def _apply_preset(self, context):
+def apply_preset(self, context):
     """Puts the preset's values into the settings (default: every setting's default). The
     name is checked as aolab.compute(preset=...) checks it; a preset that cannot be applied
     (its tuned-presets file changed and went bad) leaves the settings as they were and says
@@ -200,7 +212,7 @@ def _method_group(method: str, index: int):
                                              update=_setting_changed),
         "show_expanded": bpy.props.BoolProperty(name="Show settings", default=False),
         "preset": bpy.props.EnumProperty(
-            name="Preset", items=_preset_items, update=_apply_preset,
+            name="Preset", items=_preset_items, update=apply_preset,
             description="Quality preset of the comparison study"),
         "use_blur": bpy.props.BoolProperty(
             name="Blur", default=False, update=_setting_changed,
@@ -229,6 +241,15 @@ def _scene_group(method_groups: dict):
         "reference_samples": bpy.props.IntProperty(
             name="Reference Samples", default=1024, min=1, max=65536,
             description="Cycles AO samples of the reference (adaptive sampling off)"),
+        "quick_rays": bpy.props.IntProperty(
+            name="Quick Rays", default=QUICK_RAYS, min=2, max=65536,
+            description="Rays per pixel of the quick reference (rtao against the scene's "
+                        "triangles) that Quick Compare and Advise score against: its noise, "
+                        "stated beside the scores, falls as 1/sqrt(rays)"),
+        "advise_budget": bpy.props.EnumProperty(
+            name="Budget", items=BUDGET_ITEMS, default=BUDGET_ITEMS[0][0],
+            description="Advise names the most accurate configuration within this time per "
+                        "1280x720 frame (measured at the Resolution, scaled by pixels)"),
         "report_dir": bpy.props.StringProperty(
             name="Report Folder", subtype="DIR_PATH", default="//aolab_report",
             description="Where Write Report puts report.html (// = beside the .blend file)"),

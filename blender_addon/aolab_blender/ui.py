@@ -1,12 +1,16 @@
 """The AO Lab panel (bpy): the 3D viewport sidebar tab "AO Lab" and Properties > View Layer
 show the same content (draw_panel)."""
 
+import json
+
 import bpy
 
-from . import inputs, properties
+from . import images, inputs, properties
 
 RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
 WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
+FRONT_ICON_UNITS = (5, 30)                  # the front's preview: its least and most UI units
+AS_GOOD_SHOWN = 3                           # picks not told apart at the noise, listed at most
 
 
 def _problems(context) -> list[str]:
@@ -92,6 +96,10 @@ def _draw_results(layout, session, scene, width: int) -> None:
         return
     box = layout.box()
     box.label(text=f"{session.results_kind} {session.results_size}", icon="IMAGE_DATA")
+    if session.results_reference:
+        noise = (f", noise {session.results_noise:.4f}: each MAE may read up to that much "
+                 "high" if session.results_noise >= 0 else ", noise unknown")
+        _wrapped(box, f"Against {session.results_reference}{noise}", icon="INFO", width=width)
     if width >= WIDE_TABLE_CHARS:
         for col, text in zip(_columns(box.row(), RESULT_COLUMNS), ("Method", "MAE", "SSIM", "ms")):
             col.label(text=text)
@@ -113,11 +121,78 @@ def _draw_results(layout, session, scene, width: int) -> None:
             if r.has_metrics:
                 col.label(text=f"MAE {r.mae:.4f}  SSIM {r.ssim:.3f}", icon="BLANK1")
             col.separator()
-    if session.results_kind == "Compare":
+    if session.results_kind in ("Compare", "Quick Compare"):
         op = box.operator("aolab.show_image", text="Reference", icon="RENDER_RESULT")
         op.image = "AO Lab reference"
         _wrapped(box, "Error maps: blue = lighter, red = darker than the reference",
                  width=width)
+
+
+_advice_cache = {"text": None, "result": None}
+
+
+def _advice(session, scene) -> dict | None:
+    """The last Advise's data for this scene (parsed once per run), or None."""
+    if not session.advice_json or session.advice_scene != scene.name:
+        return None
+    if _advice_cache["text"] != session.advice_json:
+        _advice_cache.update(text=session.advice_json, result=json.loads(session.advice_json))
+    return _advice_cache["result"]
+
+
+def _icon_units(context) -> float:
+    """The front's preview as wide as the region (its square fits the width), in UI units."""
+    region = context.region
+    scale = context.preferences.view.ui_scale
+    units = ((region.width if region else 300) - 40) / (20 * scale)
+    return max(FRONT_ICON_UNITS[0], min(FRONT_ICON_UNITS[1], units))
+
+
+def _draw_advice(layout, context, session, width: int) -> None:
+    """"Which method for this scene?": the Budget, the Advise button and, after it ran on
+    this scene, the front, the best configuration within the budget with its Apply button,
+    those not told apart from it at the reference's noise, and what it was scored against."""
+    scene = context.scene
+    box = layout.box()
+    box.label(text="Which method for this scene?", icon="QUESTION")
+    box.row(align=True).prop(scene.aolab, "advise_budget", expand=True)
+    row = box.row(align=True)
+    row.enabled = not session.busy
+    row.operator("aolab.advise", icon="VIEWZOOM")
+    result = _advice(session, scene)
+    if result is None:
+        return
+    advise = properties.advise
+    icon = images.preview_icon(images.image_name(images.ADVICE))
+    if icon:
+        box.template_icon(icon_value=icon, scale=_icon_units(context))
+    op = box.operator("aolab.show_image", text="Front in the Image Editor", icon="IMAGE_DATA")
+    op.image = images.image_name(images.ADVICE)
+    budget = float(scene.aolab.advise_budget)
+    got = advise.choose(result, budget)
+    best = got["best"]
+    if best is None:
+        _wrapped(box, f"No advice within {budget:g} ms: {got['why']}", icon="ERROR", width=width)
+        if got["fastest"] is not None:
+            _wrapped(box, "The fastest: " + advise.describe(result, got["fastest"]),
+                     width=width)
+    else:
+        scores = best["scenes"][result["scene"]]
+        _wrapped(box, f"Within {budget:g} ms: {best['label']}", icon="CHECKMARK", width=width)
+        _wrapped(box, f"occluded MAE {scores['mae']:.4f}, whole frame {scores['all_mae']:.4f}, "
+                      f"{scores['ms']:.1f} ms per 1280x720 frame", icon="BLANK1", width=width)
+        op = box.operator("aolab.apply_advice", text=f"Apply {best['short']}",
+                          icon="CHECKBOX_HLT")
+        op.method, op.preset = best["method"], best["preset"]
+        for t in got["as_good"][:AS_GOOD_SHOWN]:
+            s = t["scenes"][result["scene"]]
+            _wrapped(box, f"Not told apart at this noise: {t['short']} ({s['mae']:.4f}, "
+                          f"{s['ms']:.0f} ms)", icon="BLANK1", width=width)
+    ref = result["reference"]
+    noise = "" if ref["noise_occluded"] is None else \
+        f", noise {ref['noise_occluded']:.4f} on the occluded region"
+    _wrapped(box, f"Against {ref['label']}{noise}; {len(result['trials'])} configurations at "
+                  f"{session.advice_size} in {result['seconds']:.1f} s", icon="INFO", width=width)
 
 
 def _draw_live(layout, session, width: int) -> None:
@@ -173,6 +248,9 @@ def draw_panel(layout, context) -> None:
     row.operator("aolab.render_reference", icon="RENDER_STILL")
     row.operator("aolab.compare", icon="GRAPH")
     row = col.row(align=True)
+    row.operator("aolab.quick_compare", icon="AUTO")
+    row.prop(s, "quick_rays", text="Rays")
+    row = col.row(align=True)
     row.operator("aolab.write_report", icon="FILE_TEXT")
     if session.report_path:
         row.operator("aolab.open_report", text="", icon="URL")
@@ -190,6 +268,7 @@ def draw_panel(layout, context) -> None:
                  width=width)
 
     _draw_results(layout, session, scene, width)
+    _draw_advice(layout, context, session, width)
 
 
 class AOLAB_PT_sidebar(bpy.types.Panel):

@@ -91,7 +91,7 @@ with open(bad, "w") as f:
 os.environ["AOLAB_TUNED_PRESETS"] = bad
 session.message = ""
 picked = SimpleNamespace(method_name="hbao", preset=tuned[0] if tuned else "tuned-100ms")
-properties._apply_preset(picked, bpy.context)   # what Blender calls when a menu item is picked
+properties.apply_preset(picked, bpy.context)   # what Blender calls when a menu item is picked
 r["bad_tuned"] = {"tuned_before": tuned, "apply_message": session.message,
                   "menu": [n for n, _, _ in properties._preset_items(g, bpy.context)],
                   "panel": panel_text()}

@@ -64,13 +64,20 @@ def installed(tmp_path_factory):
     return base, env
 
 
+def on_tiny_scene(installed, tmp_path_factory, name: str, mode: str,
+                  script: Path = CHECK) -> tuple[dict, Path]:
+    """A check script's mode run in Blender on the tiny scene, with a new cache and out/
+    folder in a temporary `name` folder: (its RESULT, that folder)."""
+    base, env = installed
+    work = tmp_path_factory.mktemp(name)
+    (work / "out").mkdir()
+    return run_blender(env, mode, str(TINY), str(work / "cache"), str(work / "out"),
+                       script=script), work
+
+
 @pytest.fixture(scope="module")
 def flow(installed, tmp_path_factory):
-    base, env = installed
-    work = tmp_path_factory.mktemp("addon_flow")
-    (work / "out").mkdir()
-    r = run_blender(env, "flow", str(TINY), str(work / "cache"), str(work / "out"))
-    return r, work
+    return on_tiny_scene(installed, tmp_path_factory, "addon_flow", "flow")
 
 
 def aolab_run(method, exr, out, *settings):
@@ -208,12 +215,7 @@ LIVE_CHECK = ROOT / "tests" / "blender" / "live_check.py"
 
 @pytest.fixture(scope="module")
 def live(installed, tmp_path_factory):
-    base, env = installed
-    work = tmp_path_factory.mktemp("addon_live")
-    (work / "out").mkdir()
-    r = run_blender(env, "live", str(TINY), str(work / "cache"), str(work / "out"),
-                    script=LIVE_CHECK)
-    return r, work
+    return on_tiny_scene(installed, tmp_path_factory, "addon_live", "live", LIVE_CHECK)
 
 
 def live_expected(r: dict, method: str, shown: dict) -> np.ndarray:
@@ -419,3 +421,87 @@ def test_a_bad_tuned_presets_file_keeps_the_built_in_presets(hostile):
     panel = " ".join(bad["panel"])   # wrapped into lines at spaces
     assert "tuned presets left out of the menus: " + said in panel, bad["panel"]
     assert bad["low"] == {"directions": 4, "steps": 4, "blur": True}
+
+
+# ---- Quick Compare and Advise (tests/blender/advise_check.py) ----
+
+ADVISE_CHECK = ROOT / "tests" / "blender" / "advise_check.py"
+
+
+@pytest.fixture(scope="module")
+def advise_flow(installed, tmp_path_factory):
+    return on_tiny_scene(installed, tmp_path_factory, "addon_advise", "flow", ADVISE_CHECK)
+
+
+def test_quick_compare_scores_against_rtao_as_python_does(advise_flow):
+    """Quick Compare exports the G-buffer with the scene's triangles (1 sample, cached: the
+    second click renders nothing), traces rtao at 64 rays and scores the ticked methods: its
+    reference image, every metric and every image equal what aolab computes from the same
+    files in this process, bit for bit; the panel labels the scores and states the noise.
+    Without a camera it is refused before anything is cached; the scene is left as it was."""
+    from aolab.study import quick_reference
+    r, work = advise_flow
+    for case in ("quick_no_camera", "advise_no_camera"):
+        assert r[case]["result"] == ["CANCELLED"] and "no camera" in r[case]["message"], r[case]
+    assert r["cache_after_errors"] == []
+    assert r["quick"]["result"] == ["FINISHED"], r["quick"]
+    assert r["quick_diff"] == []
+    session = r["quick_session"]
+    assert session["kind"] == "Quick Compare" and session["reference"] == "quick (rtao 64 rays)"
+    assert "quick (rtao 64 rays)" in r["quick"]["message"]
+    folder = Path(session["gbuffer_folder"])
+    side = json.loads((folder / "reference.json").read_text())
+    assert "mesh" in side["passes"] and side["samples"] == 1
+    assert (folder / "reference.mesh").exists()
+    g = aolab.load_gbuffer(folder / "reference.exr")
+    quick = quick_reference.quick(g, radius=r["quick_radius"], rays=64, threads=2)
+    assert session["noise"] == pytest.approx(quick.noise, rel=1e-6)
+    ref_image = np.load(work / "out" / "quick_reference.npy")[..., 0]
+    assert np.array_equal(ref_image, quick.ao)
+    g.reference = quick.ao
+    mask = g.valid_mask() & np.isfinite(quick.ao)
+    runs = {run["method"]: run for run in r["quick_settings"]}
+    for row in r["quick_table"]:
+        run = runs[row["method"]]
+        ao = aolab.compute(row["method"], g, radius=r["quick_radius"], threads=2,
+                           blur=run["blur"], **run["settings"])
+        assert row["metrics"] == dict(aolab.metrics(ao, quick.ao, mask)), row["method"]
+        assert np.array_equal(np.load(work / "out" / f"quick_{row['method']}.npy")[..., 0], ao)
+    assert r["quick_again"]["result"] == ["FINISHED"]
+    assert [row["metrics"] for row in r["quick_again_table"]] == \
+        [row["metrics"] for row in r["quick_table"]]
+    assert len(r["cache_after_quick"]) == 1
+
+
+def test_advise_names_the_best_configuration_and_applies_it(advise_flow):
+    """Advise runs every method's presets against the quick reference, draws the front (an
+    image and the panel's preview), names a configuration within a budget in the panel,
+    and Apply ticks that method and puts its preset's values into its settings; a preset
+    the menu lacks is refused. With the Cycles reference cached, Advise scores against it,
+    and Compare states its noise too. Disabling the add-on frees the preview."""
+    from aolab.study import tune
+    r, _ = advise_flow
+    assert r["advise"]["result"] == ["FINISHED"], r["advise"]
+    a = r["advice"]
+    assert a["reference"]["kind"] == "quick" and a["reference"]["samples"] == 64
+    assert set(a["methods"]) == set(tune.default_methods()) and a["refused"] == []
+    assert a["trials"] >= len(a["methods"]) and (a["width"], a["height"]) == (96, 54)
+    assert r["front_image"] == r["front_preview"] and 0.5 < r["front_preview_pixels"] < 1
+    assert "Which method for this scene?" in r["panel"]
+    assert any(t.startswith("Within 16 ms") or t.startswith("No advice within 16 ms")
+               for t in r["panel"]), r["panel"]
+    assert r["picks"][str(1e6)] is not None   # without a budget, something is the best
+    applied = r["applied"]
+    assert r["apply"]["result"] == ["FINISHED"] and applied["use_method"]
+    assert applied["menu"] == applied["preset"]
+    values, blur = aolab.named_presets.preset_values(applied["method"], applied["preset"])
+    for k, v in values.items():
+        assert applied["settings"][k] == pytest.approx(v), k
+    assert applied["use_blur"] == blur
+    assert r["apply_unknown"]["result"] == ["CANCELLED"]
+    assert r["advise_cycles"]["result"] == ["FINISHED"], r["advise_cycles"]
+    assert r["advice_cycles_reference"]["label"] == "Cycles 8 spp"
+    assert r["compare"]["result"] == ["FINISHED"]
+    assert r["compare_session"]["reference"] == "Cycles 8 spp"
+    assert r["compare_session"]["noise"] > 0
+    assert not r["preview_after_disable"]
