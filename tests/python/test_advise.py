@@ -53,6 +53,38 @@ def test_an_exact_method_reads_the_noise_and_a_far_one_reads_nothing(rays):
     assert reference_noise(np.ones_like(ref), rays, mask) == 0.0   # unoccluded: exactly 1
 
 
+@pytest.mark.parametrize("rays", [16, 64, 255])
+def test_the_inflation_estimated_from_two_halves_bounds_what_the_noise_adds(rays):
+    """A reference averaged from two independent halves of the rays (as the quick one is):
+    Reference.inflation estimates, from the output alone, how much its MAE reads high — the
+    whole noise for an exact output (within 10 %), nearly nothing for one far off, and for
+    one off by about the noise's spread at least what the noise adds (the estimate is an
+    upper one) and well below the reference's noise."""
+    truth = np.linspace(0.2, 0.9, 200_000).reshape(400, 500)
+    n1, n2 = rays // 2, rays - rays // 2
+    h1, h2 = binomial_reference(truth, n1, seed=1), binomial_reference(truth, n2, seed=2)
+    ref = ((n1 * h1.astype(np.float64) + n2 * h2) / rays).astype(np.float32)
+    mask = np.ones(truth.shape, bool)
+    r = quick_reference.Reference("quick", ref, rays, reference_noise(ref, rays, mask), None,
+                                  halves=((n1, h1), (n2, h2)))
+    for off, low, high in ((0.0, 0.9, 1.1), (0.3, 0.0, 0.1)):
+        ao = (truth + off).astype(np.float32)
+        added = float(np.mean(np.abs(ao - ref)) - np.mean(np.abs(ao - truth)))
+        got = r.inflation(ao, mask)
+        if off == 0.0:
+            assert got == pytest.approx(added, rel=0.1)
+            assert added == pytest.approx(r.noise, rel=0.05)
+        else:
+            assert got <= high * r.noise and abs(added) < 0.01 * r.noise
+    spread = float(np.mean(np.sqrt(truth * (1 - truth) / rays)))
+    ao = (truth + spread).astype(np.float32)
+    added = float(np.mean(np.abs(ao - ref)) - np.mean(np.abs(ao - truth)))
+    got = r.inflation(ao, mask)
+    assert 0.9 * added <= got < 0.8 * r.noise, (added, got, r.noise)
+    assert r.inflation(ao, ~mask) is None
+    assert quick_reference.Reference("cycles", ref, rays, None, None).inflation(ao, mask) is None
+
+
 # --- the quick reference against the Cycles reference on committed scenes ---------------------
 
 #: Committed scenes with their triangles (reference.mesh) and of other families.
@@ -73,7 +105,10 @@ def test_scores_against_the_quick_reference_lie_within_the_stated_noise(both_ref
     and its reference's noise (scoring.reference_noise), so the quick score minus the Cycles
     score lies in [-n_cycles, n_quick]: within the quick reference's stated noise of the Cycles
     score, as the panel says. The bound is the formula's, nothing fitted. On the whole frame
-    (Quick Compare's MAE) and on each reference's occluded region (Advise's)."""
+    (Quick Compare's MAE) and on each reference's occluded region (Advise's). On the whole
+    frame the output's own estimate from the two halves (Reference.inflation) bounds the
+    difference too; on the occluded region it does not have to, as the region itself moves
+    with the reference's noise."""
     name, g, radius, cycles, quick = both_references
     assert quick.label == "quick (rtao 64 rays)" and cycles.label == "Cycles 1024 spp"
     assert 0 < cycles.noise < quick.noise < 0.05, (cycles.noise, quick.noise)
@@ -87,6 +122,8 @@ def test_scores_against_the_quick_reference_lie_within_the_stated_noise(both_ref
             values, blur = aolab.named_presets.preset_values(method, preset)
             ao = tune.output(method, values, blur, on_cycles, threads=0)
             a, b = tune.score(ao, on_quick), tune.score(ao, on_cycles)
+            own = quick.inflation(ao, on_quick.valid)
+            assert a["all_mae"] - b["all_mae"] <= own, (method, preset, a, b, own)
             for key, n_quick, n_cycles in (("all_mae", quick.noise, cycles.noise),
                                            ("mae", quick.noise_occluded,
                                             cycles.noise_occluded)):
@@ -140,8 +177,11 @@ def test_the_advice_is_the_guarded_best_within_the_budget(room_advice):
         best = got["best"]
         assert best["number"] in ok and best["scenes"]["room"]["ms"] <= budget
         assert best["scenes"]["room"]["mae"] == min(t["scenes"]["room"]["mae"] for t in fits)
-        for t in got["as_good"]:
+        for t in got["as_good"]:   # against Cycles: within the reference's noise
+            assert advise.reads_high(r, t) == noise
             assert t["scenes"]["room"]["mae"] - best["scenes"]["room"]["mae"] <= noise
+        for t in got["others"]:
+            assert t["scenes"]["room"]["mae"] - best["scenes"]["room"]["mae"] > noise
         lines = advise.advice_lines(r, budget)
         assert best["label"] in lines[0] and f"within {budget:g} ms" in lines[0]
     front = advise.front(r)

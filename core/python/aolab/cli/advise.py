@@ -81,8 +81,14 @@ def run(args) -> int:
                                        progress=sys.stderr.isatty())
     if ref.warning:
         print(f"aolab: warning: {' '.join(ref.warning.split())}", file=sys.stderr)
-    result = advise.run(g, ref, radius, name=name, threads=args.threads, methods=args.methods,
-                        budgets=budgets)
+    bar = _Progress() if sys.stderr.isatty() else None
+    try:
+        result = advise.run(g, ref, radius, name=name, threads=args.threads,
+                            methods=args.methods, budgets=budgets,
+                            on_step=None if bar is None else bar.step)
+    finally:
+        if bar is not None:
+            bar.close()
     print(f"aolab advise: {advise.headline(result)}")
     for note in result["notes"]:
         print(f"  note: {note}")
@@ -110,3 +116,25 @@ def _numbers(got: dict) -> dict:
     return {"best": num(got["best"]), "as_good": [num(t) for t in got["as_good"]],
             "others": [num(t) for t in got["others"]], "fastest": num(got["fastest"]),
             "why": got["why"]}
+
+
+class _Progress:
+    """A tqdm bar over the configurations (advise.run's on_step), when tqdm is there."""
+
+    def __init__(self):
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            self.tqdm = None
+        else:
+            self.tqdm = tqdm(total=0, unit="config", dynamic_ncols=True, leave=False,
+                             file=sys.stderr)
+
+    def step(self, i: int, n: int, config: dict) -> None:
+        if self.tqdm is not None:
+            self.tqdm.total, self.tqdm.n = n, i
+            self.tqdm.set_description(f"{config['method']} {'/'.join(config['names'])}")
+
+    def close(self) -> None:
+        if self.tqdm is not None:
+            self.tqdm.close()

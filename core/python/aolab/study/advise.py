@@ -13,8 +13,10 @@ Within a budget, pareto.choose picks each method's best configuration among thos
 the whole-frame guard (no worse than AO = 1, nor than the method's own default: so that no
 flat grey image can win), the pick must beat AO = 1 on the occluded region (so that no
 white one can), and the advice is the best of these picks. Two scores against
-a noisy reference may differ by up to its noise for nothing (scoring.reference_noise): the
-picks within that of the best are named beside it, as ones this reference cannot tell apart.
+a noisy reference read high by up to its noise (scoring.reference_noise), and each output's
+own share of that can be estimated from the quick reference's two halves
+(quick_reference.Reference.inflation): the picks that lie above the best by no more than
+theirs are named beside it, as ones this reference cannot tell apart from it.
 """
 
 from __future__ import annotations
@@ -108,12 +110,19 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     # A first run slower than SINGLE_RUN_FACTOR x the largest budget is past every budget.
     single_ms = SINGLE_RUN_FACTOR * max(budgets) / scene.time_scale
     timing = tune.Timing(warmup=warmup, repeat=repeat, threads=threads, max_ms=single_ms)
+
+    def scorer(ao, sc) -> dict:
+        """tune.score, and how high the two MAEs may read against this reference
+        (Reference.inflation; None against the Cycles one)."""
+        return {**tune.score(ao, sc), "inflation": reference.inflation(ao, sc.occluded),
+                "all_inflation": reference.inflation(ao, sc.valid)}
     trials, refused = [], []
     for i, c in enumerate(configs):
         if on_step is not None:
             on_step(i, len(configs), c)
         try:
-            scores = tune.evaluate(c["method"], c["settings"], c["blur"], [scene], timing)
+            scores = tune.evaluate(c["method"], c["settings"], c["blur"], [scene], timing,
+                                   scorer=scorer)
         except (ValueError, RuntimeError) as e:
             refused.append({"method": c["method"], "names": c["names"], "error": str(e)})
             continue
@@ -161,6 +170,14 @@ def _draws_occlusion(result: dict, trial: dict) -> bool:
     return math.isfinite(mae) and one is not None and mae < one
 
 
+def reads_high(result: dict, trial: dict) -> float | None:
+    """How much higher the trial's occluded MAE may read against the reference than against
+    the noise-free AO: its own estimate from the quick reference's halves when there is one
+    (Reference.inflation), else the reference's noise there (None: unknown)."""
+    own = _scores(result, trial).get("inflation")
+    return own if own is not None else result["reference"]["noise_occluded"]
+
+
 def admissible(result: dict) -> list[dict]:
     """The trials that pass their method's whole-frame guard and draw occlusion better than
     AO = 1 on the occluded region."""
@@ -183,8 +200,9 @@ def front(result: dict) -> list[dict]:
 def choose(result: dict, budget_ms: float) -> dict:
     """The advice within ``budget_ms`` (per 1280x720 frame): ``best``, each method's pick
     (pareto.choose with its guard; it must also beat AO = 1 on the occluded region) with the
-    lowest occluded MAE (ties: the faster); ``as_good``,
-    the other methods' picks within the reference's occluded-region noise of it; ``others``,
+    lowest occluded MAE (ties: the faster); ``as_good``, the other methods' picks whose MAE
+    may read high by as much as they lie above it (:func:`reads_high`): this reference
+    cannot tell that they are worse; ``others``,
     the remaining picks, best first; and, when there is no best, ``fastest`` (the fastest
     admissible trial, else the fastest of all) and ``why``. Trials are given whole."""
     scenes = [result["scene"]]
@@ -196,11 +214,11 @@ def choose(result: dict, budget_ms: float) -> dict:
     picks.sort(key=lambda t: (_scores(result, t)["mae"], _scores(result, t)["ms"], t["number"]))
     out = {"budget_ms": budget_ms, "best": picks[0] if picks else None, "as_good": [],
            "others": [], "fastest": None, "why": None}
-    noise = result["reference"]["noise_occluded"]
     if picks:
         best = _scores(result, picks[0])["mae"]
         for t in picks[1:]:
-            close = noise is not None and _scores(result, t)["mae"] - best <= noise
+            high = reads_high(result, t)
+            close = high is not None and _scores(result, t)["mae"] - best <= high
             out["as_good" if close else "others"].append(t)
         return out
     pool = admissible(result) or result["trials"]
@@ -229,9 +247,10 @@ def describe(result: dict, trial: dict) -> str:
     per 1280x720 frame (0.89 ms at 320x180)"; presets that compute the same are named after
     the first: "lsao default (= medium)"."""
     s = _scores(result, trial)
+    measured = "" if result["time_scale"] == 1 else \
+        f" ({s['measured_ms']:.2f} ms at {result['width']}x{result['height']})"
     return (f"{trial['label']}: occluded MAE {s['mae']:.4f}, whole frame {s['all_mae']:.4f}, "
-            f"{s['ms']:.1f} ms per 1280x720 frame ({s['measured_ms']:.2f} ms at "
-            f"{result['width']}x{result['height']})")
+            f"{s['ms']:.1f} ms per 1280x720 frame{measured}")
 
 
 def headline(result: dict) -> str:

@@ -311,14 +311,16 @@ def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool) -> 
 
 
 def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
-             timing: Timing, on_scene=None, accuracy: dict | None = None) -> dict:
+             timing: Timing, on_scene=None, accuracy: dict | None = None,
+             scorer=score) -> dict:
     """Per scene: the median method and blur times, their sum ``measured_ms``, that time
     scaled to a 1280x720 frame (``ms``: the budgets' unit, so that scenes of every size
     weigh alike; a crop's time is left as it is), and the scores of :func:`score`.
     ``accuracy`` (scene -> score), when given, holds scores computed elsewhere (Dask
     workers): the timed runs' output must have the same digest. A configuration whose
     first run exceeds ``timing.max_ms`` is timed by that single run (it is past every
-    budget), on every scene."""
+    budget), on every scene. ``scorer(ao, scene)`` scores an output (default :func:`score`;
+    aolab advise adds its own scores to it)."""
     out, single = {}, False
     for sc in scenes:
         if on_scene is not None:
@@ -335,7 +337,7 @@ def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
             row["blur_ms"] = statistics.median(btimes)
         row["measured_ms"] = row["method_ms"] + row["blur_ms"]
         row["ms"] = row["measured_ms"] * sc.time_scale
-        mine = score(np.asarray(ao), sc)
+        mine = scorer(np.asarray(ao), sc)
         theirs = accuracy.get(sc.name) if accuracy is not None else None
         if theirs is not None:
             check_same_bits(theirs["digest"], mine["digest"], method, sc.name)
