@@ -45,8 +45,12 @@ BUDGETS_MS = (16, 33, 100)
 #: The largest budget ``--budget`` takes (ms): beyond it, advice is not about real time.
 MAX_BUDGET_MS = 1e6
 #: A configuration whose first run is slower than this many times the largest budget asked
-#: is timed by that run alone (as aolab tune does): it is past every budget.
+#: is timed by that run alone (as aolab tune does): it is past every budget...
 SINGLE_RUN_FACTOR = 2.0
+#: ...but never one whose first run (measured, not scaled) is below this: a first run pays
+#: for allocations and cold caches, which at the panel's 320x180 can make it 20 times a warm
+#: one (VAO++ at its defaults in a new process, measured: 54 ms, then 2 ms).
+SINGLE_RUN_FLOOR_MS = 250.0
 #: The panel's default Resolution: ``aolab advise`` renders a scene at this % of its size.
 DEFAULT_SCALE = 25
 #: Samples of the Cycles reference looked for in the cache (the panel's default).
@@ -108,7 +112,7 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     chosen = list(methods) if methods else tune.default_methods()
     configs, notes = configurations(chosen)
     # A first run slower than SINGLE_RUN_FACTOR x the largest budget is past every budget.
-    single_ms = SINGLE_RUN_FACTOR * max(budgets) / scene.time_scale
+    single_ms = max(SINGLE_RUN_FACTOR * max(budgets) / scene.time_scale, SINGLE_RUN_FLOOR_MS)
     timing = tune.Timing(warmup=warmup, repeat=repeat, threads=threads, max_ms=single_ms)
 
     def scorer(ao, sc) -> dict:
