@@ -329,15 +329,19 @@ def plot(result: dict, budgets=BUDGETS_MS, size: tuple[int, int] = (640, 540)) -
     if one is not None:
         ax.axhline(one, color="tab:red", ls="--", lw=1, zorder=1, label="AO = 1")
     ax.set_xscale("log")
+    advised: dict = {}   # trial number -> (trial, the budgets it is the advice of)
     for b in budgets:
         ax.axvline(b, color="0.4", ls=":", lw=1, zorder=1)
         got = choose(result, b)["best"]
         if got is not None:
-            s = _scores(result, got)
-            ax.scatter([s["ms"]], [s["mae"]], s=140, facecolors="none", edgecolors="black",
-                       lw=1.4, zorder=4)
-            ax.annotate(f"{b:g} ms: {got['short']}", (s["ms"], s["mae"]), fontsize=7,
-                        xytext=(6, 6), textcoords="offset points", zorder=5)
+            advised.setdefault(got["number"], (got, []))[1].append(b)
+    for got, within in advised.values():
+        s = _scores(result, got)
+        ax.scatter([s["ms"]], [s["mae"]], s=140, facecolors="none", edgecolors="black",
+                   lw=1.4, zorder=4)
+        ax.annotate(f"{', '.join(f'{b:g}' for b in within)} ms: {got['short']}",
+                    (s["ms"], s["mae"]), fontsize=7, xytext=(6, 6), textcoords="offset points",
+                    zorder=5)
     lo, hi = ax.get_xlim()
     ticks = [t for t in TIME_TICKS_MS if lo <= t <= hi]
     if ticks:
