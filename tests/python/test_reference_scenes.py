@@ -61,7 +61,7 @@ def test_the_corpus_has_24_scenes_in_six_families_besides_the_analytic_one():
     assert len(families) >= 6 and all(len(v) >= 3 for v in families.values()), families
 
 
-@pytest.mark.parametrize("folder", [p for p in SCENES if p.name not in REQUIRED_SCENES
+@pytest.mark.parametrize("folder", [p for p in STILLS if p.name not in REQUIRED_SCENES
                                     and "uses" in json.loads((p / "manifest.json").read_text())],
                          ids=lambda p: p.name)
 def test_a_corpus_scene_is_built_by_its_family_module(folder):
@@ -71,6 +71,22 @@ def test_a_corpus_scene_is_built_by_its_family_module(folder):
     fam = manifest["family"]
     assert f"families/{fam}.py" in manifest["uses"] and "families/kit.py" in manifest["uses"]
     assert f'__import__("families.{fam}").{fam}.build(' in (folder / "build.py").read_text()
+    for used in manifest["uses"]:
+        assert (ROOT / "reference_scenes" / used).is_file()
+
+
+@pytest.mark.parametrize("folder", [p for p in SCENES if p.name.startswith("sequence_")],
+                         ids=lambda p: p.name)
+def test_a_temporal_sequence_is_built_by_the_sequences_module(folder):
+    """The temporal study's sequences (reference_scenes/families/sequences.py): 24 frames or
+    more, each a variant of that module, whose files the manifest lists under "uses"."""
+    manifest = json.loads((folder / "manifest.json").read_text())
+    frames = manifest["frames"]
+    assert len(range(frames["start"], frames["end"] + 1, frames["step"])) >= 24
+    assert {"families/kit.py", "families/sequences.py"} <= set(manifest["uses"])
+    variant = folder.name.removeprefix("sequence_")
+    assert f'__import__("families.sequences").sequences.build("{variant}")' in (
+        folder / "build.py").read_text()
     for used in manifest["uses"]:
         assert (ROOT / "reference_scenes" / used).is_file()
 
