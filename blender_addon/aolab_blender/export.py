@@ -2,7 +2,8 @@
 
 One call, export_reference(), makes two Cycles CPU renders at filter_width 0.01 (pixel-centre
 values: one ray position per pixel; docs/blender_facts.md, "Pixel filter"):
-1. the G-buffer: only the passes asked for (Depth always; Normal, DiffCol, Emit as needed),
+1. the G-buffer: only the passes asked for (Depth always; Normal, DiffCol, Emit, Vector as
+   needed; the Vector pass becomes AO Lab's motion vectors, bridge/motion.py),
    gbuffer_samples samples (depth comes from sample 0; at this filter width normals and
    colours are the pixel-centre values, so 1 sample is exact);
 2. the reference: the AO pass alone at `spp` samples, adaptive sampling off (it judges noise
@@ -27,7 +28,7 @@ import time
 import bpy
 
 from aolab.util import files
-from aolab.bridge import exr
+from aolab.bridge import exr, motion
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.passes import GEOMETRY_PASSES, PASSES
 
@@ -125,6 +126,16 @@ def render_session(scene, cam, radius: float, out_dir: str, prefix: str, checkpo
         yield tmp, rs
 
 
+def motion_layer(channels: dict, depth):
+    """AO Lab's motion (H, W, 2) from the G-buffer render's Vector pass (written with motion
+    blur off, as _common_settings has it: with motion blur on it holds zeros), or None
+    without one."""
+    vector = exr.find_pass(channels, "Vector", PASSES["motion"][2])
+    if vector is None or depth is None:
+        return None
+    return motion.from_cycles_vector(vector, depth, BACKGROUND_DEPTH)
+
+
 def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: list[str],
                      gbuffer_samples: int = 1, camera_name: str | None = None,
                      cancel=None, report=print, extra: dict | None = None) -> dict:
@@ -197,6 +208,8 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
             layers.append(("DiffCol", exr.find_pass(g, "DiffCol", ("R", "G", "B")), "half"))
         if "emission" in passes:
             layers.append(("Emit", exr.find_pass(g, "Emit", ("R", "G", "B")), "half"))
+        if "motion" in passes:
+            layers.append(("Motion", motion_layer(g, depth), "float"))
         missing = [name for name, data, _ in layers if data is None]
         if missing:
             raise BridgeError(f"the render lacks the passes {missing}; channels: "
@@ -222,6 +235,10 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
             "scene_hash": scene_hash,
             "bridge_version": BRIDGE_VERSION,
             **({"mesh_file": mesh_file} if mesh_file else {}),
+            # Cycles' Vector pass looks one frame back, whatever the sequence's step
+            # (docs/blender_facts.md, "The Vector pass").
+            **({"motion_previous_frame": scene.frame_current - 1} if "motion" in passes
+               else {}),
             **(extra or {}),
         }
         # The EXR and its sidecar go into place together: a full disk leaves neither half.

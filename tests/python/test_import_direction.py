@@ -120,7 +120,7 @@ LAYERS = (
     ("aolab.bridge",),
     ("aolab.catalog",),
     ("aolab.settings", "aolab.scoring", "aolab.regions", "aolab.raytracing",
-     "aolab.named_presets"),
+     "aolab.named_presets", "aolab.motion"),
     ("aolab",),                      # the API: aolab/__init__.py
     ("aolab.scenes",),
     ("aolab.render",),

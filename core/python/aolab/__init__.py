@@ -15,6 +15,8 @@ import numpy as np
 
 from . import _core, named_presets
 from .bridge import mesh as mesh_file
+from .bridge import motion as motion_pass
+from .motion import camera_motion  # noqa: F401
 # The ray-traced peer (raytracing.py): Embree against the scene's triangles.
 from .raytracing import (RayScene, RtaoRangeWarning, analytic_scene_mesh,  # noqa: F401
                          ray_scene, rtao, rtao_range, rtao_settings)
@@ -25,7 +27,7 @@ __all__ = [
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
     "rtao", "ray_scene", "RayScene", "rtao_settings", "rtao_range", "RtaoRangeWarning",
     "analytic_scene_mesh", "load_mesh", "mesh_for_gbuffer", "working_memory",
-    "set_working_memory_limit", "release_working_memory",
+    "set_working_memory_limit", "release_working_memory", "camera_motion",
 ]
 
 GBuffer = _core.GBuffer
@@ -173,7 +175,12 @@ def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
 def load_gbuffer(path) -> GBuffer:
     """A G-buffer from a Blender multilayer EXR and its camera sidecar JSON (``<stem>.json``):
     depth, normals, colour (DiffCol) and emission (Emit) where the file has them.
-    The returned GBuffer also carries ``reference`` (the AO pass, or None) and ``sidecar``.
+    The returned GBuffer also carries ``reference`` (the AO pass, or None), ``sidecar`` and
+    ``motion``: the bridge's motion vectors (the Motion pass of a sequence's frame) as float32
+    (H, W, 2) in pixels, (dx, dy) from each pixel centre to where its point was in the
+    previous frame, y down, NaN on background (docs/conventions.md, "Motion vectors"); None
+    when the file has none. A Motion pass with one channel, or not finite on a surface pixel,
+    is a ValueError naming the file.
 
     ``reference`` is the AO pass as stored, NaN included: an AO pass that is all NaN is still
     returned (an array of NaN, not None), and scoring it selects no pixel (``aolab run`` then
@@ -191,6 +198,8 @@ def load_gbuffer(path) -> GBuffer:
     g.reference = data["ao"]
     g.sidecar = side
     g.path = str(path)
+    g.motion = motion_pass.read_motion(path, list(data["channels"]), data["depth"],
+                                       g.background_depth)
     return g
 
 

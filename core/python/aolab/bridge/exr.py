@@ -2,7 +2,8 @@
 OpenImageIO's and numpy's Python modules, which import in Blender and in /usr/bin/python3).
 
 The merged file is what aolab.load_gbuffer reads (docs/file_formats.md): Depth.Z float32,
-Normal.X/Y/Z (view space), AO.R/G/B, DiffCol.R/G/B, Emit.R/G/B as half, zip-compressed.
+Normal.X/Y/Z (view space), AO.R/G/B, DiffCol.R/G/B, Emit.R/G/B as half, Motion.X/Y float32
+(AO Lab's motion convention: bridge/motion.py), zip-compressed.
 """
 
 from __future__ import annotations
@@ -15,19 +16,29 @@ import OpenImageIO as oiio
 from ..util import files
 
 
-def read_channels(path: str) -> dict[str, np.ndarray]:
-    """All channels of an EXR by full name, as float32 (H, W) arrays, row 0 at the top."""
+def read_channels(path: str, names: list[str] | None = None) -> dict[str, np.ndarray]:
+    """The channels of an EXR by full name, as float32 (H, W) arrays, row 0 at the top: all
+    of them, or only ``names`` (then only the span of channels holding them is decoded)."""
     inp = oiio.ImageInput.open(str(files.regular_file(path, "EXR")))
     if inp is None:
         raise RuntimeError(f"cannot open {path}: {oiio.geterror()}")
     try:
         spec = inp.spec()
-        pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+        order = list(spec.channelnames)
+        names = order if names is None else list(names)
+        missing = [n for n in names if n not in order]
+        if missing:
+            raise RuntimeError(f"{path} has no channels {missing}; channels found: {order}")
+        index = [order.index(n) for n in names]
+        if not index:
+            return {}
+        begin, end = min(index), max(index) + 1
+        pixels = inp.read_image(0, 0, begin, end, "float")
         if pixels is None:
             raise RuntimeError(f"cannot read {path}: {inp.geterror()}")
         pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width,
-                                                              spec.nchannels)
-        return {name: pixels[..., i].copy() for i, name in enumerate(spec.channelnames)}
+                                                              end - begin)
+        return {n: pixels[..., i - begin].copy() for n, i in zip(names, index)}
     finally:
         inp.close()
 
@@ -45,6 +56,11 @@ def find_pass(channels: dict[str, np.ndarray], pass_name: str, components) -> np
     return None
 
 
+#: The passes of the merged G-buffer EXR and their channels, in the order they are written.
+LAYER_COMPONENTS = {"Depth": "Z", "Normal": "XYZ", "AO": "RGB", "DiffCol": "RGB", "Emit": "RGB",
+                    "Motion": "XY"}
+
+
 def write_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
                      view_layer: str = "ViewLayer") -> None:
     """Writes (pass name, (H, W, C) array, "float"|"half") layers with channel names
@@ -56,9 +72,8 @@ def encode_multilayer(path: str, layers: list[tuple[str, np.ndarray, str]],
                       view_layer: str = "ViewLayer") -> bytes:
     """The bytes write_multilayer writes to `path`, for files put in place together."""
     names, formats, planes = [], [], []
-    components = {"Depth": "Z", "Normal": "XYZ", "AO": "RGB", "DiffCol": "RGB", "Emit": "RGB"}
     for pass_name, data, fmt in layers:
-        comps = components[pass_name]
+        comps = LAYER_COMPONENTS[pass_name]
         data = data.reshape(data.shape[0], data.shape[1], -1)
         for i, c in enumerate(comps):
             names.append(f"{view_layer}.{pass_name}.{c}")

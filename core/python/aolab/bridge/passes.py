@@ -11,6 +11,9 @@ PASSES = {
     "normal": ("use_pass_normal", "Normal", ("X", "Y", "Z")),
     "diffuse_color": ("use_pass_diffuse_color", "DiffCol", ("R", "G", "B")),
     "emission": ("use_pass_emit", "Emit", ("R", "G", "B")),
+    # Cycles' Vector pass; the EXR gets it converted to AO Lab's convention as Motion.X/Y
+    # (bridge/motion.py).
+    "motion": ("use_pass_vector", "Vector", ("X", "Y", "Z", "W")),
 }
 #: Passes that are files beside the EXR, not render passes: no view-layer pass is enabled
 #: for them, and no method needs them (required_passes never adds them). "mesh": the scene's
@@ -19,13 +22,15 @@ GEOMETRY_PASSES = ("mesh",)
 EFFECTS = ("color_bleeding", "luminance_sensitivity")
 
 
-def required_passes(methods: list[dict], effects: list[str]) -> list[str]:
+def required_passes(methods: list[dict], effects: list[str], *,
+                    sequence: bool = False) -> list[str]:
     """The G-buffer passes for `methods` (dicts with needs_normal / needs_color, as
     aolab.method_info returns) on a scene whose manifest asks for `effects`.
 
     Depth always; Normal if a method reads normals; the diffuse colour for colour bleeding
     and emission plus diffuse colour for luminance sensitivity, but only if a method reads
-    colour at all.
+    colour at all; the motion vectors for a `sequence` (a manifest with "frames"), which
+    temporal accumulation reprojects its history with.
     """
     unknown = [e for e in effects if e not in EFFECTS]
     if unknown:
@@ -38,6 +43,8 @@ def required_passes(methods: list[dict], effects: list[str]) -> list[str]:
             passes.append("diffuse_color")
         if "luminance_sensitivity" in effects:
             passes.append("emission")
+    if sequence:
+        passes.append("motion")
     return passes
 
 

@@ -263,7 +263,7 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
     if passes is None:
         names = aolab.methods() if methods is None else methods
         infos = [aolab.method_info(n) for n in names]  # ValueError for an unknown name
-        passes = required_passes(infos, m.get("effects", []))
+        passes = required_passes(infos, m.get("effects", []), sequence="frames" in m)
     else:
         passes = parse_passes(",".join(passes))
     spp = spp if spp is not None else int(m.get("spp", 1024))
