@@ -129,7 +129,7 @@ def add_motion_pass(target_exr, source_exr) -> dict:
         if target.get(key) != source.get(key):
             raise ValueError(f"{source_exr} is not a render of {target_exr}: their {key} "
                              f"differ ({source.get(key)!r} against {target.get(key)!r})")
-    if "motion" not in source.get("passes", []):
+    if "motion" not in source.get("passes", []) or "motion_previous_frame" not in source:
         raise ValueError(f"{source_exr} has no motion pass (render it with --passes "
                          "depth,motion)")
     channels = exr.read_channels(target_exr)
