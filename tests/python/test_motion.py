@@ -322,3 +322,13 @@ def test_the_committed_flythrough_moves_as_its_cameras_say():
         both = np.isfinite(current.motion).all(-1) & np.isfinite(from_cameras).all(-1)
         assert both.sum() == np.count_nonzero(current.depth < 1e9)
         assert np.abs(current.motion - from_cameras)[both].max() < TOLERANCE_PX
+    # Two frames cropped alike (the study's --crop): the motion is cropped with them, and the
+    # cameras' motion, from the crops' own intrinsics, still agrees.
+    from aolab import scenes
+    crop = scenes.Crop(100, 60)
+    previous, current = (scenes.load_cropped(frames / f"{f:04d}", crop)[0] for f in (4, 5))
+    assert current.motion.shape == (60, 100, 2)
+    from_cameras = aolab.camera_motion(previous, current)
+    both = np.isfinite(current.motion).all(-1) & np.isfinite(from_cameras).all(-1)
+    assert both.sum() > 5000
+    assert np.abs(current.motion - from_cameras)[both].max() < TOLERANCE_PX

@@ -13,8 +13,9 @@ import numpy as np
 
 
 def _camera(source, what: str) -> tuple[np.ndarray, float, float, float, float]:
-    """(camera_to_world 4x4 float64, fx, fy, cx, cy) of a G-buffer's sidecar or a sidecar
-    dict; a ValueError naming ``what`` when one is missing or not finite."""
+    """(camera_to_world 4x4 float64, fx, fy, cx, cy) of a G-buffer (its own intrinsics, which
+    a crop moves, and its sidecar's camera_to_world) or of a sidecar dict; a ValueError
+    naming ``what`` when one is missing or not finite."""
     side = source if isinstance(source, dict) else getattr(source, "sidecar", None)
     if not isinstance(side, dict):
         raise ValueError(f"{what} must be a G-buffer from aolab.load_gbuffer (with a sidecar) "
@@ -24,8 +25,9 @@ def _camera(source, what: str) -> tuple[np.ndarray, float, float, float, float]:
                          "is unknown")
     try:
         m = np.asarray(side["camera_to_world"], dtype=np.float64)
-        k = [float(side[key]) for key in ("fx", "fy", "cx", "cy")]
-    except (KeyError, TypeError, ValueError) as e:
+        k = [float(side[key] if isinstance(source, dict) else getattr(source, key))
+             for key in ("fx", "fy", "cx", "cy")]
+    except (AttributeError, KeyError, TypeError, ValueError) as e:
         raise ValueError(f"{what}: the sidecar needs camera_to_world (4x4) and fx, fy, cx, cy "
                          f"as numbers ({e})") from None
     if m.shape != (4, 4) or not np.isfinite(m).all() or not all(map(math.isfinite, k)):
@@ -41,8 +43,10 @@ def camera_motion(previous, current) -> np.ndarray:
     sidecar's camera_to_world) from the cameras alone, in AO Lab's convention: float32
     (H, W, 2), (dx, dy) in pixels such that the point seen at pixel centre (i + 0.5, j + 0.5)
     now was at (i + 0.5 + dx, j + 0.5 + dy) in ``previous`` (y down), ``previous`` being the
-    previous frame's G-buffer or its sidecar dict (camera_to_world, fx, fy, cx, cy). NaN on
-    background and where the point lies behind the previous camera.
+    previous frame's G-buffer (its own fx, fy, cx, cy, so that two frames cropped alike give
+    the motion in the crop, and its sidecar's camera_to_world) or a sidecar dict
+    (camera_to_world, fx, fy, cx, cy). NaN on background and where the point lies behind the
+    previous camera.
 
     The point X seen with depth d is carried by M = world_to_camera(previous) ·
     camera_to_world(current) and projected with the previous intrinsics:

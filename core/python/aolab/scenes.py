@@ -296,6 +296,8 @@ def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None
                                 background_depth=g.background_depth,
                                 emission=crop.apply(g.emission))
         cropped.sidecar, cropped.path = side, g.path
+        # offsets between two pixel positions: a crop moves both alike
+        cropped.motion = crop.apply(g.motion)
         reference = crop.apply(reference)
         cropped.reference = reference
         g = cropped
