@@ -8,13 +8,15 @@
 //                   background rule (gbuffer.h), the SIMD target in use (simd_target.h),
 //                   the cache of large working arrays (working_memory.h), the depth MIP
 //                   chain for far samples (depth_mip.h).
-// - core/sampling/  counter-based random numbers (random.h), blue noise (blue_noise.h),
-//                   rotation-aware Poisson-disk sets (poisson_disk.h).
+// - core/sampling/  counter-based random numbers (random.h), per-frame seeds (frame_seed.h),
+//                   blue noise (blue_noise.h), rotation-aware Poisson-disk sets
+//                   (poisson_disk.h).
 // - core/io/        Blender multilayer EXR G-buffers and AO images (image_io.h), the camera
 //                   sidecar JSON (sidecar.h), durable writes and regular-file checks
 //                   (files.h).
 // - core/scoring/   MAE, RMSE, PSNR, bias and SSIM against a reference (metrics.h, ssim.h).
-// - core/filters/   the separable Gaussian applied after a method (blur.h).
+// - core/filters/   the separable Gaussian applied after a method (blur.h), temporal
+//                   accumulation over frames (temporal.h).
 // - core/scenes/    analytic scenes with closed-form Cycles AO (analytic_scenes.h).
 // - core/methods/   the registry (registry.h: every method by name, with its settings table)
 //                   and one folder per method; a method's helpers in its folder are private.
@@ -57,6 +59,7 @@
 // core/sampling
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/cosine_hemisphere.h"
+#include "core/sampling/frame_seed.h"
 #include "core/sampling/poisson_disk.h"
 #include "core/sampling/random.h"
 
@@ -71,6 +74,7 @@
 
 // core/filters
 #include "core/filters/blur.h"
+#include "core/filters/temporal.h"
 
 // core/scenes
 #include "core/scenes/analytic_scenes.h"
