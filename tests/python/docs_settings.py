@@ -15,17 +15,20 @@ import aolab
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "methods"
 
 
-def docs_rows(method: str) -> list[list[str]]:
-    """The cells of every setting row of the docs page's `## Settings` table."""
-    text = (DOCS / f"{method}.md").read_text()
+def docs_rows(method: str, page: Path | None = None) -> list[list[str]]:
+    """The cells of every setting row of the docs page's `## Settings` table (the method's
+    page unless `page` names another)."""
+    text = (page or DOCS / f"{method}.md").read_text()
     section = text.split("\n## Settings\n", 1)[1].split("\n## ", 1)[0]
     return [[c.strip() for c in line.strip().strip("|").split("|")]
             for line in section.splitlines() if line.startswith("| `")]
 
 
-def assert_docs_settings_table(method):
-    rows = docs_rows(method)
-    settings = aolab.method_info(method)["settings"]
+def assert_docs_settings_table(method, page: Path | None = None, settings=None):
+    """`settings` (the method's unless given, as for a shared step's page) against the rows of
+    `page` (the method's page unless given)."""
+    rows = docs_rows(method, page)
+    settings = aolab.method_info(method)["settings"] if settings is None else settings
     assert [r[0].strip("`") for r in rows] == [s["name"] for s in settings]
     for (name, kind, default, rng, unit, meaning), s in zip(rows, settings):
         assert (kind, unit, meaning) == (s["type"], s["unit"], s["description"]), name
@@ -41,10 +44,11 @@ def assert_docs_settings_table(method):
                                                         np.float32(s["max"])), name
 
 
-def settings_table(method: str) -> str:
-    """The Markdown table for the docs, from the field table."""
+def settings_table(method: str, settings=None) -> str:
+    """The Markdown table for the docs, from the field table (the method's unless `settings`
+    gives another's)."""
     lines = ["| setting | type | default | range | unit | meaning |", "|---|---|---|---|---|---|"]
-    for s in aolab.method_info(method)["settings"]:
+    for s in aolab.method_info(method)["settings"] if settings is None else settings:
         if s["type"] == "bool":
             default, rng = ("true" if s["default"] else "false"), "false, true"
         elif s["type"] == "choice":

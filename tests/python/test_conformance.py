@@ -5,7 +5,6 @@ naming the parameter (unknown ones list the valid names); progress, cancel and t
 Method-specific known answers stay in test_<method>.py; hard inputs are test_stability.py's.
 """
 import math
-import threading
 
 import numpy as np
 import pytest
@@ -13,6 +12,7 @@ import pytest
 import aolab
 from aolab.settings import is_choice
 from docs_settings import assert_docs_settings_table
+from gil_support import ticks_while
 
 METHODS = aolab.methods()
 TYPES = ("float", "int", "bool", "choice")
@@ -264,17 +264,6 @@ def test_progress_and_cancel(method):
 @pytest.mark.parametrize("method", METHODS)
 def test_gil_is_released_during_compute(method):
     g = aolab.analytic_scene("blocks", 1280, 720)
-    done = threading.Event()
-    ticks = 0
-
-    def work():
-        aolab.compute(method, g, radius=0.5, threads=1, **SUITE_BASE.get(method, {}))
-        done.set()
-
-    t = threading.Thread(target=work)
-    t.start()
-    while not done.is_set():
-        ticks += 1
-        done.wait(0.001)
-    t.join()
+    ticks = ticks_while(
+        lambda: aolab.compute(method, g, radius=0.5, threads=1, **SUITE_BASE.get(method, {})))
     assert ticks > 5  # the main thread ran while the computation did

@@ -27,12 +27,14 @@ __all__ = [
     "analytic_scene", "analytic_scene_names", "vao_pp_with_stats", "presets", "simd_target",
     "rtao", "ray_scene", "RayScene", "rtao_settings", "rtao_range", "RtaoRangeWarning",
     "analytic_scene_mesh", "load_mesh", "mesh_for_gbuffer", "working_memory",
-    "set_working_memory_limit", "release_working_memory", "camera_motion",
+    "set_working_memory_limit", "release_working_memory", "camera_motion", "TemporalHistory",
+    "accumulate", "accumulate_settings", "frame_seed",
 ]
 
 GBuffer = _core.GBuffer
 Progress = _core.Progress
 Cancelled = _core.Cancelled
+TemporalHistory = _core.TemporalHistory
 
 
 def simd_target() -> str:
@@ -81,7 +83,7 @@ def method_info(method: str) -> dict:
 def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
             preset: str | None = None, blur: bool | None = None, blur_sigma: float = 1.5,
             blur_taps: int = 5, progress: Progress | None = None, kernel: str = "simd",
-            **settings) -> np.ndarray:
+            frame: int | None = None, **settings) -> np.ndarray:
     """AO of ``gbuffer`` by ``method`` as a float32 (H, W) array in [0, 1] — or (H, W, 3)
     where the method documents an RGB result (``vao_pp`` with ``color_bleeding=True``).
 
@@ -103,6 +105,11 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
 
     ``blur`` must be a bool (``True``, ``False``, a numpy bool) or None (the preset's switch,
     else off); anything else, ``"no"`` or ``1`` included, is a ValueError naming ``blur``.
+
+    ``frame`` (an int >= 0) makes the method's per-pixel random numbers those of that frame of
+    a sequence, for :func:`accumulate`: its ``seed`` (given, the preset's or the default)
+    becomes ``frame_seed(seed, frame)``; frame 0 is the method as it is. A method without a
+    ``seed`` (Chebyshev AO draws nothing at random) is unchanged.
     """
     _require_bool_or_none("blur", blur)
     if preset is not None:
@@ -113,6 +120,8 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     else:
         values = dict(settings)
     values["radius"] = radius
+    if frame is not None:
+        _apply_frame(method, values, frame)
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress,
                        kernel=kernel)
     if blur:
@@ -122,6 +131,52 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
         ao = _core.gaussian_blur(ao, gbuffer, sigma=blur_sigma, taps=blur_taps,
                                  threads=threads)
     return ao
+
+
+def _apply_frame(method: str, values: dict, frame) -> None:
+    """``values["seed"]`` made the seed of ``frame`` (compute's ``frame``)."""
+    defaults = {s["name"]: s["default"] for s in method_info(method)["settings"]}
+    if "seed" not in defaults:
+        frame_seed(0, frame)  # still checks the frame
+        return
+    values["seed"] = frame_seed(values.get("seed", defaults["seed"]), frame)
+
+
+def frame_seed(seed: int, frame: int) -> int:
+    """The seed of ``frame`` of a sequence run at ``seed`` (docs/temporal.md): ``seed`` itself
+    for frame 0, for later frames a hash of both in [1, 2**31 - 1], so that every method's
+    per-pixel random numbers vary per frame. Both must be whole numbers in [0, 2**31 - 1]
+    (a ValueError naming the argument otherwise)."""
+    for name, value in (("seed", seed), ("frame", frame)):
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+            raise ValueError(f"{name} must be a whole number in [0, 2147483647], got "
+                             f"{value!r} ({type(value).__name__})")
+    return _core.frame_seed(int(seed), int(frame))
+
+
+def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: TemporalHistory,
+               *, threads: int = 0, **settings) -> tuple[np.ndarray, np.ndarray]:
+    """Temporal accumulation (docs/temporal.md): blends this frame's ``ao`` (H, W) of a method
+    on ``gbuffer`` into ``history``, reprojected by ``motion``, and updates ``history`` to
+    this frame. Returns ``(accumulated, disoccluded)``: the float32 (H, W) blend, and a bool
+    (H, W) mask, True on geometry pixels whose history was rejected (all of them on the
+    first frame), where the result is this frame's ``ao`` exactly.
+
+    ``motion`` is float (H, W, 2) in pixels: at ``[j, i]`` the (dx, dy) such that the surface
+    seen at pixel centre (i + 0.5, j + 0.5) was at (i + 0.5 + dx, j + 0.5 + dy) in the previous
+    frame, y down; NaN on background. A camera pan moving the content k px right gives
+    dx = -k. ``settings`` are those of :func:`accumulate_settings` (``alpha``,
+    ``max_history``, ``depth_tolerance``, ``normal_tolerance``, ``clamp`` by name: ``"off"``,
+    ``"minmax"`` or ``"variance"``, ``variance_gamma``). Vary the method's noise per frame
+    with ``compute(..., frame=k)``. Bad values are a ValueError naming them; the bits do not
+    depend on ``threads``."""
+    return _core.accumulate(ao, gbuffer, motion, history, settings, threads=threads)
+
+
+def accumulate_settings() -> list[dict]:
+    """The settings of :func:`accumulate` described as ``method_info`` describes a method's:
+    type, default, range (or choices), unit and meaning."""
+    return _core.accumulate_settings()
 
 
 def _require_bool_or_none(name: str, value) -> None:

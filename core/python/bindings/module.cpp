@@ -8,6 +8,7 @@ namespace aolab::python {
 void bind_gbuffer(py::module_& m);
 void bind_methods(py::module_& m);
 void bind_blur(py::module_& m);
+void bind_temporal(py::module_& m);
 void bind_parallel(py::module_& m);
 void bind_metrics(py::module_& m);
 void bind_files(py::module_& m);
@@ -24,6 +25,7 @@ PYBIND11_MODULE(_core, m) {
   bind_methods(m);
   bind_parallel(m);
   bind_blur(m);
+  bind_temporal(m);
   bind_metrics(m);
   bind_files(m);
   bind_image_io(m);
