@@ -263,7 +263,11 @@ def test_progress_and_cancel(method):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_gil_is_released_during_compute(method):
-    g = aolab.analytic_scene("blocks", 1280, 720)
+    # 1920x1080: long enough (tens of ms for the fastest method on one thread) that a main
+    # thread starved by a loaded machine still gets its handful of turns when the GIL is free;
+    # the oracle takes seconds at 1280x720 already
+    size = (1280, 720) if method == "screen_space_limit" else (1920, 1080)
+    g = aolab.analytic_scene("blocks", *size)
     ticks = ticks_while(
         lambda: aolab.compute(method, g, radius=0.5, threads=1, **SUITE_BASE.get(method, {})))
     assert ticks > 5  # the main thread ran while the computation did
