@@ -1,11 +1,9 @@
 #!/usr/bin/env bash
-# Installs the Debian packages AO Lab needs (no PyPI), only those that are missing, and the
-# comparison report's plotly.js from the npm registry (core/web/package-lock.json pins it;
-# `npm ci` there, only when it is missing or another version: nothing downloads at build or
-# run time).
+# Installs the Debian packages AO Lab needs (no PyPI), only those that are missing. (The
+# comparison report's plotly.js is committed in core/web/vendor/: nothing downloads at build or
+# run time, and set-up needs no registry but Debian's.)
 # Usage: scripts/install-deps.sh        (as root, or with sudo available)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 PACKAGES=(
   # build, and the checks scripts/lint.sh runs
@@ -31,8 +29,6 @@ PACKAGES=(
   python3-distributed python3-psutil
   # headless browser: tests/python/test_report.py opens the comparison report in it
   chromium
-  # Node.js: `node` reads core/web's lock below (npm comes with it, or as Debian's npm)
-  nodejs
   # Blender (3.4 on Debian 12, 4.3 on Debian 13; its Python is /usr/bin/python3 on both, and
   # `import aolab` is tested inside it)
   blender
@@ -41,10 +37,6 @@ PACKAGES=(
   # scripts/addon_screenshot.sh captures the Xvfb screen: xwd, and ImageMagick to write PNG
   x11-apps imagemagick
 )
-
-# npm: Debian's package, unless an npm is there already (a Node.js that bundles it, such as
-# NodeSource's, conflicts with Debian's npm package)
-command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -61,15 +53,3 @@ else
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# The report's plotly.js: core/web/node_modules, at the version of core/web/package-lock.json
-# (the build copies it into the package).
-web="$root/core/web"
-pin="plotly.js-basic-dist-min"
-want="$(cd "$web" && node -p "require('./package-lock.json').packages['node_modules/$pin'].version")"
-have="$(cd "$web" && node -p "try { require('./node_modules/$pin/package.json').version } catch (e) { '' }")"
-if [ "$want" = "$have" ]; then
-  echo "install-deps: $pin $have present"
-else
-  echo "install-deps: installing $pin $want (npm ci in core/web)"
-  (cd "$web" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
-fi

@@ -9,8 +9,9 @@ names any more removed. At every instant the report.html in the folder finds all
 and a copy of the folder works anywhere (from a file:// URL too: nothing is fetched).
 
 Images are WebP (lossy, quality IMAGE_QUALITY) through Pillow; plotly.js is the minified file
-that scripts/install-deps.sh installs from the npm registry (core/web/package-lock.json pins
-it) and the build copies into the package (vendor/): never downloaded at run time.
+committed in core/web/vendor/ (the npm package core/web/package-lock.json pins, fetched by
+scripts/update_plotly.sh), which the build copies into the package (vendor/): never
+downloaded at build or run time.
 """
 
 from __future__ import annotations
@@ -35,8 +36,7 @@ IMAGE_QUALITY = 75
 #: libwebp's effort (0-6): 2 encodes a 426x240 image in about 6 ms, 3x faster than 4 for 3 %
 #: more bytes (the study encodes some 1200 images).
 WEBP_METHOD = 2
-#: plotly.js: its npm package (core/web/package.json) and the file the report loads.
-PLOTLY_PACKAGE = "plotly.js-basic-dist-min"
+#: plotly.js: the file the report loads (npm package plotly.js-basic-dist-min, core/web).
 PLOTLY_FILE = "plotly-basic.min.js"
 #: The report's own script, beside this module.
 SCRIPT = Path(__file__).with_name("report.js")
@@ -46,11 +46,11 @@ _REFERENCE = re.compile(re.escape(FOLDER) + r"/[A-Za-z0-9_.-]+")
 
 def plotly_js() -> Path | None:
     """plotly.js as installed: the built package's copy (vendor/, made by the build from
-    core/web/node_modules), else the checkout's core/web/node_modules (a run from the source
-    tree); None when neither exists."""
+    core/web/vendor), else the checkout's core/web/vendor (a run from the source tree); None
+    when neither exists."""
     here = Path(__file__).resolve()
     for path in (here.parent / "vendor" / PLOTLY_FILE,
-                 here.parents[3] / "web" / "node_modules" / PLOTLY_PACKAGE / PLOTLY_FILE):
+                 here.parents[3] / "web" / "vendor" / PLOTLY_FILE):
         if path.is_file():
             return path
     return None
