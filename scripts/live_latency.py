@@ -36,6 +36,7 @@ def setup():
     prefs.view.show_splash = False
     scene = bpy.context.scene
     scene.aolab.preview_scale = int(SCALE)
+    scene.aolab.live_frames = 1   # the latency of a change: frame 0 only
     methods = [m for m in properties.methods() if m != "screen_space_limit"]
     for m in properties.methods():
         g = properties.method_group(scene, m)

@@ -13,7 +13,18 @@ from the cache's EXR once per folder). `tick` writes each finished result into i
 unless the method's generation moved on meanwhile (the result is stale: dropped, and the
 newer change has its own compute coming; a compute of a method that changes while it runs
 is cancelled through its aolab.Progress, so a slow method does not finish a result nobody
-will see). The timer ends (returns None) when nothing is dirty or computing.
+will see). The timer ends (returns None) when nothing is dirty, computing or converging.
+
+While nothing changes, the image converges (`scene.aolab.live_frames`, "Accumulate", N > 1):
+each method with a `seed` shown at frame 0 is computed again at frames k = 1 ... N-1
+(aolab.compute(..., frame=k): a per-frame seed) and blended by aolab.accumulate (running
+mean: alpha 0, no clamp, zero motion, since the G-buffer is the same), one frame per timer
+call, the method furthest behind first; the image after frame k is the mean of frames 0..k.
+Then the timer ends: no CPU once converged. Any change that redraws a method (its setting,
+R, the Resolution, Accumulate, its checkbox) drops its history and starts again at frame 0;
+so does a depsgraph change after which the G-buffer being accumulated is not the scene's
+(checked before the next frame: the content hash once per change). Nothing accumulates
+across a change, and with N = 1 Live is a single frame, as it was before.
 
 The G-buffer is the one Preview uses: a cached render of this scene content at the
 Resolution. Live never exports one (that takes a Blender render): without it the panel says
@@ -31,6 +42,7 @@ import time
 from pathlib import Path
 
 import bpy
+import numpy as np
 
 from . import hooks, images, properties
 from .inputs import UserError, find_reference, scene_hash, scene_inputs
@@ -50,6 +62,12 @@ JOIN_S = 2.0
 _IGNORED_UPDATES = (bpy.types.Scene, bpy.types.Image, bpy.types.WindowManager,
                     bpy.types.Screen, bpy.types.WorkSpace, bpy.types.Text)
 ALL = "*"   # changed(ALL): every ticked method (R, Resolution)
+#: The step's settings for a G-buffer that does not move: alpha 0 makes it the running mean
+#: of the frames (docs/temporal.md), and with nothing moving no clamp is needed (it would
+#: only hold the mean to each noisy frame's neighbourhood).
+ACCUMULATE = {"alpha": 0.0, "clamp": "off"}
+#: aolab.accumulate's largest max_history (a running mean of up to this many frames + 1).
+MAX_HISTORY = 65535
 
 
 class _State:
@@ -66,7 +84,9 @@ class _State:
         self.folders: dict[tuple, Path] = {}    # (hash, size, passes, cache) -> G-buffer
         self.radius: float | None = None        # R of the last snapshot (world changes)
         self.stats = {"computes": 0, "applied": 0, "dropped": 0, "cancelled": 0,
-                      "snapshots": 0}
+                      "snapshots": 0, "frames": 0}   # frames: accumulation frames k >= 1
+        self.accum: dict[str, dict] = {}        # method -> its converging run (_next_frame)
+        self.recheck = False                    # the scene changed while converging
         self.last: list[dict] = []              # the last applied updates (tests, timing)
         self.closed = False
 
@@ -90,6 +110,8 @@ def changed(context, method: str = ALL) -> None:
         _state.generation[m] = _state.generation.get(m, 0) + 1
         _state.changed_at[m] = now
     _cancel_running(names)
+    for m in names:   # nothing accumulates across a change
+        _state.accum.pop(m, None)
     if not _state.dirty:
         _state.first_pending = now
     _state.dirty.update(names or [ALL])   # no method (not built): the snapshot says why
@@ -141,6 +163,7 @@ def _forget_pending() -> None:
         _state.generation[m] += 1
     _cancel_running(list(_state.generation))
     _state.dirty.clear()
+    _state.accum.clear()
 
 
 def _on_depsgraph(scene, depsgraph) -> None:
@@ -149,6 +172,7 @@ def _on_depsgraph(scene, depsgraph) -> None:
     ids = [u.id for u in depsgraph.updates]
     if any(not isinstance(i, _IGNORED_UPDATES) for i in ids):
         _state.hashes.clear()
+        _state.recheck = bool(_state.accum)   # tick: is the G-buffer still this scene's?
     if any(isinstance(i, bpy.types.World) for i in ids):
         context = bpy.context
         session = context.window_manager.aolab
@@ -170,16 +194,22 @@ def _on_load(*_args) -> None:
 
 def tick() -> float | None:
     """bpy.app.timers callback: shows finished results, starts the next compute when the
-    changes are quiet. Returns the seconds to the next call, None when nothing is left."""
+    changes are quiet, or else the next accumulation frame. Returns the seconds to the next
+    call, None when nothing is left."""
     if _state.closed:
         return None
     context = bpy.context
-    _apply_results(context)
+    # Whether the worker ended is read before its results are taken: a frame that ended in
+    # between is shown now, never computed twice.
     running = _state.worker is not None and _state.worker.is_alive()
     if not running:
         _state.worker = None
+    _apply_results(context)
     if not _state.dirty:
-        return POLL_S if running else None
+        if not running and _state.accum:
+            _next_frame(context)
+            running = _state.worker is not None
+        return POLL_S if running or _state.dirty else None
     if running:
         return POLL_S
     now = time.perf_counter()
@@ -212,6 +242,42 @@ def _find_gbuffer(inputs: dict) -> Path | None:
     return folder
 
 
+def _lookup(context) -> tuple[dict, Path | None]:
+    """The scene's inputs read now and the folder of its cached G-buffer (None: not
+    cached). UserError when the scene cannot be exported."""
+    inputs = scene_inputs(context, need_runs=False, hash_scene=False)
+    inputs["scene_hash"] = _scene_hash(context, context.scene, inputs["size"])
+    return inputs, _find_gbuffer(inputs)
+
+
+def _gbuffer_exr(context) -> str | None:
+    """The cached G-buffer of the scene as it is now (None: none, or the scene cannot be
+    exported)."""
+    try:
+        _, folder = _lookup(context)
+    except UserError:
+        return None
+    return None if folder is None else str(Path(folder) / properties.jobs.RESULT_EXR)
+
+
+def _next_frame(context) -> None:
+    """Starts the next accumulation frame of the converging method furthest behind; first,
+    after a depsgraph change, restarts every method if the G-buffer is not the scene's now
+    (a moved object: the snapshot then says that Preview must export it)."""
+    if _state.recheck:
+        _state.recheck = False
+        exrs = {a["plan"]["exr"] for a in _state.accum.values()}
+        if exrs != {_gbuffer_exr(context)}:
+            changed(context)
+            return
+    order = {m: i for i, m in enumerate(properties.methods())}
+    method = min(_state.accum, key=lambda m: (_state.accum[m]["frame"], order.get(m, 0)))
+    entry = _state.accum[method]
+    run = {**entry["run"], "frame": entry["frame"], "changed_at": time.perf_counter()}
+    _start_worker({**entry["plan"], "runs": [run], "snapshot_s": 0.0})
+    _state.stats["frames"] += 1
+
+
 def snapshot(context) -> dict | None:
     """What the worker needs, read from Blender now: the G-buffer folder, R, threads and the
     dirty methods' latest runs with their generations. None (and the panel's message set)
@@ -221,9 +287,7 @@ def snapshot(context) -> dict | None:
     dirty, _state.dirty = _state.dirty, set()
     _state.stats["snapshots"] += 1
     try:
-        inputs = scene_inputs(context, need_runs=False, hash_scene=False)
-        inputs["scene_hash"] = _scene_hash(context, scene, inputs["size"])
-        folder = _find_gbuffer(inputs)
+        inputs, folder = _lookup(context)
     except UserError as e:
         _set_message(session, str(e), error=True)
         return None
@@ -240,9 +304,15 @@ def snapshot(context) -> dict | None:
         _set_message(session, "nothing ticked to preview" if not ticked else
                      session.live_message, error=False)
         return None
+    frames = scene.aolab.live_frames
     for r in runs:
         r["generation"] = _state.generation.get(r["method"], 0)
         r["changed_at"] = _state.changed_at.get(r["method"], time.perf_counter())
+        # A method without a seed (Chebyshev AO) gives every frame alike: one frame.
+        seeded = "seed" in properties.method_group(scene, r["method"]).setting_names
+        r["frames"] = frames if seeded else 1
+        r["frame"] = 0
+        r["histories"] = []   # aolab.TemporalHistory per channel, made by the worker
     return {"exr": str(Path(folder) / properties.jobs.RESULT_EXR), "runs": runs,
             "radius": inputs["radius"], "threads": inputs["threads"], "size": (w, h),
             "scene": scene.name}
@@ -254,6 +324,10 @@ def _start(context) -> None:
     if plan is None:
         return
     plan["snapshot_s"] = time.perf_counter() - t0
+    _start_worker(plan)
+
+
+def _start_worker(plan: dict) -> None:
     _state.stats["computes"] += 1
     _state.worker = threading.Thread(target=_compute, args=(plan, _state.results),
                                      name="aolab-live", daemon=True)
@@ -270,6 +344,8 @@ def _apply_results(context) -> None:
         method = item["method"]
         stale = item["cancelled"] or item["generation"] != _state.generation.get(method) or \
             item["scene"] != context.scene.name or not session.live
+        if stale or item.get("error"):
+            _end_accumulation(item)   # another scene or an error: no further frame
         if stale:
             _state.stats["dropped"] += 1
             _state.stats["cancelled"] += item["cancelled"]
@@ -291,14 +367,42 @@ def _apply_results(context) -> None:
                   "wait_ms": 1000 * (item["started_at"] - item["changed_at"]),
                   "poll_ms": 1000 * (t0 - item["finished_at"]),
                   "snapshot_ms": 1000 * item["snapshot_s"], "load_ms": 1000 * item["load_s"],
-                  "generation": item["generation"]}
+                  "accumulate_ms": 1000 * item["accumulate_s"],
+                  "generation": item["generation"], "frame": item["frame"],
+                  "frames": item["frames"]}
         _state.last = (_state.last + [update])[-64:]
         _state.stats["applied"] += 1
+        _converge(item)
         session.live_method, session.live_compute_ms = method, update["compute_ms"]
-        session.live_image_ms, session.live_total_ms = update["image_ms"], update["total_ms"]
-        _set_message(session, f"{method} {update['compute_ms']:.1f} ms compute, "
-                     f"{update['total_ms']:.1f} ms from the change to the image", error=False)
+        session.live_image_ms = update["image_ms"]
+        session.live_frame, session.live_frame_goal = item["frame"] + 1, item["frames"]
+        if item["frame"] == 0:   # later frames follow no change
+            session.live_total_ms = update["total_ms"]
+            _set_message(session, f"{method} {update['compute_ms']:.1f} ms compute, "
+                         f"{update['total_ms']:.1f} ms from the change to the image",
+                         error=False)
+        else:
+            _set_message(session, f"{method} frame {item['frame'] + 1}/{item['frames']}, "
+                         f"{update['compute_ms']:.1f} ms compute", error=False)
         _redraw(context)
+
+
+def _converge(item: dict) -> None:
+    """After a shown frame: the method's next frame is due, or it has converged."""
+    if item["frame"] + 1 < item["frames"]:
+        run = {k: item[k] for k in ("method", "label", "settings", "blur", "generation",
+                                    "frames", "histories")}
+        plan = {k: item[k] for k in ("exr", "radius", "threads", "size", "scene")}
+        _state.accum[item["method"]] = {"run": run, "plan": plan, "frame": item["frame"] + 1}
+    else:
+        _end_accumulation(item)
+
+
+def _end_accumulation(item: dict) -> None:
+    """No further frame of the run `item` belongs to (a newer run of the method is kept)."""
+    entry = _state.accum.get(item["method"])
+    if entry is not None and entry["run"]["histories"] is item.get("histories"):
+        del _state.accum[item["method"]]
 
 
 def _redraw(context) -> None:
@@ -360,15 +464,36 @@ def _load(path: str):
         return g, time.perf_counter() - t0
 
 
+def _accumulate(ao, g, run: dict, threads: int):
+    """Frame run["frame"] blended into the run's history (one per channel of an RGB result),
+    with zero motion: the G-buffer does not move. A history is touched by one worker at a
+    time (one runs at once), and a restart makes new ones."""
+    aolab = properties.aolab
+    channels = [ao] if ao.ndim == 2 else [np.ascontiguousarray(ao[..., c])
+                                          for c in range(ao.shape[2])]
+    histories = run["histories"]
+    while len(histories) < len(channels):
+        histories.append(aolab.TemporalHistory())
+    motion = np.zeros(ao.shape[:2] + (2,), np.float32)
+    settings = {**ACCUMULATE, "max_history": min(run["frames"], MAX_HISTORY)}
+    out = [aolab.accumulate(c, g, motion, h, threads=threads, **settings)[0]
+           for c, h in zip(channels, histories)]
+    return out[0] if ao.ndim == 2 else np.stack(out, axis=-1)
+
+
 def _compute(plan: dict, out: queue.Queue) -> None:
     """Each run of the plan on its G-buffer; every result (or error) put into `out`. A run
     whose method changed before it started is skipped, and one that changes while it
-    computes is cancelled (aolab.Progress.cancel, from `changed`): both come back stale."""
+    computes is cancelled (aolab.Progress.cancel, from `changed`): both come back stale.
+    Frame 0 of a converging run is shown as computed (aolab.accumulate returns a first frame
+    bit for bit) and its history made after it is put, so a change shows no later."""
     aolab = properties.aolab
     for run in plan["runs"]:
-        item = {**run, "scene": plan["scene"], "size": plan["size"], "ao": None,
+        item = {**run, "scene": plan["scene"], "size": plan["size"], "exr": plan["exr"],
+                "radius": plan["radius"], "threads": plan["threads"], "ao": None,
                 "rgba": None, "snapshot_s": plan["snapshot_s"], "compute_s": 0.0,
-                "rgba_s": 0.0, "load_s": 0.0, "error": None, "cancelled": False}
+                "rgba_s": 0.0, "load_s": 0.0, "accumulate_s": 0.0, "error": None,
+                "cancelled": False}
         # Reading the generations (plain Python data, no bpy) is safe under the GIL.
         if _state.generation.get(run["method"]) != run["generation"]:
             item["cancelled"] = True
@@ -376,14 +501,23 @@ def _compute(plan: dict, out: queue.Queue) -> None:
             continue
         progress = aolab.Progress()
         _state.computing = (run["method"], progress)
+        first = None   # frame 0 of a converging run, for its history
         try:
             g, item["load_s"] = _load(plan["exr"])
+            converging = run["frames"] > 1
             item["started_at"] = t0 = time.perf_counter()
-            item["ao"] = aolab.compute(
+            ao = aolab.compute(
                 run["method"], g, radius=plan["radius"], threads=plan["threads"],
-                blur=run["blur"], progress=progress, **run["settings"])
+                blur=run["blur"], progress=progress,
+                frame=run["frame"] if converging else None, **run["settings"])
             t1 = time.perf_counter()
             item["compute_s"] = t1 - t0
+            if converging and run["frame"] == 0:
+                first = ao
+            item["ao"] = _accumulate(ao, g, run, plan["threads"]) \
+                if converging and first is None else ao
+            item["accumulate_s"] = time.perf_counter() - t1
+            t1 = time.perf_counter()
             item["rgba"] = images.blender_rgba(item["ao"])   # numpy: off the main thread
             item["finished_at"] = time.perf_counter()
             item["rgba_s"] = item["finished_at"] - t1
@@ -394,6 +528,11 @@ def _compute(plan: dict, out: queue.Queue) -> None:
         finally:
             _state.computing = None
         out.put(item)
+        if first is not None:
+            try:
+                _accumulate(first, g, run, plan["threads"])
+            except Exception as e:  # noqa: BLE001 - as above; no frame follows (_end_accumulation)
+                out.put({**item, "ao": None, "rgba": None, "error": f"accumulate: {e}"})
 
 
 # ---- registration ----

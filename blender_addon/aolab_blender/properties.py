@@ -106,7 +106,8 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     live: bpy.props.BoolProperty(
         name="Live", default=False, update=_live_toggled,  # noqa: F821
         description="Redraw a method's image whenever its settings, R or the "  # noqa: F722
-                    "Resolution change, from the G-buffer Preview cached (no button press)")
+                    "Resolution change, from the G-buffer Preview cached (no button press), "
+                    "then converge it over Accumulate frames while nothing changes")
     live_message: bpy.props.StringProperty()
     live_message_is_error: bpy.props.BoolProperty()
     live_method: bpy.props.StringProperty()
@@ -119,6 +120,12 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
     live_total_ms: bpy.props.FloatProperty(
         name="Total",  # noqa: F821
         description="From the change to the updated image (ms)")  # noqa: F722
+    live_frame: bpy.props.IntProperty(
+        name="Frame",  # noqa: F821
+        description="Frames averaged in the last live image")  # noqa: F722
+    live_frame_goal: bpy.props.IntProperty(
+        name="Frames",  # noqa: F821
+        description="Frames the last live image converges to (its Accumulate)")  # noqa: F722
 
 
 def available() -> bool:
@@ -238,6 +245,13 @@ def _scene_group(method_groups: dict):
             update=_scene_setting_changed,
             description="Preview, reference and comparison resolution, as a percentage of the "
                         "scene's output resolution"),
+        "live_frames": bpy.props.IntProperty(
+            name="Accumulate", default=16, min=1, max=1024, soft_max=256,
+            update=_scene_setting_changed,
+            description="Live keeps computing a resting image at a new per-frame seed and "
+                        "shows the mean of up to this many frames, then stops (one compute "
+                        "per frame): noise falls as 1/sqrt(frames), so 16 frames have a "
+                        "quarter of one frame's. 1: off, one frame per change"),
         "reference_samples": bpy.props.IntProperty(
             name="Reference Samples", default=1024, min=1, max=65536,
             description="Cycles AO samples of the reference (adaptive sampling off)"),

@@ -195,15 +195,19 @@ def _draw_advice(layout, context, session, width: int) -> None:
                   f"{session.advice_size} in {result['seconds']:.1f} s", icon="INFO", width=width)
 
 
-def _draw_live(layout, session, width: int) -> None:
-    """Live's state: why nothing is computed (no G-buffer cached: which button exports
-    it), or the last update's compute and change-to-image times."""
+def _draw_live(layout, session, s, width: int) -> None:
+    """Live's state: its Accumulate setting, why nothing is computed (no G-buffer cached:
+    which button exports it), or the last update's frame, compute and change-to-image
+    times."""
     box = layout.box()
+    box.prop(s, "live_frames")
     if session.live_message_is_error:
         _wrapped(box, "Live: " + session.live_message, icon="ERROR", width=width)
     elif session.live_method:
         col = box.column(align=True)
-        col.label(text=f"Live: {session.live_method}", icon="PLAY")
+        frames = f", frame {session.live_frame}/{session.live_frame_goal}" \
+            if session.live_frame_goal > 1 else ""
+        col.label(text=f"Live: {session.live_method}{frames}", icon="PLAY")
         col.label(text=f"{session.live_compute_ms:.1f} ms compute, "
                        f"{session.live_image_ms:.1f} ms image", icon="BLANK1")
         col.label(text=f"{session.live_total_ms:.1f} ms change to image", icon="BLANK1")
@@ -241,7 +245,7 @@ def draw_panel(layout, context) -> None:
     sub.operator("aolab.preview", icon="HIDE_OFF")
     row.prop(session, "live", toggle=True, icon="PLAY")
     if session.live:
-        _draw_live(layout, session, width)
+        _draw_live(layout, session, s, width)
     col = layout.column(align=True)
     col.enabled = not session.busy
     row = col.row(align=True)

@@ -45,7 +45,8 @@ def live_once() -> dict:
     session.live = True
     common.pump(live)
     out = {"message": session.live_message, "error": session.live_message_is_error,
-           "applied": live._state.stats["applied"] - before["applied"]}
+           "applied": live._state.stats["applied"] - before["applied"],
+           "frames": s.live_frames}
     session.live = False
     return out
 

@@ -6,6 +6,15 @@ addon_check.py). Prints one JSON line `RESULT {...}`.
         once, then Live off (nothing happens), Live on, a changed setting, quick changes,
         a change while a compute runs, a preset; every image saved as OUT_DIR/<name>.npy with
         the settings it was computed with; then the add-on disabled with a timer pending.
+    live_check.py -- accumulate SCENE.py CACHE OUT_DIR FRAMES
+        the tiny scene, Accumulate = FRAMES: Live left alone converges (every image saved
+        after the last frame, and after frame 0 and a few frames of a changed setting),
+        stops (no compute after), a change mid-way starts again at frame 0, a moved object
+        stops it, the Accumulate setting restarts it.
+    live_check.py -- converge SCENE.py CACHE OUT_DIR SCALE FRAMES METHOD,METHOD...
+        the methods at `medium` converging over FRAMES frames: the mean absolute error on
+        geometry pixels of the image after each power of 2 frames to the image after
+        FRAMES frames, and each frame's compute and accumulate times (docs/blender_addon.md).
     live_check.py -- latency SCENE.py CACHE OUT_DIR SCALE REPEAT
         every method (but the brute-force screen_space_limit) at `medium`, each switched
         low -> medium REPEAT times; the times of each live update (compute, image, change
@@ -65,6 +74,30 @@ def save(name: str, method: str) -> dict:
             "radius": properties.effective_radius(scene)}
 
 
+def pump_until(method: str, frame: int, timeout: float = 60.0) -> dict:
+    """Runs the timer until `method`'s image of `frame` (of its latest change) is shown;
+    returns that update."""
+    deadline = time.perf_counter() + timeout
+    while True:
+        last = live._state.last[-1] if live._state.last else {}
+        if last.get("method") == method and last.get("frame") == frame and \
+                last.get("generation") == live._state.generation.get(method):
+            return last
+        if time.perf_counter() > deadline or not bpy.app.timers.is_registered(live.tick):
+            raise RuntimeError(f"{method} frame {frame} never shown: {last}")
+        interval = live.tick()
+        if interval is None:
+            bpy.app.timers.unregister(live.tick)
+        else:
+            time.sleep(interval)
+
+
+def updates(before: dict) -> list[tuple[str, int]]:
+    """(method, frame) of every update shown since the stats `before`."""
+    n = stats()["applied"] - before["applied"]
+    return [(u["method"], u["frame"]) for u in live._state.last[-n:]] if n else []
+
+
 def tick_until_computing(timeout: float = 10.0) -> None:
     deadline = time.perf_counter() + timeout
     while live._state.worker is None:
@@ -76,6 +109,7 @@ def tick_until_computing(timeout: float = 10.0) -> None:
 r = {"methods": methods}
 if mode == "live":
     s.preview_scale = 100
+    s.live_frames = 1   # one frame per change: Live as it was before accumulation
     for m in methods:
         group(m).use_method = m in ("hbao", "lsao")
 
@@ -209,12 +243,112 @@ if mode == "live":
         "threads": [t.name for t in threading.enumerate() if t.name == "aolab-live"],
         "wm_aolab": hasattr(bpy.types.WindowManager, "aolab")}
 
+elif mode == "accumulate":
+    frames = int(args[4])
+    s.preview_scale = 100
+    ticked = ("hbao", "lsao", "chebyshev")   # chebyshev has no seed: one frame
+    for m in methods:
+        group(m).use_method = m in ticked
+    r["default_frames"] = s.live_frames
+    r["preview"] = sorted(bpy.ops.aolab.preview())
+    r["gbuffer_folder"] = session.gbuffer_folder
+    s.live_frames = frames
+    group("hbao").directions = 3   # few directions: noisy frames
+
+    # Left alone: every seeded method converges over `frames` frames, then Live stops.
+    before = stats()
+    session.live = True
+    pump()
+    r["converged"] = {"stats_before": before, "stats": stats(), "updates": updates(before),
+                      "timer": bpy.app.timers.is_registered(live.tick),
+                      "frame": session.live_frame, "goal": session.live_frame_goal,
+                      "message": session.live_message, "error": session.live_message_is_error,
+                      "panel": panel_text(), "accum": sorted(live._state.accum)}
+    for m in ticked:
+        r["converged"][m] = save(f"converged_{m}", m)
+    # Nothing changed: a stray timer call computes nothing, and nothing runs.
+    before = stats()
+    r["idle_tick"] = live.tick()
+    time.sleep(0.2)
+    r["idle"] = {"stats_before": before, "stats": stats(), "pending": live.pending()}
+
+    # A setting changed mid-way: frame 0 of the new value, then its own frames.
+    g = group("hbao")
+    g.directions = 4
+    pump_until("hbao", 2)
+    r["partial"] = {"hbao": save("partial_hbao", "hbao"), "panel": panel_text()}
+    before = stats()
+    g.directions = 5
+    r["reset_first"] = pump_until("hbao", 0)
+    r["reset"] = {"hbao": save("reset_hbao", "hbao")}
+    pump()
+    r["reset"].update(stats_before=before, stats=stats(), updates=updates(before),
+                      converged=save("reset_converged_hbao", "hbao"))
+
+    # The scene moved while converging: the G-buffer is not the scene's any more; stopped.
+    g.directions = 6
+    pump_until("hbao", 1)
+    before = stats()
+    obj = next(o for o in scene.objects if o.type == "MESH")
+    obj.location.x += 0.5
+    bpy.context.evaluated_depsgraph_get()   # what the UI's redraw does: the handler runs
+    pump()
+    r["moved"] = {"stats_before": before, "stats": stats(), "updates": updates(before),
+                  "message": session.live_message, "error": session.live_message_is_error,
+                  "accum": sorted(live._state.accum)}
+    obj.location.x -= 0.5
+
+    # Accumulate itself changed: every ticked method again from frame 0.
+    before = stats()
+    s.live_frames = 2
+    pump()
+    r["frames_changed"] = {"stats_before": before, "stats": stats(),
+                           "updates": updates(before), "hbao": save("two_hbao", "hbao")}
+
+elif mode == "converge":
+    scale, frames, chosen = int(args[4]), int(args[5]), args[6].split(",")
+    s.preview_scale = scale
+    for m in methods:
+        group(m).use_method = m in chosen
+        if m in chosen and "medium" in properties.presets.names(m):
+            group(m).preset = "medium"
+    r["preview"] = sorted(bpy.ops.aolab.preview())
+    r["size"] = session.results_size
+    g = properties.aolab.load_gbuffer(os.path.join(session.gbuffer_folder, "reference.exr"))
+    geometry = g.valid_mask()
+    s.live_frames = frames
+    shown = {m: {} for m in chosen}   # method -> {frames averaged: image}
+    times = {m: [] for m in chosen}
+    session.live = True
+    t0 = time.perf_counter()
+    while bpy.app.timers.is_registered(live.tick):
+        applied = stats()["applied"]
+        interval = live.tick()
+        if stats()["applied"] > applied:
+            u = live._state.last[-1]
+            n = u["frame"] + 1
+            times[u["method"]].append((u["compute_ms"], u["accumulate_ms"]))
+            if n & (n - 1) == 0 or n == frames:
+                shown[u["method"]][n] = images.read_image(images.image_name(u["method"]))[..., 0]
+        if interval is None:
+            bpy.app.timers.unregister(live.tick)
+        else:
+            time.sleep(interval)
+    r["seconds"] = time.perf_counter() - t0
+    r["load"] = os.getloadavg()
+    r["error"] = {m: {n: float(np.mean(np.abs(img - shown[m][frames])[geometry]))
+                      for n, img in sorted(shown[m].items())} for m in chosen}
+    r["ms"] = {m: {"compute": float(np.median([c for c, _ in times[m]])),
+                   "accumulate": float(np.median([a for _, a in times[m][1:]])),
+                   "frames": len(times[m])} for m in chosen}
+
 elif mode == "latency":
     scale, repeat = int(args[4]), int(args[5])
     # screen_space_limit is the brute-force bound of the study (minutes per image), no
     # interactive method: left out.
     methods = [m for m in methods if m != "screen_space_limit"]
     s.preview_scale = scale
+    s.live_frames = 1   # the latency of a change: frame 0 only
     for m in methods:
         group(m).use_method = m == methods[0]   # Preview exports the G-buffer
         if "medium" in properties.presets.names(m):

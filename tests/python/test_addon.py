@@ -334,6 +334,97 @@ def test_live_unregisters_with_a_pending_timer(live):
     assert not after["wm_aolab"]
 
 
+# ---- Live converges while nothing changes (live_check.py's accumulate mode) ----
+
+FRAMES = 6   # Accumulate in the test: enough frames to tell a mean from one frame, quickly
+
+
+@pytest.fixture(scope="module")
+def live_accumulated(installed, tmp_path_factory):
+    base, env = installed
+    work = tmp_path_factory.mktemp("addon_live_accumulate")
+    (work / "out").mkdir()
+    return run_blender(env, "accumulate", str(TINY), str(work / "cache"), str(work / "out"),
+                       str(FRAMES), script=LIVE_CHECK), work
+
+
+def live_frames(r: dict, method: str, shown: dict, n: int) -> list[np.ndarray]:
+    """aolab.compute of frames 0 .. n-1 (per-frame seeds) of the settings an image was
+    shown with, on the G-buffer Preview cached, in this process."""
+    g = aolab.load_gbuffer(Path(r["gbuffer_folder"]) / "reference.exr")
+    return [aolab.compute(method, g, radius=shown["radius"], threads=2, blur=shown["blur"],
+                          frame=k, **shown["settings"]) for k in range(n)]
+
+
+def assert_accumulated(r, work, name: str, method: str, shown: dict, n: int) -> None:
+    """The image `name` is the running mean of the first n frames: bit for bit what
+    aolab.accumulate makes of them (alpha 0, no clamp, zero motion), and within 1e-6 of
+    their mean in double (one float rounding per frame)."""
+    frames = live_frames(r, method, shown, n)
+    g = aolab.load_gbuffer(Path(r["gbuffer_folder"]) / "reference.exr")
+    history, motion = aolab.TemporalHistory(), np.zeros(frames[0].shape + (2,), np.float32)
+    for ao in frames:
+        ours, _ = aolab.accumulate(ao, g, motion, history, threads=2, alpha=0.0,
+                                   clamp="off", max_history=FRAMES)
+    shown_ao = np.load(work / "out" / f"{name}.npy")[..., 0]
+    assert np.array_equal(shown_ao, ours), name
+    mean = np.mean(np.stack(frames).astype(np.float64), axis=0)
+    assert np.max(np.abs(shown_ao - mean)) < 1e-6, name
+    if n > 1:   # the frames differ: the mean is no single frame
+        assert not np.array_equal(shown_ao, frames[0]), name
+
+
+def test_live_converges_to_the_mean_of_its_frames_then_stops(live_accumulated):
+    r, work = live_accumulated
+    assert r["default_frames"] == 16 and r["preview"] == ["FINISHED"]
+    done = r["converged"]
+    assert not done["error"] and not done["timer"] and done["accum"] == []
+    # Frames 0 .. FRAMES-1 of each seeded method, one per compute, interleaved; chebyshev
+    # (no seed) once.
+    shown = done["updates"]
+    for m in ("hbao", "lsao"):
+        assert [k for mm, k in shown if mm == m] == list(range(FRAMES)), shown
+    assert [k for mm, k in shown if mm == "chebyshev"] == [0]
+    # Frame 0 of every method in one worker (as before), then one worker per frame.
+    assert grew(done, "applied") == 2 * FRAMES + 1
+    assert grew(done, "computes") == 1 + 2 * (FRAMES - 1) == 1 + grew(done, "frames")
+    assert (done["frame"], done["goal"]) == (FRAMES, FRAMES)
+    assert any(f"frame {FRAMES}/{FRAMES}" in line for line in done["panel"]), done["panel"]
+    for m in ("hbao", "lsao"):
+        assert_accumulated(r, work, f"converged_{m}", m, done[m], FRAMES)
+    assert np.array_equal(np.load(work / "out" / "converged_chebyshev.npy")[..., 0],
+                          live_expected(r, "chebyshev", done["chebyshev"]))
+    # Converged: no timer, and a stray call of it computes nothing.
+    assert r["idle_tick"] is None and not r["idle"]["pending"]
+    assert r["idle"]["stats"] == r["idle"]["stats_before"]
+
+
+def test_live_restarts_at_frame_0_after_a_change(live_accumulated):
+    r, work = live_accumulated
+    partial = r["partial"]   # 3 frames of directions = 4
+    assert partial["hbao"]["settings"] == {"directions": 4}
+    assert_accumulated(r, work, "partial_hbao", "hbao", partial["hbao"], 3)
+    assert any(f"frame 3/{FRAMES}" in line for line in partial["panel"]), partial["panel"]
+    # Changed mid-way: the image is the single frame 0 of the new value (compute's bits, as
+    # Live showed before accumulation), then the mean of its own frames only.
+    reset = r["reset"]
+    assert r["reset_first"]["frame"] == 0 and reset["hbao"]["settings"] == {"directions": 5}
+    ours = np.load(work / "out" / "reset_hbao.npy")[..., 0]
+    assert np.array_equal(ours, live_expected(r, "hbao", reset["hbao"]))
+    assert_accumulated(r, work, "reset_converged_hbao", "hbao", reset["hbao"], FRAMES)
+    assert [k for m, k in reset["updates"] if m == "hbao"] == list(range(FRAMES))
+    assert {m for m, _ in reset["updates"]} == {"hbao"}   # the others stay converged
+    # The object moved while converging: stopped, the panel says Preview must export it.
+    moved = r["moved"]
+    assert moved["error"] and "no G-buffer of this scene" in moved["message"]
+    assert moved["accum"] == [] and len(moved["updates"]) <= 1, moved["updates"]
+    # Accumulate changed: every ticked method from frame 0, to its new count.
+    changed = r["frames_changed"]
+    assert sorted(map(tuple, changed["updates"])) == [
+        ("chebyshev", 0), ("hbao", 0), ("hbao", 1), ("lsao", 0), ("lsao", 1)]
+    assert_accumulated(r, work, "two_hbao", "hbao", changed["hbao"], 2)
+
+
 def test_manifest_and_bl_info_agree():
     """The extension's manifest (Blender 4.2+) and the legacy bl_info (3.4) describe one
     add-on: the same name, version and category; the manifest's id is the module name."""
@@ -391,7 +482,8 @@ def test_a_huge_object_works(hostile):
         assert r["huge"][op]["result"] == ["FINISHED"], (op, r["huge"][op])
     metrics = r["huge"]["metrics"]
     assert len(metrics) == 2 and all(0 <= m["mae"] <= 1 for m in metrics), metrics
-    assert not r["huge"]["live"]["error"] and r["huge"]["live"]["applied"] == 2
+    huge = r["huge"]["live"]   # two methods, each converged over Accumulate frames
+    assert not huge["error"] and huge["applied"] == 2 * huge["frames"] == 32, huge
 
 
 @pytest.mark.parametrize("case", ["sky", "empty"])
@@ -407,7 +499,8 @@ def test_nothing_in_the_frame_renders_and_says_there_is_nothing_to_score(hostile
         assert "reference.exr has no geometry pixel" in steps[op]["message"], (op, steps[op])
         assert "Traceback" not in steps[op]["error"], (op, steps[op]["error"])
     assert steps["compare"]["message"].startswith("nothing to compare: ")
-    assert not steps["live"]["error"] and steps["live"]["applied"] == 2, steps["live"]
+    live = steps["live"]
+    assert not live["error"] and live["applied"] == 2 * live["frames"] == 32, live
 
 
 def test_a_bad_tuned_presets_file_keeps_the_built_in_presets(hostile):
