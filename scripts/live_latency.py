@@ -8,7 +8,10 @@ Builds the scene, enables the AO Lab add-on, exports the G-buffer with Preview (
 ticked), ticks every method (but the brute-force screen_space_limit) at its medium preset
 and switches Live on. Then a driver timer plays the user: for each method, REPEAT times,
 preset low, wait for Live to settle, preset medium, wait, record the update Live measured
-(compute, image, change to image). Writes OUT.json and quits; exit code 1 on a failure.
+(compute, image, change to image). Last, Accumulate set to CONVERGE_FRAMES, the first
+method converging once after a switch to medium: its frames, the seconds from the change to
+the last frame and the per-frame medians (docs/blender_addon.md, "Converging at rest").
+Writes OUT.json and quits; exit code 1 on a failure.
 """
 import json
 import runpy
@@ -21,6 +24,7 @@ import bpy
 
 BUILD, CACHE, OUT, SCALE, REPEAT = sys.argv[sys.argv.index("--") + 1:][:5]
 TIMEOUT_S = 120.0   # per live update
+CONVERGE_FRAMES = 16   # Accumulate of the last step (the add-on's default)
 result = {"times": {}, "error": None}
 
 
@@ -102,7 +106,26 @@ def driver():
                         if a.type == "IMAGE_EDITOR")
             area.spaces.active.image = bpy.data.images["AO Lab " + m]
         result["times"][m] = rows
+    yield from converge(methods[0], settle)
     result["stats"] = dict(live._state.stats)
+
+
+def converge(method, settle):
+    """Accumulate on, `method` switched low -> medium and left to converge."""
+    from aolab_blender import live, properties
+    scene = bpy.context.scene
+    g = properties.method_group(scene, method)
+    scene.aolab.live_frames = CONVERGE_FRAMES   # every ticked method converges once
+    yield from settle()
+    g.preset = "low"
+    yield from settle()
+    before = live._state.stats["applied"]
+    t = time.perf_counter()
+    g.preset = "medium"
+    yield from settle()
+    rows = live._state.last[-(live._state.stats["applied"] - before):]
+    result["converge"] = {"method": method, "seconds": time.perf_counter() - t,
+                          "frames": [r["frame"] for r in rows], "rows": rows}
 
 
 steps = None

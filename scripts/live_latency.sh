@@ -36,4 +36,9 @@ print(f"Live at {r['size']}, median over the repeats (ms); the event loop called
 print(f"{'method':14s}" + "".join(f"{k[:-3][:10]:>11s}" for k in keys))
 for m, rows in r["times"].items():
     print(f"{m:14s}" + "".join(f"{statistics.median(x[k] for x in rows):11.1f}" for k in keys))
+c = r["converge"]
+med = {k: statistics.median(x[k] for x in c["rows"][1:]) for k in ("compute_ms", "accumulate_ms", "poll_ms")}
+print(f"converging at rest: {c['method']} frames {c['frames'][0]}..{c['frames'][-1]} in "
+      f"{c['seconds']:.2f} s from the change; per frame (median) compute {med['compute_ms']:.1f}, "
+      f"accumulate {med['accumulate_ms']:.1f}, poll {med['poll_ms']:.1f} ms")
 PY
