@@ -305,6 +305,28 @@ elif mode == "accumulate":
     r["frames_changed"] = {"stats_before": before, "stats": stats(),
                            "updates": updates(before), "hbao": save("two_hbao", "hbao")}
 
+    # An error (VAO++'s colour bleeding needs a colour pass, which Preview's G-buffer lacks):
+    # said in the panel, no frame follows.
+    before = stats()
+    vao = group("vao_pp")
+    vao.use_method, vao.color_bleeding = True, True
+    pump()
+    r["rgb_error"] = {"stats_before": before, "stats": stats(), "updates": updates(before),
+                      "message": session.live_message, "error": session.live_message_is_error,
+                      "accum": sorted(live._state.accum),
+                      "timer": bpy.app.timers.is_registered(live.tick),
+                      "image": images.image_name("vao_pp") in bpy.data.images}
+    vao.use_method = False
+    # An RGB result (a G-buffer with a colour pass): the worker's blend takes each channel
+    # as its own image. Frames made of hbao's frames k, k+1, k+2 as R, G, B.
+    aolab = properties.aolab
+    gb = aolab.load_gbuffer(os.path.join(r["gbuffer_folder"], "reference.exr"))
+    run = {"frames": 3, "histories": []}
+    hbao = [aolab.compute("hbao", gb, radius=0.75, threads=2, frame=k) for k in range(5)]
+    for k in range(3):
+        rgb = live._accumulate(np.stack(hbao[k:k + 3], axis=-1), gb, run, 2)
+    np.save(os.path.join(out_dir, "rgb.npy"), rgb)
+
 elif mode == "converge":
     scale, frames, chosen = int(args[4]), int(args[5]), args[6].split(",")
     s.preview_scale = scale

@@ -425,6 +425,26 @@ def test_live_restarts_at_frame_0_after_a_change(live_accumulated):
     assert_accumulated(r, work, "two_hbao", "hbao", changed["hbao"], 2)
 
 
+def test_live_says_an_error_and_blends_each_channel_of_an_rgb_result(live_accumulated):
+    r, work = live_accumulated
+    bad = r["rgb_error"]   # colour bleeding without a colour pass: said, nothing more done
+    assert bad["error"] and bad["message"].startswith("vao_pp: color is required"), bad
+    assert "Traceback" not in bad["message"]
+    assert bad["updates"] == [] and bad["accum"] == [] and not bad["timer"]
+    assert not bad["image"] and grew(bad, "computes") == 1
+    # The worker's blend of RGB frames: each channel as aolab.accumulate blends it alone.
+    g = aolab.load_gbuffer(Path(r["gbuffer_folder"]) / "reference.exr")
+    hbao = [aolab.compute("hbao", g, radius=0.75, threads=2, frame=k) for k in range(5)]
+    ours = np.load(work / "out" / "rgb.npy")
+    motion = np.zeros(hbao[0].shape + (2,), np.float32)
+    for c in range(3):
+        history = aolab.TemporalHistory()
+        for k in range(3):
+            alone, _ = aolab.accumulate(hbao[k + c], g, motion, history, threads=2,
+                                        alpha=0.0, clamp="off", max_history=3)
+        assert np.array_equal(ours[..., c], alone), c
+
+
 def test_manifest_and_bl_info_agree():
     """The extension's manifest (Blender 4.2+) and the legacy bl_info (3.4) describe one
     add-on: the same name, version and category; the manifest's id is the module name."""
