@@ -216,8 +216,8 @@ def tick() -> float | None:
     wait = min(_state.last_change + DEBOUNCE_S, _state.first_pending + MAX_DEFER_S) - now
     if wait > 0:
         return wait
-    _start(context)
-    return POLL_S if _state.worker is not None else None
+    _start(context)   # may compute nothing (an unticked method): the others converge on
+    return POLL_S if _state.worker is not None or _state.accum else None
 
 
 def _scene_hash(context, scene, size) -> str:

@@ -285,6 +285,19 @@ elif mode == "accumulate":
     r["reset"].update(stats_before=before, stats=stats(), updates=updates(before),
                       converged=save("reset_converged_hbao", "hbao"))
 
+    # R changed: every ticked method from frame 0; lsao unticked mid-way: its frames stop,
+    # hbao's go on.
+    s.use_scene_radius = False
+    s.radius = 0.6
+    pump_until("lsao", 1)
+    before = stats()
+    group("lsao").use_method = False
+    pump()
+    r["untick"] = {"stats_before": before, "stats": stats(), "updates": updates(before),
+                   "table": [row.method for row in session.results]}
+    group("lsao").use_method = True
+    pump()
+
     # The scene moved while converging: the G-buffer is not the scene's any more; stopped.
     g.directions = 6
     pump_until("hbao", 1)

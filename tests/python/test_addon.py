@@ -414,6 +414,10 @@ def test_live_restarts_at_frame_0_after_a_change(live_accumulated):
     assert_accumulated(r, work, "reset_converged_hbao", "hbao", reset["hbao"], FRAMES)
     assert [k for m, k in reset["updates"] if m == "hbao"] == list(range(FRAMES))
     assert {m for m, _ in reset["updates"]} == {"hbao"}   # the others stay converged
+    # Unticked while converging: no further frame of it, the others go on to the end.
+    untick = r["untick"]
+    assert "lsao" not in {m for m, _ in untick["updates"]} and "lsao" not in untick["table"]
+    assert [k for m, k in untick["updates"] if m == "hbao"][-1] == FRAMES - 1, untick
     # The object moved while converging: stopped, the panel says Preview must export it.
     moved = r["moved"]
     assert moved["error"] and "no G-buffer of this scene" in moved["message"]
