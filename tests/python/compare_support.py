@@ -185,22 +185,25 @@ SEQUENCE_SIZE = (96, 54)
 SEQUENCE_SHIFT = 4
 
 
-def make_sequence(scenes: Path, name: str = "pan") -> Path:
+def make_sequence(scenes: Path, name: str = "pan", *, motion: bool = False,
+                  frames: dict = SEQUENCE_FRAMES, shift: int = SEQUENCE_SHIFT) -> Path:
     """A sequence scene folder cut from room's committed reference: each frame the same-sized
-    window moved SEQUENCE_SHIFT px right of the frame before, its sidecar's cx moved with it,
+    window moved ``shift`` px right of the frame before, its sidecar's cx moved with it,
     so the camera pans (a shift of the principal point is a pan of a pinhole camera's image
-    plane; the reference, rendered once, is exact for every frame)."""
+    plane; the reference, rendered once, is exact for every frame). With ``motion`` every
+    frame carries its exact motion vectors (add_motion): the content moves ``shift`` px left,
+    so dx = +shift, dy = 0."""
     g = aolab.load_gbuffer(SCENES / "room" / "reference.exr")
     folder = scenes / name
     folder.mkdir(parents=True)
     manifest = json.loads((SCENES / "room" / "manifest.json").read_text())
-    manifest.update(name=name, title="room, panned", frames=SEQUENCE_FRAMES,
+    manifest.update(name=name, title="room, panned", frames=frames,
                     resolution=list(SEQUENCE_SIZE))
     (folder / "manifest.json").write_text(json.dumps(manifest, indent=1))
     w, h = SEQUENCE_SIZE
-    f = SEQUENCE_FRAMES
+    f = frames
     for i, frame in enumerate(range(f["start"], f["end"] + 1, f["step"])):
-        x0, y0 = 560 + SEQUENCE_SHIFT * i, 380
+        x0, y0 = 560 + shift * i, 380
         window = (slice(y0, y0 + h), slice(x0, x0 + w))
         crop = aolab.GBuffer(np.ascontiguousarray(g.depth[window]),
                              np.ascontiguousarray(g.normal[window]),
@@ -212,4 +215,23 @@ def make_sequence(scenes: Path, name: str = "pan") -> Path:
                            reference=np.ascontiguousarray(g.reference[window]),
                            sidecar={"ao_distance": g.sidecar["ao_distance"],
                                     "samples": g.sidecar["samples"], "frame": frame})
+        if motion:
+            pan = np.full((h, w, 2), [float(shift), 0.0], np.float32)
+            add_motion(out / "reference.exr", pan)
     return folder
+
+
+def add_motion(path: Path, motion: np.ndarray) -> None:
+    """Rewrites the G-buffer EXR ``path`` with a Motion pass ``motion`` (H, W, 2) in pixels
+    (NaN on background is set by the reader), every other pass as it was, in float."""
+    from aolab.bridge import exr
+    from aolab.bridge.motion import layer_prefix
+    channels = exr.read_channels(str(path))
+    prefix = layer_prefix(list(channels))
+    layers = []
+    for pass_name, comps in exr.LAYER_COMPONENTS.items():
+        names = [f"{prefix}{pass_name}.{c}" for c in comps]
+        if pass_name != "Motion" and all(n in channels for n in names):
+            layers.append((pass_name, np.stack([channels[n] for n in names], -1), "float"))
+    layers.append(("Motion", np.asarray(motion, np.float32), "float"))
+    exr.write_multilayer(str(path), layers, view_layer=prefix.rstrip(".") or "ViewLayer")

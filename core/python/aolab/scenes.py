@@ -315,11 +315,13 @@ def load_scene(folder: Path, crop: Crop | None = None, name: str | None = None) 
     return Scene(name or folder.name, folder, g, reference, radius, masks, peers, notes)
 
 
-def check_sequence(folder: Path, crop: Crop | None = None) -> None:
+def check_sequence(folder: Path, crop: Crop | None = None) -> bool:
     """Every frame of a sequence loads (load_cropped) and all have the first frame's size and
-    R, so that consecutive frames compare pixel by pixel; a ValueError names the frame."""
+    R, so that consecutive frames compare pixel by pixel; a ValueError names the frame.
+    Returns whether every frame after the first carries motion vectors (GBuffer.motion)."""
     first = None
-    for frame in frame_numbers(folder):
+    motion = True
+    for i, frame in enumerate(frame_numbers(folder)):
         where = frame_folder(folder, frame)
         name = frame_scene_name(folder.name, frame)
         if not (where / "reference.exr").exists():
@@ -327,6 +329,7 @@ def check_sequence(folder: Path, crop: Crop | None = None) -> None:
                              f"(looked in {where}); render the sequence with `aolab reference "
                              "--frames`")
         g, reference, radius, _ = load_cropped(where, crop, name)
+        motion = motion and (i == 0 or g.motion is not None)
         if first is None:
             first = (reference.shape, radius)
         elif (reference.shape, radius) != first:
@@ -334,6 +337,7 @@ def check_sequence(folder: Path, crop: Crop | None = None) -> None:
                              f"R = {radius:g}, but the sequence's first frame is "
                              f"{first[0][1]}x{first[0][0]} at R = {first[1]:g}: every frame "
                              "of a sequence must have the same size and R")
+    return motion
 
 
 def noise_floor_peer(peers: list[Peer]) -> tuple[Peer, float, str] | None:

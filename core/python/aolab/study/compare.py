@@ -50,7 +50,7 @@ from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files, stats
 from .pareto import hd_scale
-from .report import WEAK_FRACTION
+from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -62,12 +62,28 @@ BASELINE = "baseline_one"
 LIMIT_KIND = "limit"
 
 #: results.csv columns before the per-region metrics.
-BASE_COLUMNS = ("key", "scene", "sequence", "frame", "kind", "method", "label", "preset",
-                "settings", "threads",
+BASE_COLUMNS = ("key", "scene", "sequence", "frame", "frame_index", "kind", "method", "label",
+                "preset", "accumulated", "settings", "threads",
                 "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
-                "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "runs",
+                "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "accumulate_ms",
+                "accumulate_ms_min", "accumulate_ms_max", "total_ms", "runs",
                 "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
-                "occluded_mae_vs_limit", "occluded_mae_definition", "flicker", "flag", "note")
+                "occluded_mae_vs_limit", "occluded_mae_definition", "flicker",
+                "disoccluded_mae", "disoccluded_count", "converged_mae", "flag", "note")
+
+# Temporal accumulation of the sequences with motion (docs/comparison.md, "Temporal
+# accumulation"); the label of a configuration's accumulated rows is its own and
+# ACCUMULATED_SUFFIX (report.py's).
+#: The disoccluded region of a frame: scored pixels whose history, after the step, holds
+#: fewer frames than this (rejected in this frame or in the DISOCCLUDED_BELOW - 1 before).
+DISOCCLUDED_BELOW = 4
+#: The key of that region in a frame's Scene.regions (not one of REGIONS: stills lack it).
+DISOCCLUDED = "disoccluded"
+#: The converged error of a sequence: the mean whole-frame MAE over its frames of index >= this
+#: (the 9th on); a sequence at rest, or without such a frame, takes its last frame alone.
+CONVERGED_FROM = 8
+#: A sequence is at rest when no motion vector on a scored pixel exceeds this (px).
+AT_REST_PX = 1e-3
 
 
 def columns() -> list[str]:
@@ -298,8 +314,14 @@ def _add_scores(row: dict, scored: dict) -> None:
 
 def _score_row(scene: Scene, row: dict, ao: np.ndarray, scored: dict | None = None) -> None:
     """Scores ``row`` (``scored``: its scores when already computed) and, on a frame of a
-    sequence, keeps ``ao`` for the flicker against the next frame."""
+    sequence, keeps ``ao`` for the flicker against the next frame; on a frame of a sequence
+    with motion, also its MAE on the frame's disoccluded region."""
     _add_scores(row, scored if scored is not None else score(ao, scene))
+    region = scene.regions.get(DISOCCLUDED)
+    if region is not None:
+        row["disoccluded_count"] = int(region.sum())
+        error = np.abs(ao[region].astype(np.float64) - scene.reference[region])
+        row["disoccluded_mae"] = float(np.mean(error)) if region.any() else None
     if scene.outputs is not None:
         scene.outputs[(row["kind"], row["method"], row["label"])] = ao
 
@@ -321,7 +343,8 @@ def flag_rows(rows: list[dict]) -> None:
 
 #: Time columns: ALL's are means of each scene's time scaled to a 1280x720 frame.
 TIME_COLUMNS = ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev", "blur_ms",
-                "blur_ms_min", "blur_ms_max", "total_ms")
+                "blur_ms_min", "blur_ms_max", "accumulate_ms", "accumulate_ms_min",
+                "accumulate_ms_max", "total_ms")
 
 
 def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SCENE,
@@ -342,9 +365,10 @@ def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SC
                    preset=rs[0].get("preset", ""), settings=rs[0].get("settings", {}),
                    threads=rs[0].get("threads"),
                    note=f"mean over {len(rs)} {unit}(s): {', '.join(r['scene'] for r in rs)}")
-        for col in ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev",
-                    "blur_ms", "blur_ms_min", "blur_ms_max", "total_ms", "calib_a", "calib_b",
-                    "occluded_mae_vs_limit", "occluded_mae_definition", "flicker"):
+        if "accumulated" in rs[0]:
+            agg["accumulated"] = rs[0]["accumulated"]
+        for col in TIME_COLUMNS + ("calib_a", "calib_b", "occluded_mae_vs_limit",
+                                   "occluded_mae_definition", "flicker"):
             vals = [r[col] * (time_scale.get(r["scene"], 1.0) if col in TIME_COLUMNS else 1.0)
                     for r in rs if r.get(col) is not None]
             # against the limit: over the scenes that have one (as the split's limit line);
@@ -597,16 +621,16 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
 
 
 def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
-                    blurs: list[bool]) -> dict:
+                    blurs: list[bool], frame: int | None = None) -> dict:
     """On a Dask worker: one configuration group's output on a scene (read from ``folder``,
-    shared storage, once per worker), blurred or not as ``blurs`` asks, scored: blur ->
-    (score, vs_limit, digest), None for an RGB output; {"error": message} when the method
-    refuses the settings."""
+    shared storage, once per worker; at ``frame``, the frame's index in a sequence with
+    motion), blurred or not as ``blurs`` asks, scored: blur -> (score, vs_limit, digest),
+    None for an RGB output; {"error": message} when the method refuses the settings."""
     scene = worker_scene((__name__, folder, crop_key(crop), name),
                          lambda: load_scene(Path(folder), crop, name))
     try:
         raw = np.asarray(aolab.compute(method, scene.g, radius=scene.radius, threads=1,
-                                       **compute_settings))
+                                       frame=frame, **compute_settings))
     except (ValueError, RuntimeError) as e:
         return {"error": str(e)}
     out = {}
@@ -632,6 +656,65 @@ def rtao_not_run_reason(e: BaseException) -> str:
         return ("no reference.mesh beside its G-buffer (`aolab mesh` exports one, "
                 "docs/methods/rtao.md)")
     return str(e)
+
+
+class Accumulation:
+    """The temporal accumulation of one sequence with motion (docs/comparison.md, "Temporal
+    accumulation"): one aolab.TemporalHistory per configuration output (a method's compute
+    settings and its blur switch), empty at the sequence's start, and the step's time and the
+    disoccluded region of each frame.
+
+    The step's work depends on the G-buffer, the motion and its settings, never on the AO
+    values (which pixels keep which taps follows from depth, normals and motion alone; every
+    other read and operation is done whatever the value), so it is timed once per frame, like
+    the blur (warm-up + repeat runs, the median), on histories of its own kept in step with
+    the configurations' (one per run, fed a constant AO), and that time is added to every
+    configuration's. The same lengths give the frame's disoccluded region."""
+
+    def __init__(self, runs: int):
+        self.histories: dict[tuple, aolab.TemporalHistory] = {}
+        self._timing = [aolab.TemporalHistory() for _ in range(max(1, runs))]
+        self.index = -1             # the frame's index in the sequence, 0 first
+        self.motion = None          # this frame's motion vectors
+        self.times: list[float] = []
+        self.largest_motion = 0.0   # px, over the scored pixels of every frame after the first
+        self.region_pixels: dict[int, int] = {}   # frame number -> its disoccluded pixels
+
+    def begin_frame(self, scene: Scene, index: int, warmup: int, repeat: int,
+                    threads: int) -> None:
+        """Times the step on frame ``index`` of the sequence (``scene``) and sets the frame's
+        disoccluded region, scene.regions[DISOCCLUDED]."""
+        g, valid = scene.g, scene.regions["all"]
+        self.index = index
+        motion = g.motion
+        if motion is None:   # (frame 0 only: the step ignores the motion of the first frame)
+            motion = np.zeros((g.height, g.width, 2), np.float32)
+        elif index > 0 and valid.any():
+            self.largest_motion = max(self.largest_motion,
+                                      float(np.max(np.abs(motion[valid]))))
+        self.motion = motion
+        constant = np.ones((g.height, g.width), np.float32)
+        histories = iter(self._timing)
+        _, self.times = timed(lambda: aolab.accumulate(constant, g, motion, next(histories),
+                                                       threads=threads),
+                              warmup, min(repeat, len(self._timing) - warmup))
+        length = self._timing[0].length
+        scene.regions[DISOCCLUDED] = valid & (np.asarray(length) < DISOCCLUDED_BELOW)
+        self.region_pixels[scene.frame] = int(scene.regions[DISOCCLUDED].sum())
+
+    def step(self, key: tuple, ao: np.ndarray, g, threads: int) -> np.ndarray:
+        """``ao`` of configuration output ``key`` accumulated into its history."""
+        history = self.histories.setdefault(key, aolab.TemporalHistory())
+        accumulated, _ = aolab.accumulate(ao, g, self.motion, history, threads=threads)
+        return accumulated
+
+
+def converged_frames(indices: list[int], at_rest: bool) -> list[int]:
+    """The frame indices (0 first) whose mean whole-frame MAE is a sequence's converged error:
+    those from CONVERGED_FROM on; the last alone for a sequence at rest (its accumulation
+    only improves) or without such a frame."""
+    later = [i for i in indices if i >= CONVERGED_FROM]
+    return later if later and not at_rest else indices[-1:]
 
 
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
@@ -721,9 +804,10 @@ class Study:
         check_out(Path(opts.out))
         scenes_dir = opts.scenes_dir or find_scenes_dir()
         folders = resolve_scenes(opts.scenes, scenes_dir, default_study=not opts.corpus)
+        motion = {}   # sequence -> every frame after the first has motion vectors
         for folder in folders:  # every scene's errors before any work
             if frame_numbers(folder):
-                check_sequence(folder, opts.crop)
+                motion[folder] = check_sequence(folder, opts.crop)
             else:
                 load_cropped(folder, opts.crop)
         # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
@@ -758,7 +842,7 @@ class Study:
         try:
             for folder in folders:
                 if frame_numbers(folder):
-                    self._run_sequence(folder, plan, threads, bar)
+                    self._run_sequence(folder, plan, threads, bar, motion[folder])
                 else:
                     self._run_scene(folder, plan, threads, bar)
         finally:
@@ -772,19 +856,24 @@ class Study:
         self.publish()
         return results
 
-    def _run_sequence(self, folder: Path, plan: dict, threads: int, bar) -> None:
+    def _run_sequence(self, folder: Path, plan: dict, threads: int, bar,
+                      motion: bool = False) -> None:
         """Each frame scored as a scene of its own (rows of scene <name>@NNNN with ``sequence``
         and ``frame``), each row's flicker against the frame before, the reference's flicker
         floor per pair, then the sequence's rows (scene <name>): means over its frames, the
-        flicker over its pairs. The images shown are the first frame's."""
+        flicker over its pairs. The images shown are the first frame's. With ``motion`` (every
+        frame after the first has motion vectors) each configuration runs at frame=k and is
+        also accumulated (Accumulation): a second row per frame, label + ACCUMULATED_SUFFIX."""
         name = folder.name
         frames = frame_numbers(folder)
         names = [frame_scene_name(name, f) for f in frames]
         floors, previous = [], None
-        for frame, frame_name in zip(frames, names):
+        temporal = Accumulation(self.opts.warmup + self.opts.repeat) if motion else None
+        for index, (frame, frame_name) in enumerate(zip(frames, names)):
             scene = self._run_scene(frame_folder(folder, frame), plan, threads, bar,
                                     name=frame_name, sequence=(name, frame),
-                                    shown=frame == frames[0])
+                                    shown=frame == frames[0],
+                                    temporal=(temporal, index) if temporal else None)
             if previous is not None:
                 floors.append(self._flicker(previous, scene))
             previous = scene
@@ -801,12 +890,53 @@ class Study:
                           "the noise Cycles' stratified samples have on the stills)"}
             if floor else None}
         mine = [r for r in self.rows if r.get("sequence") == name]
-        for r in aggregate(mine, names, name, unit="frame"):
+        means = aggregate(mine, names, name, unit="frame")
+        if temporal is not None:
+            self.scene_info[name]["accumulation"] = self._accumulation_scores(
+                mine, means, frames, temporal)
+        for r in means:
             r["sequence"] = name
             self.rows.append(r)
         self.images[name] = self.images.get(names[0])
         self.complete_scenes.append(name)
         self.write(partial=True)
+
+    def _accumulation_scores(self, frame_rows: list[dict], means: list[dict],
+                             frames: list[int], temporal: Accumulation) -> dict:
+        """Sets each sequence row's converged error (the mean whole-frame MAE over
+        converged_frames) and its disoccluded error (over the frames of index >=
+        DISOCCLUDED_BELOW - 1, before which no pixel can have DISOCCLUDED_BELOW frames of
+        history: the mean over every region pixel of those frames); returns what
+        results.json's scenes.<sequence>.accumulation says of the rules."""
+        index = {f: i for i, f in enumerate(frames)}
+        at_rest = temporal.largest_motion <= AT_REST_PX
+        converged = converged_frames(list(range(len(frames))), at_rest)
+        by_config: dict[tuple, dict[int, dict]] = {}
+        for r in frame_rows:
+            if r.get("frame") is not None and "metrics" in r:
+                by_config.setdefault((r["kind"], r["method"], r["label"]), {})[
+                    index[r["frame"]]] = r
+        for r in means:
+            got = by_config.get((r["kind"], r["method"], r["label"]), {})
+            maes = [got[i]["metrics"]["all"]["mae"] for i in converged if i in got]
+            if maes and len(maes) == len(converged):
+                r["converged_mae"] = float(np.mean(maes))
+            pooled = [(x["disoccluded_mae"], x["disoccluded_count"]) for i, x in got.items()
+                      if i >= DISOCCLUDED_BELOW - 1 and x.get("disoccluded_mae") is not None]
+            count = sum(c for _, c in pooled)
+            if count:
+                r["disoccluded_mae"] = float(sum(m * c for m, c in pooled) / count)
+                r["disoccluded_count"] = int(count)
+        settings = {s["name"]: s["default"] for s in aolab.accumulate_settings()}
+        return {"settings": {k: float(f"{v:.6g}") if isinstance(v, float) else v
+                             for k, v in settings.items()},
+                "disoccluded_below": DISOCCLUDED_BELOW,
+                "disoccluded_from_index": DISOCCLUDED_BELOW - 1,
+                "converged_from_index": CONVERGED_FROM, "at_rest": at_rest,
+                "largest_motion_px": temporal.largest_motion,
+                "converged_frames": [frames[i] for i in converged],
+                "converged_history": [i + 1 for i in converged],
+                "region_pixels": {f: int(x) for f, x in temporal.region_pixels.items()}}
 
     def _flicker(self, previous: Scene, scene: Scene) -> float | None:
         """Sets the flicker of every row of ``scene`` scored in both frames (against
@@ -824,10 +954,12 @@ class Study:
                              min(_samples(previous), _samples(scene)))
 
     def _run_scene(self, folder: Path, plan: dict, threads: int, bar, name: str | None = None,
-                   sequence: tuple[str, int] | None = None, shown: bool = True) -> Scene:
+                   sequence: tuple[str, int] | None = None, shown: bool = True,
+                   temporal: tuple | None = None) -> Scene:
         """One scene (or, with ``name`` and ``sequence`` = (its name, the frame), one frame of
         a sequence, whose images are then kept for the flicker); ``shown``: its images are
-        made for the report (a sequence shows its first frame's)."""
+        made for the report (a sequence shows its first frame's); ``temporal``: (the
+        sequence's Accumulation, the frame's index) for a sequence with motion."""
         opts = self.opts
         if bar is not None:
             bar.set_description(f"{name or folder.name}: loading")
@@ -835,6 +967,8 @@ class Study:
         if sequence is not None:
             scene.sequence, scene.frame = sequence
             scene.outputs = {}
+        if temporal is not None:
+            temporal[0].begin_frame(scene, temporal[1], opts.warmup, opts.repeat, threads)
         self.notes.extend(f"{scene.name}: {n}" for n in scene.notes)
         self.scene_info[scene.name] = {
             "folder": str(folder), "width": scene.g.width, "height": scene.g.height,
@@ -856,13 +990,16 @@ class Study:
         self._peers(scene)
         if bar is not None:
             bar.update(1)
-        remote = self._score_on_cluster(folder, name, plan, bar) if self.client else {}
+        frame = temporal[1] if temporal is not None else None
+        remote = (self._score_on_cluster(folder, name, plan, bar, frame) if self.client
+                  else {})
         for method, runs in plan.items():
             for i, (compute_settings, settings) in enumerate(runs):
                 if bar is not None:
                     bar.set_description(f"{scene.name}: {method} {settings[0].label}")
                 self._run_config(scene, method, compute_settings, settings, threads, images,
-                                 remote.get((method, i)))
+                                 remote.get((method, i)),
+                                 temporal[0] if temporal is not None else None)
                 if bar is not None:
                     bar.update(1)
         self._rtao_ladder(scene, threads, images, bar)
@@ -874,7 +1011,8 @@ class Study:
         self.write(partial=True)
         return scene
 
-    def _score_on_cluster(self, folder: Path, name: str | None, plan: dict, bar) -> dict:
+    def _score_on_cluster(self, folder: Path, name: str | None, plan: dict, bar,
+                          frame: int | None = None) -> dict:
         """(method, index in its runs) -> config_accuracy's result for each configuration of
         the scene, computed on the cluster before any is timed here: the workers are idle
         while this machine times (a local cluster shares its cores)."""
@@ -882,28 +1020,39 @@ class Study:
             bar.set_description(f"{name or folder.name}: scoring on the cluster")
         futures = {(method, i): self.client.submit(
             config_accuracy, str(folder), self.opts.crop, name, method, compute_settings,
-            sorted({bool(s.blur) for s in settings}), pure=False)
+            sorted({bool(s.blur) for s in settings}), frame, pure=False)
             for method, runs in plan.items() for i, (compute_settings, settings) in enumerate(runs)}
         wait_all(self.client, list(futures.values()), lambda: None)
         return {k: f.result() for k, f in futures.items()}
 
     def _run_config(self, scene, method, compute_settings, settings, threads, images,
-                    remote: dict | None = None):
+                    remote: dict | None = None, temporal: Accumulation | None = None):
         """One group of configurations (the same compute settings, blurred or not): timed
-        here, scored here or, with ``remote`` (config_accuracy's result), on the cluster."""
+        here, scored here or, with ``remote`` (config_accuracy's result), on the cluster. With
+        ``temporal`` (a frame of a sequence with motion) the method runs at frame=k, and each
+        configuration also gets its accumulated row (_accumulated_rows)."""
         opts = self.opts
         g = scene.g
+        frame = temporal.index if temporal is not None else None
+        extra = {} if temporal is None else {"accumulated": False, "frame_index": frame}
         try:
             if remote is not None and "error" in remote:
                 raise ValueError(remote["error"])
             raw, times = timed(lambda: aolab.compute(method, g, radius=scene.radius,
-                                                     threads=threads, **compute_settings),
+                                                     threads=threads, frame=frame,
+                                                     **compute_settings),
                                opts.warmup, opts.repeat, opts.max_ms)
         except (ValueError, RuntimeError) as e:
             for s in settings:
                 self.rows.append(_row(scene, "method", method, s.label, preset=s.preset or "",
                                       settings=s.recorded_settings(), threads=threads,
-                                      note=f"error: {e}"))
+                                      note=f"error: {e}", **extra))
+            if temporal is not None:
+                for s in settings:
+                    self.rows.append(_row(scene, "method", method, s.label + ACCUMULATED_SUFFIX,
+                                          preset=s.preset or "", settings=s.recorded_settings(),
+                                          threads=threads, note=f"error: {e}",
+                                          **dict(extra, accumulated=True)))
             return
         raw = np.asarray(raw)
         # Configurations of the group with the same blur switch give the same image: it is
@@ -912,7 +1061,7 @@ class Study:
         for s in settings:
             row = _row(scene, "method", method, s.label, preset=s.preset or "",
                        settings=s.recorded_settings(), threads=threads, runs=len(times),
-                       **_time_fields("method", times))
+                       **extra, **_time_fields("method", times))
             blur = bool(s.blur and raw.ndim == 2)
             if blur not in done:
                 ao, blur_times = raw, []
@@ -933,6 +1082,41 @@ class Study:
                 _score_row(scene, row, ao, scored[0])
                 row["occluded_mae_vs_limit"] = scored[1]
                 images.offer(row, ao)
+            self.rows.append(row)
+        if temporal is not None:
+            self._accumulated_rows(scene, method, compute_settings, settings, threads, temporal,
+                                   done, times)
+
+    def _accumulated_rows(self, scene, method, compute_settings, settings, threads,
+                          temporal: Accumulation, done: dict, times: list[float]) -> None:
+        """Each configuration of a group accumulated: its output of this frame (``done``:
+        blur -> (output, blur times, scores)) blended into the history of that output, scored
+        like any output; its time the method's and the blur's, as its single-frame row's,
+        plus the step's (Accumulation.begin_frame). An RGB output is not accumulated."""
+        accumulated: dict[bool, tuple] = {}
+        for s in settings:
+            blur = bool(s.blur)
+            if blur not in done:   # (an RGB output has only the unblurred entry)
+                blur = False
+            ao, blur_times, scored = done[blur]
+            row = _row(scene, "method", method, s.label + ACCUMULATED_SUFFIX,
+                       preset=s.preset or "", settings=s.recorded_settings(), threads=threads,
+                       runs=len(times), accumulated=True, frame_index=temporal.index,
+                       **_time_fields("method", times), **_time_fields("blur", blur_times),
+                       **_time_fields("accumulate", temporal.times))
+            row["total_ms"] = (row["method_ms"] + (row.get("blur_ms") or 0.0)
+                               + row["accumulate_ms"])
+            if scored is None:
+                row["note"] = "RGB output: not accumulated (the step takes 1-channel AO)"
+                self.rows.append(row)
+                continue
+            if blur not in accumulated:
+                key = (method, json.dumps(compute_settings, sort_keys=True, default=str), blur)
+                out = temporal.step(key, ao, scene.g, threads)
+                accumulated[blur] = (out, score(out, scene), vs_limit(out, scene))
+            out, got, limit = accumulated[blur]
+            _score_row(scene, row, out, got)
+            row["occluded_mae_vs_limit"] = limit
             self.rows.append(row)
 
     def _rtao_ladder(self, scene: Scene, threads: int, images, bar) -> None:
