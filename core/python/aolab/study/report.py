@@ -537,19 +537,28 @@ def plotly_figure(rows: list[dict], column: str, label: str, lower_is_better: bo
         if ex:
             trace["error_x"] = ex
         data.append(trace)
+    layout = plotly_layout(440, {"type": "log", "range": [x0, x1]},
+                           "time per frame, ms (log scale; method + blur)",
+                           {"range": [y0, y1]}, label, column)
+    return {"data": data, "layout": layout}
+
+
+def plotly_layout(height: int, xaxis: dict, x_title: str, yaxis: dict, y_title: str,
+                  column: str) -> dict:
+    """A plotly.js layout of the report's plots: 720 px wide, framed axes with grid lines
+    (``xaxis``, ``yaxis``: their ranges and types), the axis titles, the legend and hover
+    style, and layout.meta.column, the results.csv column the y values are."""
     axis = {"gridcolor": "#e4e4e4", "zeroline": False, "linecolor": "#888", "mirror": True,
             "showline": True, "ticks": "outside", "tickfont": {"size": 11}}
-    layout = {"width": 720, "height": 440, "margin": {"l": 56, "r": 8, "t": 12, "b": 44},
-              "xaxis": {**axis, "type": "log", "range": [x0, x1], "title": {
-                  "text": "time per frame, ms (log scale; method + blur)",
-                  "font": {"size": 12}}},
-              "yaxis": {**axis, "range": [y0, y1],
-                        "title": {"text": html.escape(label), "font": {"size": 12}}},
-              "legend": {"font": {"size": 11}, "tracegroupgap": 2},
-              "hovermode": "closest", "hoverlabel": {"align": "left", "font": {"size": 11}},
-              "plot_bgcolor": "#fff", "paper_bgcolor": "#fff",
-              "font": {"family": "system-ui, sans-serif"}, "meta": {"column": column}}
-    return {"data": data, "layout": layout}
+    return {"width": 720, "height": height, "margin": {"l": 56, "r": 8, "t": 12, "b": 44},
+            "xaxis": {**axis, **xaxis, "title": {"text": html.escape(x_title),
+                                                 "font": {"size": 12}}},
+            "yaxis": {**axis, **yaxis, "title": {"text": html.escape(y_title),
+                                                 "font": {"size": 12}}},
+            "legend": {"font": {"size": 11}, "tracegroupgap": 2},
+            "hovermode": "closest", "hoverlabel": {"align": "left", "font": {"size": 11}},
+            "plot_bgcolor": "#fff", "paper_bgcolor": "#fff",
+            "font": {"family": "system-ui, sans-serif"}, "meta": {"column": column}}
 
 
 def _json_script(value, cls: str, **attrs) -> str:
@@ -681,26 +690,75 @@ def sequence_best(rows: list[dict], budget_ms: float) -> list[dict]:
     return out
 
 
-def frames_plot(plot_id: str, frame_rows: list[dict], best: list[dict],
-                standalone: bool = False) -> str:
-    """MAE on all scored pixels against the frame, one line per configuration of ``best``
-    through its rows of each frame (``frame_rows``). Every point is of class ``point`` with
-    data-key (the frame's row), data-metric "all_mae", data-x (the frame) and data-y; the
-    plot says data-x-column="frame"."""
+#: The label of a configuration's accumulated rows (compare.py): its own label and this.
+ACCUMULATED_SUFFIX = " + accumulation"
+#: The preset each method is drawn at in a sequence's error-against-frame plot when the
+#: sequence is accumulated (its defaults where it has no such preset).
+FRAMES_PRESET = "medium"
+
+
+def is_accumulated(row: dict) -> bool:
+    return row.get("accumulated") is True
+
+
+def config_label(row: dict) -> str:
+    """A row's configuration label without ACCUMULATED_SUFFIX."""
+    label = row["label"]
+    return label[:-len(ACCUMULATED_SUFFIX)] if is_accumulated(row) and \
+        label.endswith(ACCUMULATED_SUFFIX) else label
+
+
+def frame_lines(name: str, rows: list[dict], budget_ms: float) -> list[dict]:
+    """The lines of a sequence's error-against-frame plot, from ``rows`` (the study's): each
+    {"name", "label", "colour", "dash", "rows"} with its frame rows in frame order. A sequence
+    with accumulated rows: per method, FRAMES_PRESET (else "default", else its first
+    configuration) in one frame (dashed) and accumulated (solid), in the method's colour;
+    else each method's best configuration within ``budget_ms`` (sequence_best)."""
+    frame_rows = [r for r in rows if r.get("sequence") == name and r.get("frame") is not None
+                  and r["kind"] == "method" and metric(r, "all_mae") is not None]
+    means = [r for r in rows if r["scene"] == name]
+    methods = sorted({r["method"] for r in means if r["kind"] == "method"})
+    colour = {m: PALETTE[i % len(PALETTE)] for i, m in enumerate(methods)}
+    chosen = []   # (method, label, accumulated, dash)
+    if any(is_accumulated(r) for r in means):
+        for m in methods:
+            labels = [r["label"] for r in means if r["kind"] == "method" and r["method"] == m
+                      and r.get("accumulated") is False]
+            pick = (FRAMES_PRESET if FRAMES_PRESET in labels else "default" if "default" in
+                    labels else labels[0] if labels else None)
+            if pick is not None:
+                chosen += [(m, pick, False, "4px,3px"),
+                           (m, pick + ACCUMULATED_SUFFIX, True, "solid")]
+    else:
+        chosen = [(b["method"], b["label"], False, "solid")
+                  for b in sequence_best(means, budget_ms)]
+    out = []
+    for m, label, accumulated, dash in chosen:
+        mine = sorted((r for r in frame_rows if r["method"] == m and r["label"] == label),
+                      key=lambda r: r["frame"])
+        if mine:
+            out.append({"name": m + (ACCUMULATED_SUFFIX if accumulated else ""),
+                        "label": label, "method": m, "colour": colour[m], "dash": dash,
+                        "rows": mine})
+    return out
+
+
+def _frame_ranges(lines: list[dict]) -> tuple[list[int], float]:
+    frames = sorted({r["frame"] for line in lines for r in line["rows"]})
+    top = max(metric(r, "all_mae") for line in lines for r in line["rows"]) * 1.08 or 1.0
+    return frames, top
+
+
+def frames_plot(plot_id: str, lines: list[dict], standalone: bool = False) -> str:
+    """MAE on all scored pixels against the frame (frame_lines' lines; the static plot).
+    Every point is of class ``point`` with data-key (the frame's row), data-metric
+    "all_mae", data-x (the frame) and data-y; the plot says data-x-column="frame"."""
     width, height = 672, 300
     ml, mr, mt, mb = 62, 232, 16, 44
     pw, ph = width - ml - mr, height - mt - mb
-    lines = []
-    for i, b in enumerate(best):
-        pts = sorted((r["frame"], metric(r, "all_mae"), r) for r in frame_rows
-                     if r["kind"] == b["kind"] and r["method"] == b["method"]
-                     and r["label"] == b["label"] and metric(r, "all_mae") is not None)
-        if pts:
-            lines.append((b, PALETTE[i % len(PALETTE)], pts))
     if not lines:
         return "<p class='missing'>No frame has a scored configuration.</p>"
-    frames = sorted({f for _, _, pts in lines for f, _, _ in pts})
-    top = max(y for _, _, pts in lines for _, y, _ in pts) * 1.08 or 1.0
+    frames, top = _frame_ranges(lines)
     x0, x1 = frames[0], frames[-1] if frames[-1] > frames[0] else frames[0] + 1
 
     def px(f):
@@ -724,21 +782,57 @@ def frames_plot(plot_id: str, frame_rows: list[dict], best: list[dict],
                    f'{f}</text>')
     _axes(out, _nice_ticks(0.0, top), py, (ml, mt, pw, ph, height), "frame",
           "MAE, all scored pixels")
-    for i, (b, colour, pts) in enumerate(lines):
-        path = " ".join(f"{px(f):.2f},{py(y):.2f}" for f, y, _ in pts)
+    for i, line in enumerate(lines):
+        colour = line["colour"]
+        path = " ".join(f"{px(r['frame']):.2f},{py(metric(r, 'all_mae')):.2f}"
+                        for r in line["rows"])
+        dash = ("" if line["dash"] == "solid" else
+                f' stroke-dasharray="{line["dash"].replace("px", "").replace(",", " ")}"')
         out.append(f'<polyline points="{path}" fill="none" stroke="{colour}" '
-                   'stroke-width="1.4"/>')
-        for f, y, r in pts:
+                   f'stroke-width="1.4"{dash}/>')
+        for r in line["rows"]:
+            f, y = r["frame"], metric(r, "all_mae")
             out.append(f'<circle cx="{px(f):.2f}" cy="{py(y):.2f}" r="3.2" class="point" '
                        f'fill="{colour}" data-key="{html.escape(r["key"])}" '
                        f'data-metric="all_mae" data-x="{f}" data-y="{_fmt(y)}"><title>'
                        f'{html.escape(r["key"])}: MAE {y:.4f}</title></circle>')
         ly = mt + 10 + 16 * i
-        out.append(f'<rect x="{ml + pw + 12}" y="{ly - 8}" width="10" height="10" '
-                   f'fill="{colour}"/><text x="{ml + pw + 26}" y="{ly + 1}" class="legend">'
-                   f'{html.escape(b["method"] + " " + b["label"])}</text>')
+        out.append(f'<line x1="{ml + pw + 10}" y1="{ly - 3}" x2="{ml + pw + 24}" y2="{ly - 3}" '
+                   f'stroke="{colour}" stroke-width="2"{dash}/><text x="{ml + pw + 28}" '
+                   f'y="{ly + 1}" class="legend">'
+                   f'{html.escape(line["method"] + " " + line["label"])}</text>')
     out.append("</svg>")
     return "\n".join(out)
+
+
+def frames_figure(lines: list[dict]) -> dict | None:
+    """The plotly.js figure of frames_plot: one trace per line (its name the method, with
+    ACCUMULATED_SUFFIX for an accumulated line, so that a legend click acts on the method in
+    every plot of the section), customdata the frame rows' keys, x the frame, y the MAE;
+    meta as plotly_figure's ({"role": "series", "kind": "method", "accumulated"}),
+    layout.meta.column "all_mae". None without a line."""
+    if not lines:
+        return None
+    frames, top = _frame_ranges(lines)
+    data = []
+    for line in lines:
+        xs = [r["frame"] for r in line["rows"]]
+        ys = [metric(r, "all_mae") for r in line["rows"]]
+        data.append({
+            "type": "scatter", "mode": "lines+markers", "name": line["name"],
+            "legendgroup": line["method"], "x": xs, "y": ys,
+            "customdata": [r["key"] for r in line["rows"]],
+            "text": [html.escape(f'{line["method"]} {line["label"]}, frame {r["frame"]}: '
+                                 f'MAE {y:.4f}', quote=False)
+                     for r, y in zip(line["rows"], ys)],
+            "hovertemplate": "%{text}<extra></extra>",
+            "line": {"color": line["colour"], "width": 1.6, "dash": line["dash"]},
+            "marker": {"color": line["colour"], "size": 6},
+            "meta": {"role": "series", "kind": "method",
+                     "accumulated": line["name"].endswith(ACCUMULATED_SUFFIX)}})
+    layout = plotly_layout(380, {"tickvals": frames, "range": [frames[0] - 0.3, frames[-1] + 0.3]},
+                           "frame", {"range": [0, top]}, "MAE, all scored pixels", "all_mae")
+    return {"data": data, "layout": layout}
 
 
 def flicker_entries(rows: list[dict]) -> list[dict]:
@@ -772,27 +866,189 @@ def flicker_table(entries: list[dict], floor: dict | None) -> str:
     return f'<table class="check flicker">{head}{"".join(body)}</table>'
 
 
-def sequence_section(name: str, rows: list[dict], info: dict, budget_ms: float) -> str:
-    """A sequence's temporal stability: per-frame MAE of each method's best configuration
-    within the budget, and the flicker of every configuration, least first."""
-    frame_rows = [r for r in rows if r.get("sequence") == name and r.get("frame") is not None]
+def accumulation_entries(rows: list[dict], name: str) -> list[dict]:
+    """Per configuration of sequence ``name`` that has accumulated rows: its single-frame and
+    accumulated rows (means over the frames) side by side — times, converged error,
+    disoccluded error, flicker; by method, then single-frame time."""
+    means = [r for r in rows if r["scene"] == name and r["kind"] == "method"]
+    acc = {(r["method"], config_label(r)): r for r in means if is_accumulated(r)}
+    out = []
+    for r in means:
+        a = acc.get((r["method"], r["label"]))
+        if r.get("accumulated") is not False or a is None:
+            continue
+        out.append({"method": r["method"], "label": r["label"], "single_key": r["key"],
+                    "acc_key": a["key"], "single_ms": number(r.get("total_ms")),
+                    "acc_ms": number(a.get("total_ms")), "step_ms": number(a.get("accumulate_ms")),
+                    "single_converged": number(r.get("converged_mae")),
+                    "acc_converged": number(a.get("converged_mae")),
+                    "single_disoccluded": number(r.get("disoccluded_mae")),
+                    "acc_disoccluded": number(a.get("disoccluded_mae")),
+                    "single_flicker": number(r.get("flicker")),
+                    "acc_flicker": number(a.get("flicker"))})
+    big = math.inf
+    return sorted(out, key=lambda e: (e["method"], e["single_ms"] or big, e["label"]))
+
+
+#: accumulation_pairs' rule, as the report and docs/results.md state it.
+PAIRING_RULE = ("Per method, the cheapest configuration X (by its time per frame with the "
+                "step) whose accumulated converged error beats the single-frame error, over the "
+                "same frames, of a configuration Y dearer in one frame than X accumulated, "
+                "which X in one frame does not beat; beside it the most accurate such Y.")
+
+
+def accumulation_pairs(entries: list[dict]) -> list[dict]:
+    """Per method (accumulation_entries' entries): the cheapest configuration X, by its time
+    per frame with the accumulation step, whose accumulated converged error is below the
+    single-frame error (over the same frames) of some configuration Y that is dearer in one
+    frame than X accumulated and that X in one frame does not beat (so that the accumulation
+    is what beats it); Y is the most accurate of those (the dearer on a tie). {"method",
+    "x", "y"}: the two entries, both None when no configuration of the method has such a
+    Y."""
+    out = []
+    for m in sorted({e["method"] for e in entries}):
+        mine = [e for e in entries if e["method"] == m]
+        xs = sorted((e for e in mine if e["acc_ms"] is not None
+                     and e["acc_converged"] is not None),
+                    key=lambda e: (e["acc_ms"], e["acc_converged"], e["label"]))
+        pair = {"method": m, "x": None, "y": None}
+        for x in xs:
+            beaten = [y for y in mine if y["single_ms"] is not None
+                      and y["single_converged"] is not None and y["single_ms"] > x["acc_ms"]
+                      and x["acc_converged"] < y["single_converged"]
+                      and x["single_converged"] is not None
+                      and x["single_converged"] >= y["single_converged"]]
+            if beaten:
+                y = min(beaten, key=lambda e: (e["single_converged"], -e["single_ms"],
+                                               e["label"]))
+                pair = {"method": m, "x": x, "y": y}
+                break
+        out.append(pair)
+    return out
+
+
+def history_text(accumulation: dict) -> str:
+    """How many frames the converged error's frames have accumulated: "8 frames" or
+    "9–24 frames" (results.json's scenes.<sequence>.accumulation)."""
+    n = accumulation.get("converged_history") or []
+    if not n:
+        return "— frames"
+    return f"{n[0]} frames" if n[0] == n[-1] else f"{n[0]}–{n[-1]} frames"
+
+
+def accumulation_rules(accumulation: dict) -> str:
+    """The rules of a sequence's accumulation scores in words (plain text)."""
+    a = accumulation
+    frames = ", ".join(str(f) for f in a.get("converged_frames", []))
+    if a.get("at_rest"):
+        why = "nothing moves in it, so the last frame, the most accumulated"
+    elif len(a.get("converged_frames", [])) == 1:
+        why = (f"it has no frame of index {a.get('converged_from_index')} or later, so its "
+               "last frame")
+    else:
+        why = f"the frames of index {a.get('converged_from_index')} on (0 first)"
+    settings = ", ".join(f"{k} {v}" for k, v in (a.get("settings") or {}).items())
+    return (f"Every configuration runs at frame=k (the frame's index, 0 first: a per-frame "
+            f"seed) and is also accumulated with aolab.accumulate at the step's defaults "
+            f"({settings}), one history per configuration, empty at the first frame. "
+            f"Converged error: the mean whole-frame MAE over frame(s) {frames} ({why}), "
+            f"{history_text(a)} accumulated. Disoccluded region: the scored pixels whose "
+            f"history after the step holds fewer than {a.get('disoccluded_below')} frames "
+            f"(rejected in this frame or the {a.get('disoccluded_below', 1) - 1} before); its "
+            f"error pools every region pixel of the frames of index "
+            f"{a.get('disoccluded_from_index')} on. Times: method + blur, and + the step "
+            "for the accumulated rows.")
+
+
+def _pair_cells(e: dict | None, accumulated: bool) -> str:
+    if e is None:
+        return "<td>—</td><td>—</td><td>—</td>"
+    if accumulated:
+        return (f'<td>{html.escape(e["label"])}{html.escape(ACCUMULATED_SUFFIX)}</td>'
+                f'<td>{_cell(e["acc_ms"], ".1f")} <small>(step {_cell(e["step_ms"], ".1f")})'
+                f'</small></td><td>{_cell(e["acc_converged"])}</td>')
+    return (f'<td>{html.escape(e["label"])}</td><td>{_cell(e["single_ms"], ".1f")}</td>'
+            f'<td>{_cell(e["single_converged"])}</td>')
+
+
+def accumulation_html(name: str, rows: list[dict], info: dict) -> str:
+    """A sequence's accumulation: the rules, the pairing (accumulation_pairs) and every
+    configuration single-frame beside accumulated (accumulation_entries)."""
+    entries = accumulation_entries(rows, name)
+    if not entries:
+        return ""
+    acc = info.get("accumulation") or {}
+    n = history_text(acc)
+    head = (f"<tr><th>method</th><th>accumulated over {html.escape(n)}</th><th>ms per frame"
+            "</th><th>converged MAE</th><th>beats in one frame</th><th>ms per frame</th>"
+            "<th>MAE, same frames</th></tr>")
+    body = []
+    for p in accumulation_pairs(entries):
+        x, y = p["x"], p["y"]
+        attrs = (f' data-x="{html.escape(x["acc_key"])}" data-y="{html.escape(y["single_key"])}"'
+                 if x else "")
+        body.append(f'<tr data-method="{html.escape(p["method"])}"{attrs}>'
+                    f'<td>{html.escape(p["method"])}</td>' + _pair_cells(x, True)
+                    + (_pair_cells(y, False) if y else
+                       '<td colspan="3">no configuration accumulated beats a dearer one in '
+                       'one frame</td>') + "</tr>")
+    pairs = f'<table class="check pairs">{head}{"".join(body)}</table>'
+    head = ("<tr><th>method</th><th>setting</th><th>ms, one frame</th><th>ms, accumulated"
+            "</th><th>converged MAE, one frame</th><th>accumulated</th><th>disoccluded MAE, "
+            "one frame</th><th>accumulated</th><th>flicker, one frame</th><th>accumulated</th>"
+            "</tr>")
+    body = [f'<tr data-key="{html.escape(e["single_key"])}"><td>{html.escape(e["method"])}</td>'
+            f'<td>{html.escape(e["label"])}</td><td>{_cell(e["single_ms"], ".1f")}</td>'
+            f'<td>{_cell(e["acc_ms"], ".1f")}</td><td>{_cell(e["single_converged"])}</td>'
+            f'<td>{_cell(e["acc_converged"])}</td><td>{_cell(e["single_disoccluded"])}</td>'
+            f'<td>{_cell(e["acc_disoccluded"])}</td><td>{_cell(e["single_flicker"])}</td>'
+            f'<td>{_cell(e["acc_flicker"])}</td></tr>' for e in entries]
+    table_ = f'<table class="check accumulation">{head}{"".join(body)}</table>'
+    return "\n".join([
+        f'<h3 id="accumulation-{html.escape(name)}">Temporal accumulation</h3>',
+        f'<p class="note">{html.escape(accumulation_rules(acc))} {PAIRING_RULE}</p>',
+        f'<div class="scroll">{pairs}</div>', f'<div class="scroll">{table_}</div>'])
+
+
+def sequence_section(page, name: str, rows: list[dict], info: dict, budget_ms: float) -> str:
+    """A sequence's temporal stability: the MAE against the frame (frame_lines: with
+    accumulation, each method at FRAMES_PRESET in one frame and accumulated; else each
+    method's best configuration within the budget), the flicker of every configuration,
+    least first, and the accumulation tables (accumulation_html)."""
     means = [r for r in rows if r["scene"] == name]
     floor = info.get("flicker_floor")
+    lines = frame_lines(name, rows, budget_ms)
+    plot_id = f"plot-{name}-frames"
+    fig = frames_figure(lines) if page.interactive else None
+    if fig is not None:
+        plot = (f'<div class="plot frames" id="{html.escape(plot_id)}" data-metric="all_mae" '
+                f'data-section="{html.escape(name)}"></div>'
+                + _json_script(fig, "figure", data_plot=plot_id))
+    else:
+        plot = frames_plot(plot_id, lines)
+    accumulated = any(is_accumulated(r) for r in means)
+    what = (f'each method at {FRAMES_PRESET} (its defaults where it has no {FRAMES_PRESET}) in '
+            'one frame, dashed, and accumulated, solid' if accumulated else
+            "each method's best configuration within the time budget")
     return "\n".join([
         f'<h3 id="temporal-{html.escape(name)}">Temporal stability</h3>',
         f'<p class="note">Frames {", ".join(str(f) for f in info.get("frames", []))}, each '
         'scored as a scene of its own (rows ' + html.escape(name) + '@NNNN in results.csv; the '
-        'plots and table above are their means). <b>Flicker</b>: the mean over pixels scored '
+        'plots and table above are their means). The plot: the MAE of every frame, '
+        + html.escape(what) + '. <b>Flicker</b>: the mean over pixels scored '
         'in both frames of |(AO<sub>t</sub> − AO<sub>t−1</sub>) − (Ref<sub>t</sub> − '
         'Ref<sub>t−1</sub>)|, averaged over consecutive frames: how much a configuration’s '
         'image changes where the reference’s does not. The reference’s own flicker floor '
         '(its noise alone) is ' + (f'{floor["value"]:.4f}, {html.escape(floor["source"])}'
                                    if floor else 'unknown') + '. The last column names the '
-        'per-pixel random patterns a configuration has on (random rotation, jitter ...): fixed '
-        'to the screen, they stay while the geometry moves, so per-pixel random rotation and '
-        'jitter show what they cost in motion.</p>',
-        frames_plot(f"plot-{name}-frames", frame_rows, sequence_best(means, budget_ms)),
-        f'<div class="scroll">{flicker_table(flicker_entries(means), floor)}</div>'])
+        'per-pixel random patterns a configuration has on (random rotation, jitter ...): '
+        + ('redrawn every frame here (a per-frame seed), they boil in one frame and average '
+           'out accumulated.' if accumulated else 'fixed to the screen, they stay while the '
+           'geometry moves, so per-pixel random rotation and jitter show what they cost in '
+           'motion.') + '</p>',
+        plot,
+        f'<div class="scroll">{flicker_table(flicker_entries(means), floor)}</div>',
+        accumulation_html(name, rows, info)])
 
 
 # ----------------------------------------------------------------------------------------
@@ -1634,7 +1890,7 @@ def render_html(results: dict, images: dict, out: report_files.Files | None = No
         body.append(scene_section(page, name, mine, info, images.get(name),
                                   meta.get("budget_ms", 0), f"plot-{name}"))
         if info and info.get("sequence"):
-            body.append(sequence_section(name, rows, info, meta.get("budget_ms", 0)))
+            body.append(sequence_section(page, name, rows, info, meta.get("budget_ms", 0)))
     if results.get("notes"):
         notes = "".join(f"<li>{html.escape(n)}</li>" for n in results["notes"])
         body.append(f"<h2>Notes</h2><ul>{notes}</ul>")

@@ -275,6 +275,65 @@ def temporal_section(results: dict) -> list[str]:
     return out
 
 
+def accumulated_sequences(results: dict) -> list[str]:
+    """The sequences of a run whose rows include accumulated ones, in the run's order."""
+    names = {r.get("sequence") for r in results["rows"] if report.is_accumulated(r)}
+    return [n for n in results["meta"].get("scenes", []) if n in names]
+
+
+def accumulation_image(name: str) -> str:
+    """The file name of a sequence's error-against-frame plot in docs/images."""
+    return f"results_accumulation_{name}.svg"
+
+
+def accumulation_section(results: dict, image_dir: str = "images") -> list[str]:
+    """"Temporal accumulation": per sequence with accumulated rows, the rules, its
+    error-against-frame plot, the pairing (report.accumulation_pairs) and every configuration
+    in one frame beside accumulated (report's tables). Empty without accumulated rows."""
+    sequences = accumulated_sequences(results)
+    if not sequences:
+        return []
+    out = ["## Temporal accumulation", "",
+           "On each sequence with motion vectors every configuration runs with a per-frame seed "
+           "and is also accumulated over the frames by the shared step "
+           "([temporal.md](temporal.md), [comparison.md](comparison.md#temporal-accumulation)): "
+           "what accumulation reaches (the converged error), what it costs (the step's time, "
+           "added) and what it breaks (the error where the history was just rejected, and the "
+           "flicker).", ""]
+    for name in sequences:
+        info = (results.get("scenes") or {}).get(name) or {}
+        acc = info.get("accumulation") or {}
+        entries = report.accumulation_entries(results["rows"], name)
+        out += [f"### {name}", "", report.accumulation_rules(acc), "",
+                f"![MAE against the frame, {name}: each method at {report.FRAMES_PRESET} in one "
+                f"frame (dashed) and accumulated (solid)]({image_dir}/"
+                f"{accumulation_image(name)})", "", report.PAIRING_RULE, "",
+                f"| method | accumulated over {report.history_text(acc)} | ms per frame | "
+                "converged MAE | beats in one frame | ms per frame | MAE, same frames |",
+                "|---|---|---|---|---|---|---|"]
+        for pair in report.accumulation_pairs(entries):
+            x, y = pair["x"], pair["y"]
+            if x is None:
+                out.append(f'| {pair["method"]} | — | | | no configuration accumulated beats a '
+                           "dearer one in one frame | | |")
+                continue
+            out.append(f'| {pair["method"]} | {x["label"]}{report.ACCUMULATED_SUFFIX} | '
+                       f'{_f(x["acc_ms"], ".1f")} (step {_f(x["step_ms"], ".1f")}) | '
+                       f'{_f(x["acc_converged"])} | {y["label"]} | {_f(y["single_ms"], ".1f")} | '
+                       f'{_f(y["single_converged"])} |')
+        out += ["", "| method | setting | ms, one frame | ms, accumulated | converged MAE, one "
+                "frame | accumulated | disoccluded MAE, one frame | accumulated | flicker, one "
+                "frame | accumulated |", "|---|---|---|---|---|---|---|---|---|---|"]
+        for e in entries:
+            out.append(f'| {e["method"]} | {e["label"]} | {_f(e["single_ms"], ".1f")} | '
+                       f'{_f(e["acc_ms"], ".1f")} | {_f(e["single_converged"])} | '
+                       f'{_f(e["acc_converged"])} | {_f(e["single_disoccluded"])} | '
+                       f'{_f(e["acc_disoccluded"])} | {_f(e["single_flicker"])} | '
+                       f'{_f(e["acc_flicker"])} |')
+        out.append("")
+    return out
+
+
 def generated(results: dict, image_dir: str = "images") -> str:
     meta = results["meta"]
     mc = meta.get("machine", {})
@@ -297,6 +356,7 @@ def generated(results: dict, image_dir: str = "images") -> str:
         lines += _table(agg) + [""]
         lines += study_sections(results, agg, image_dir)
     lines += temporal_section(results)
+    lines += accumulation_section(results, image_dir)
     for name in meta.get("scenes", []):
         mine = [r for r in rows if r["scene"] == name]
         if not mine:
@@ -322,6 +382,12 @@ def write(results_json: Path, docs: Path) -> Path:
         svg = report.svg_plot(f"results-{column}", agg, column, label, lower,
                               report.hlines_for(agg, column, None), standalone=True)
         files.write_text(images / f"results_{column}.svg", svg + "\n")
+    for name in accumulated_sequences(results):
+        svg = report.frames_plot(f"results-accumulation-{name}",
+                                 report.frame_lines(name, results["rows"],
+                                                    results["meta"].get("budget_ms", 0)),
+                                 standalone=True)
+        files.write_text(images / accumulation_image(name), svg + "\n")
     split = report.split_chart("results-split", report.error_split(agg, results.get("scenes", {})))
     if split.startswith("<svg"):
         files.write_text(images / "results_split.svg", split + "\n")
