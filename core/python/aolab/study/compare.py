@@ -1285,9 +1285,13 @@ def _run(study: Study, opts: Options) -> int:
     finally:
         signal.signal(signal.SIGTERM, previous)
     meta = results["meta"]
-    # a sequence's configurations are counted once (its rows over the frames), not per frame
-    n = sum(1 for r in results["rows"] if r["kind"] == "method" and r["scene"] in meta["scenes"])
-    print(f"aolab compare: {n} configurations on {len(meta['scenes'])} scenes in "
+    # a sequence's configurations are counted once (its rows over the frames), not per frame,
+    # and an accumulated row is its configuration's second
+    mine = [r for r in results["rows"] if r["kind"] == "method" and r["scene"] in meta["scenes"]]
+    n = sum(1 for r in mine if r.get("accumulated") is not True)
+    accumulated = sorted({r["scene"] for r in mine if r.get("accumulated") is True})
+    also = (f" (each also accumulated on {', '.join(accumulated)})" if accumulated else "")
+    print(f"aolab compare: {n} configurations{also} on {len(meta['scenes'])} scenes in "
           f"{meta['elapsed_s']:.0f} s ({meta['machine']['threads']} threads, "
           f"{meta['machine']['cpu']}) -> {opts.out}/report.html, results.csv, results.json")
     return 0

@@ -1007,7 +1007,10 @@ def accumulation_html(name: str, rows: list[dict], info: dict) -> str:
     return "\n".join([
         f'<h3 id="accumulation-{html.escape(name)}">Temporal accumulation</h3>',
         f'<p class="note">{html.escape(accumulation_rules(acc))} {PAIRING_RULE}</p>',
-        f'<div class="scroll">{pairs}</div>', f'<div class="scroll">{table_}</div>'])
+        f'<div class="scroll">{pairs}</div>',
+        '<p class="note">Every configuration in one frame beside accumulated (times per '
+        'frame; the errors and the flicker as above; the rows are in the table of the '
+        'sequence and in results.csv):</p>', f'<div class="scroll">{table_}</div>'])
 
 
 def sequence_section(page, name: str, rows: list[dict], info: dict, budget_ms: float) -> str:
