@@ -61,6 +61,8 @@ def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -
     # the cluster, Debian 13's distributed then prints "IOLoop is closed" from its __del__.
     with Client(get_worker().scheduler.address, set_as_default=False) as client:
         event = Event(stop_event, client=client)
+        if event.is_set():   # started after Ctrl-C (queued on this worker): no Blender at all
+            raise reference.Stopped(f"{plan.scene.name}: stopped")
 
         def should_stop() -> bool:
             now = time.monotonic()
@@ -150,8 +152,12 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
             stop.set()
             # Jobs that finished but were not collected yet are done all the same.
             done += sum(1 for f in in_flight if f.status == "finished")
-            client.cancel(list(in_flight))
+            # Wait first, cancel after: a cancelled job is no longer the scheduler's to report
+            # as running, though its thread goes on until its Blender is killed; closing the
+            # cluster then left that Blender to its worker's exit (Debian 13's distributed
+            # returns from close() before its worker processes have ended).
             _wait_for_stops(client, in_flight)
+            client.cancel(list(in_flight))
             print("\n" + reference.interrupted_line(done, plans, cache,
                                                     "the running renders are stopped; "),
                   file=sys.stderr)
@@ -176,7 +182,8 @@ def _running(client, pending: dict) -> int:
 
 def _wait_for_stops(client, futures: dict, timeout_s: float = 30.0) -> None:
     """Gives the running jobs time to kill their Blender and remove their temporary folders
-    (they poll the stop event every STOP_POLL_S)."""
+    (they poll the stop event every STOP_POLL_S; a job that starts after it is set stops at
+    once): until none of ``futures`` is running, before they are cancelled."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline and _running(client, futures):
         time.sleep(0.2)
