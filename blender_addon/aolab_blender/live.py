@@ -66,8 +66,6 @@ ALL = "*"   # changed(ALL): every ticked method (R, Resolution)
 #: of the frames (docs/temporal.md), and with nothing moving no clamp is needed (it would
 #: only hold the mean to each noisy frame's neighbourhood).
 ACCUMULATE = {"alpha": 0.0, "clamp": "off"}
-#: aolab.accumulate's largest max_history (a running mean of up to this many frames + 1).
-MAX_HISTORY = 65535
 
 
 class _State:
@@ -475,7 +473,9 @@ def _accumulate(ao, g, run: dict, threads: int):
     while len(histories) < len(channels):
         histories.append(aolab.TemporalHistory())
     motion = np.zeros(ao.shape[:2] + (2,), np.float32)
-    settings = {**ACCUMULATE, "max_history": min(run["frames"], MAX_HISTORY)}
+    # max_history up to the step's own bound (its settings table): a running mean throughout
+    bound = next(int(s["max"]) for s in aolab.accumulate_settings() if s["name"] == "max_history")
+    settings = {**ACCUMULATE, "max_history": min(run["frames"], bound)}
     out = [aolab.accumulate(c, g, motion, h, threads=threads, **settings)[0]
            for c, h in zip(channels, histories)]
     return out[0] if ao.ndim == 2 else np.stack(out, axis=-1)
