@@ -8,7 +8,8 @@
 #   scripts/update_references.sh analytic room   # some
 #   scripts/update_references.sh --peers [names]  # the comparison peers instead: Cycles at
 #       1/4/16/64/256 spp (seed 1) and EEVEE's GTAO under xvfb-run, into <name>/peers/
-#       (~1/3 of a reference's time per scene)
+#       (~1/3 of a reference's time per scene); on a sequence, EEVEE's alone per frame, into
+#       <name>/frames/NNNN/peers/
 #   scripts/update_references.sh --limits [names] # only the screen-space limits (--force:
 #       recompute them all, after a change to the screen_space_limit method)
 #   scripts/update_references.sh --eevee-next [names] # on Blender 4.2+ (Debian 13): EEVEE
@@ -70,11 +71,22 @@ for name in "${names[@]}"; do
   if is_sequence "$root/reference_scenes/$name"; then
     # A sequence (manifest "frames"): one reference per frame into <name>/frames/NNNN/; the
     # study scores its frames and their flicker, without peers or screen-space limits.
-    if [ "$limits" = 0 ] && [ "$peers" = 0 ]; then
+    # With --peers: EEVEE's alone per frame into frames/NNNN/peers/ (the Cycles ladder per
+    # frame would triple the sequence's render time for rungs the stills already score).
+    if [ "$peers" = 1 ] && [ "$eevee_next" = 0 ]; then
+      tmp="$(mktemp -d)"
+      /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --peers --ladder none \
+        --out "$tmp" "${force[@]}"
+      for f in "$tmp"/frames/*/; do
+        mkdir -p "$root/reference_scenes/$name/frames/$(basename "$f")/peers"
+        cp "$f"* "$root/reference_scenes/$name/frames/$(basename "$f")/peers/"
+      done
+      rm -rf "$tmp"
+    elif [ "$limits" = 0 ] && [ "$peers" = 0 ]; then
       /usr/bin/python3 -m aolab reference "$root/reference_scenes/$name" --spp 1024 \
         --out "$root/reference_scenes/$name" "${force[@]}"
     else
-      echo "$name: a sequence scene has no peers or limits, skipped"
+      echo "$name: a sequence scene has no screen-space limits or EEVEE Next peers, skipped"
     fi
     continue
   fi

@@ -15,7 +15,7 @@ import pytest
 
 import aolab
 from aolab import cli, scenes
-from aolab.study import compare, results_doc
+from aolab.study import compare, results_doc, temporal
 from aolab.study import report as report_mod
 from browser import Browser, chromium, poll
 from compare_support import SCENES, link_scene, make_sequence, parse_report, read_csv
@@ -102,7 +102,7 @@ def test_frames_run_at_their_index_and_accumulate_as_the_step_does(pan):
     frame and the two before, carried along by the pan: the 3 x 4 entering columns."""
     by_key = {r["key"]: r for r in pan["rows"]}
     info = pan["json"]["scenes"]["mpan"]["accumulation"]
-    assert info["disoccluded_below"] == compare.DISOCCLUDED_BELOW == 4
+    assert info["disoccluded_below"] == temporal.DISOCCLUDED_BELOW == 4
     assert info["at_rest"] is False and info["largest_motion_px"] == PAN_SHIFT
     history = aolab.TemporalHistory()
     masks, pooled = [], []
@@ -150,10 +150,10 @@ def test_frames_run_at_their_index_and_accumulate_as_the_step_does(pan):
 
 
 def test_the_converged_frames_follow_the_rule():
-    assert compare.converged_frames(list(range(24)), at_rest=False) == list(range(8, 24))
-    assert compare.converged_frames(list(range(24)), at_rest=True) == [23]
-    assert compare.converged_frames(list(range(8)), at_rest=False) == [7]
-    assert compare.converged_frames(list(range(9)), at_rest=False) == [8]
+    assert temporal.converged_frames(list(range(24)), at_rest=False) == list(range(8, 24))
+    assert temporal.converged_frames(list(range(24)), at_rest=True) == [23]
+    assert temporal.converged_frames(list(range(8)), at_rest=False) == [7]
+    assert temporal.converged_frames(list(range(9)), at_rest=False) == [8]
 
 
 def test_at_rest_the_accumulated_error_falls_and_ends_below_one_frame(rest):

@@ -17,7 +17,7 @@ from aolab import scenes
 from aolab import cli, regions
 from aolab import named_presets as presets
 from aolab.catalog.kinds import MethodEntry
-from aolab.study import compare, report_files, results_doc
+from aolab.study import compare, report_files, results_doc, timing
 from aolab.study import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
@@ -636,10 +636,10 @@ def test_a_slow_first_run_is_the_only_timed_run():
         time.sleep(0.02)
         return len(calls)
 
-    out, times = compare.timed(slow, warmup=1, repeat=3, max_ms=5.0)
+    out, times = timing.timed(slow, warmup=1, repeat=3, max_ms=5.0)
     assert (out, len(calls), len(times)) == (1, 1, 1) and times[0] >= 20.0
     calls.clear()
-    out, times = compare.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
+    out, times = timing.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
     assert (out, len(calls), len(times)) == (1, 4, 3)
 
 

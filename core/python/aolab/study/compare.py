@@ -25,7 +25,6 @@ import json
 import math
 import os
 import signal
-import statistics
 import sys
 import time
 import warnings
@@ -51,6 +50,8 @@ from ..util.provenance import git_commit, machine_info
 from . import report, report_files, stats
 from .pareto import hd_scale
 from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
+from .temporal import DISOCCLUDED, Accumulation, accumulation_scores
+from .timing import time_fields, timed
 
 #: Metrics per region, in column order.
 METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
@@ -70,20 +71,6 @@ BASE_COLUMNS = ("key", "scene", "sequence", "frame", "frame_index", "kind", "met
                 "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
                 "occluded_mae_vs_limit", "occluded_mae_definition", "flicker",
                 "disoccluded_mae", "disoccluded_count", "converged_mae", "flag", "note")
-
-# Temporal accumulation of the sequences with motion (docs/comparison.md, "Temporal
-# accumulation"); the label of a configuration's accumulated rows is its own and
-# ACCUMULATED_SUFFIX (report.py's).
-#: The disoccluded region of a frame: scored pixels whose history, after the step, holds
-#: fewer frames than this (rejected in this frame or in the DISOCCLUDED_BELOW - 1 before).
-DISOCCLUDED_BELOW = 4
-#: The key of that region in a frame's Scene.regions (not one of REGIONS: stills lack it).
-DISOCCLUDED = "disoccluded"
-#: The converged error of a sequence: the mean whole-frame MAE over its frames of index >= this
-#: (the 9th on); a sequence at rest, or without such a frame, takes its last frame alone.
-CONVERGED_FROM = 8
-#: A sequence is at rest when no motion vector on a scored pixel exceeds this (px).
-AT_REST_PX = 1e-3
 
 
 def columns() -> list[str]:
@@ -255,39 +242,6 @@ def _samples(scene: Scene) -> int:
         return int((scene.g.sidecar or {}).get("samples") or 0)
     except (TypeError, ValueError):
         return 0
-
-
-# ----------------------------------------------------------------------------------------
-# Timing
-
-
-def timed(fn, warmup: int, repeat: int, max_ms: float = math.inf):
-    """Runs ``fn`` warmup + repeat times; returns (first output, times of the timed runs in ms).
-    The output of the first run is kept (the methods are deterministic). A first run longer
-    than ``max_ms`` is the only one, and its time is the time (as aolab tune does): past a
-    second, a warm-up changes the time by far less than the run-to-run spread."""
-    result, times = None, []
-    for i in range(warmup + repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        dt = (time.perf_counter() - t0) * 1000.0
-        if result is None:
-            result = out
-            if dt > max_ms:
-                return result, [dt]
-        if i >= warmup:
-            times.append(dt)
-    return result, times
-
-
-def _time_fields(prefix: str, times: list[float]) -> dict:
-    if not times:
-        return {}
-    out = {f"{prefix}_ms": statistics.median(times), f"{prefix}_ms_min": min(times),
-           f"{prefix}_ms_max": max(times)}
-    if prefix == "method":
-        out["method_ms_stdev"] = statistics.stdev(times) if len(times) > 1 else 0.0
-    return out
 
 
 # ----------------------------------------------------------------------------------------
@@ -658,65 +612,6 @@ def rtao_not_run_reason(e: BaseException) -> str:
     return str(e)
 
 
-class Accumulation:
-    """The temporal accumulation of one sequence with motion (docs/comparison.md, "Temporal
-    accumulation"): one aolab.TemporalHistory per configuration output (a method's compute
-    settings and its blur switch), empty at the sequence's start, and the step's time and the
-    disoccluded region of each frame.
-
-    The step's work depends on the G-buffer, the motion and its settings, never on the AO
-    values (which pixels keep which taps follows from depth, normals and motion alone; every
-    other read and operation is done whatever the value), so it is timed once per frame, like
-    the blur (warm-up + repeat runs, the median), on histories of its own kept in step with
-    the configurations' (one per run, fed a constant AO), and that time is added to every
-    configuration's. The same lengths give the frame's disoccluded region."""
-
-    def __init__(self, runs: int):
-        self.histories: dict[tuple, aolab.TemporalHistory] = {}
-        self._timing = [aolab.TemporalHistory() for _ in range(max(1, runs))]
-        self.index = -1             # the frame's index in the sequence, 0 first
-        self.motion = None          # this frame's motion vectors
-        self.times: list[float] = []
-        self.largest_motion = 0.0   # px, over the scored pixels of every frame after the first
-        self.region_pixels: dict[int, int] = {}   # frame number -> its disoccluded pixels
-
-    def begin_frame(self, scene: Scene, index: int, warmup: int, repeat: int,
-                    threads: int) -> None:
-        """Times the step on frame ``index`` of the sequence (``scene``) and sets the frame's
-        disoccluded region, scene.regions[DISOCCLUDED]."""
-        g, valid = scene.g, scene.regions["all"]
-        self.index = index
-        motion = g.motion
-        if motion is None:   # (frame 0 only: the step ignores the motion of the first frame)
-            motion = np.zeros((g.height, g.width, 2), np.float32)
-        elif index > 0 and valid.any():
-            self.largest_motion = max(self.largest_motion,
-                                      float(np.max(np.abs(motion[valid]))))
-        self.motion = motion
-        constant = np.ones((g.height, g.width), np.float32)
-        histories = iter(self._timing)
-        _, self.times = timed(lambda: aolab.accumulate(constant, g, motion, next(histories),
-                                                       threads=threads),
-                              warmup, min(repeat, len(self._timing) - warmup))
-        length = self._timing[0].length
-        scene.regions[DISOCCLUDED] = valid & (np.asarray(length) < DISOCCLUDED_BELOW)
-        self.region_pixels[scene.frame] = int(scene.regions[DISOCCLUDED].sum())
-
-    def step(self, key: tuple, ao: np.ndarray, g, threads: int) -> np.ndarray:
-        """``ao`` of configuration output ``key`` accumulated into its history."""
-        history = self.histories.setdefault(key, aolab.TemporalHistory())
-        accumulated, _ = aolab.accumulate(ao, g, self.motion, history, threads=threads)
-        return accumulated
-
-
-def converged_frames(indices: list[int], at_rest: bool) -> list[int]:
-    """The frame indices (0 first) whose mean whole-frame MAE is a sequence's converged error:
-    those from CONVERGED_FROM on; the last alone for a sequence at rest (its accumulation
-    only improves) or without such a frame."""
-    later = [i for i in indices if i >= CONVERGED_FROM]
-    return later if later and not at_rest else indices[-1:]
-
-
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
     """The configurations of ``method`` grouped by what the method computes (its settings over
     the defaults, whether spelled out or not): configurations that differ only in the blur,
@@ -892,51 +787,14 @@ class Study:
         mine = [r for r in self.rows if r.get("sequence") == name]
         means = aggregate(mine, names, name, unit="frame")
         if temporal is not None:
-            self.scene_info[name]["accumulation"] = self._accumulation_scores(
-                mine, means, frames, temporal)
+            self.scene_info[name]["accumulation"] = accumulation_scores(mine, means, frames,
+                                                                        temporal)
         for r in means:
             r["sequence"] = name
             self.rows.append(r)
         self.images[name] = self.images.get(names[0])
         self.complete_scenes.append(name)
         self.write(partial=True)
-
-    def _accumulation_scores(self, frame_rows: list[dict], means: list[dict],
-                             frames: list[int], temporal: Accumulation) -> dict:
-        """Sets each sequence row's converged error (the mean whole-frame MAE over
-        converged_frames) and its disoccluded error (over the frames of index >=
-        DISOCCLUDED_BELOW - 1, before which no pixel can have DISOCCLUDED_BELOW frames of
-        history: the mean over every region pixel of those frames); returns what
-        results.json's scenes.<sequence>.accumulation says of the rules."""
-        index = {f: i for i, f in enumerate(frames)}
-        at_rest = temporal.largest_motion <= AT_REST_PX
-        converged = converged_frames(list(range(len(frames))), at_rest)
-        by_config: dict[tuple, dict[int, dict]] = {}
-        for r in frame_rows:
-            if r.get("frame") is not None and "metrics" in r:
-                by_config.setdefault((r["kind"], r["method"], r["label"]), {})[
-                    index[r["frame"]]] = r
-        for r in means:
-            got = by_config.get((r["kind"], r["method"], r["label"]), {})
-            maes = [got[i]["metrics"]["all"]["mae"] for i in converged if i in got]
-            if maes and len(maes) == len(converged):
-                r["converged_mae"] = float(np.mean(maes))
-            pooled = [(x["disoccluded_mae"], x["disoccluded_count"]) for i, x in got.items()
-                      if i >= DISOCCLUDED_BELOW - 1 and x.get("disoccluded_mae") is not None]
-            count = sum(c for _, c in pooled)
-            if count:
-                r["disoccluded_mae"] = float(sum(m * c for m, c in pooled) / count)
-                r["disoccluded_count"] = int(count)
-        settings = {s["name"]: s["default"] for s in aolab.accumulate_settings()}
-        return {"settings": {k: float(f"{v:.6g}") if isinstance(v, float) else v
-                             for k, v in settings.items()},
-                "disoccluded_below": DISOCCLUDED_BELOW,
-                "disoccluded_from_index": DISOCCLUDED_BELOW - 1,
-                "converged_from_index": CONVERGED_FROM, "at_rest": at_rest,
-                "largest_motion_px": temporal.largest_motion,
-                "converged_frames": [frames[i] for i in converged],
-                "converged_history": [i + 1 for i in converged],
-                "region_pixels": {f: int(x) for f, x in temporal.region_pixels.items()}}
 
     def _flicker(self, previous: Scene, scene: Scene) -> float | None:
         """Sets the flicker of every row of ``scene`` scored in both frames (against
@@ -1061,7 +919,7 @@ class Study:
         for s in settings:
             row = _row(scene, "method", method, s.label, preset=s.preset or "",
                        settings=s.recorded_settings(), threads=threads, runs=len(times),
-                       **extra, **_time_fields("method", times))
+                       **extra, **time_fields("method", times))
             blur = bool(s.blur and raw.ndim == 2)
             if blur not in done:
                 ao, blur_times = raw, []
@@ -1073,7 +931,7 @@ class Study:
                           (score(ao, scene), vs_limit(ao, scene)))
                 done[blur] = (ao, blur_times, scored)
             ao, blur_times, scored = done[blur]
-            row.update(_time_fields("blur", blur_times))
+            row.update(time_fields("blur", blur_times))
             row["total_ms"] = row["method_ms"] + (row.get("blur_ms") or 0.0)
             if scored is None:
                 row["note"] = (f"output has shape {ao.shape} (RGB, e.g. colour bleeding): timed, "
@@ -1102,8 +960,8 @@ class Study:
             row = _row(scene, "method", method, s.label + ACCUMULATED_SUFFIX,
                        preset=s.preset or "", settings=s.recorded_settings(), threads=threads,
                        runs=len(times), accumulated=True, frame_index=temporal.index,
-                       **_time_fields("method", times), **_time_fields("blur", blur_times),
-                       **_time_fields("accumulate", temporal.times))
+                       **time_fields("method", times), **time_fields("blur", blur_times),
+                       **time_fields("accumulate", temporal.times))
             row["total_ms"] = (row["method_ms"] + (row.get("blur_ms") or 0.0)
                                + row["accumulate_ms"])
             if scored is None:
@@ -1160,7 +1018,7 @@ class Study:
                        settings={"rays": rays, **info}, threads=threads, runs=len(times),
                        note=f"Embree BVH of {rays_scene.triangles} triangles built in "
                             f"{build_ms:.1f} ms, apart (not in the time)",
-                       **_time_fields("method", times))
+                       **time_fields("method", times))
             row["total_ms"] = row["method_ms"]
             _score_row(scene, row, ao)
             row["occluded_mae_vs_limit"] = vs_limit(ao, scene)

@@ -40,7 +40,8 @@ from ..render import reference
 from ..scenes import find_scenes_dir, load_scene, median_projected_radius
 from ..util import files
 from ..util.provenance import machine_info
-from .compare import score, timed
+from .compare import score
+from .timing import timed
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
 DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
