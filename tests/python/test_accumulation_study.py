@@ -359,3 +359,22 @@ def test_flythrough_cropped_accumulates_every_configuration(tmp_path):
             {(label + SUFFIX, True, index) for label in labels}
     assert all(math.isfinite(r["metrics"]["all"]["mae"]) for r in data["rows"]
                if r.get("accumulated"))
+
+
+def test_long_sequences_say_their_frames_briefly():
+    """results.md's tables of MAE per frame keep to MAX_FRAME_COLUMNS evenly spaced frames,
+    first and last included; a run of frames is said as a range; rtao's "not run" names a
+    sequence once, not each of its frames."""
+    frames = list(range(1, 25))
+    shown = results_doc.shown_frames(frames)
+    assert len(shown) == results_doc.MAX_FRAME_COLUMNS
+    assert shown[0] == 1 and shown[-1] == 24 and shown == sorted(set(shown))
+    assert results_doc.shown_frames(frames[:8]) == frames[:8]
+    assert results_doc.frames_text(frames) == "Frames 1–24"
+    assert results_doc.frames_text([1, 3, 5]) == "Frames 1, 3, 5"
+    why = "no reference.mesh"
+    names = [scenes.frame_scene_name("seq", f) for f in (1, 2, 3)]
+    results = {"scenes": {"room": {"rtao_not_run": why},
+                          **{n: {"rtao_not_run": why} for n in names},
+                          "seq": {"sequence": True, "frame_scenes": names}}}
+    assert report_mod.rtao_not_run(results) == f"room, seq (its 3 frames): {why}"

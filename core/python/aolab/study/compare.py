@@ -105,16 +105,20 @@ CALIBRATION_MAX_PIXELS = 200_000
 
 def _lad_fit(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
     a, b = 1.0, 0.0
-    best = (float(np.mean(np.abs(y - x))), a, b)
+    residual = np.abs(y - x)
+    best = (float(np.mean(residual)), a, b)
     for _ in range(CALIBRATION_ITERATIONS):
-        w = 1.0 / np.maximum(np.abs(y - a * x - b), CALIBRATION_EPS)
-        sw, sx, sy = w.sum(), (w * x).sum(), (w * y).sum()
-        sxx, sxy = (w * x * x).sum(), (w * x * y).sum()
+        # the weights from the residuals the MAE of (a, b) was measured on: one pass fewer
+        w = 1.0 / np.maximum(residual, CALIBRATION_EPS)
+        wx = w * x
+        sw, sx, sy = w.sum(), wx.sum(), (w * y).sum()
+        sxx, sxy = (wx * x).sum(), (wx * y).sum()
         det = sw * sxx - sx * sx
         if det <= 0:
             break
         a, b = (sw * sxy - sx * sy) / det, (sxx * sy - sx * sxy) / det
-        mae = float(np.mean(np.abs(y - a * x - b)))
+        residual = np.abs(y - a * x - b)
+        mae = float(np.mean(residual))
         if mae < best[0] - 1e-7:
             best = (mae, a, b)
         else:
@@ -866,7 +870,9 @@ class Study:
             self.images[scene.name] = scene_images(scene, images, self.rows)
         if sequence is None:   # a sequence is complete with its last frame (_run_sequence)
             self.complete_scenes.append(scene.name)
-        self.write(partial=True)
+            # (a frame's rows are written with its sequence's: the partial files after every
+            # frame cost a third of a sequence's time; Ctrl-C still writes what is done)
+            self.write(partial=True)
         return scene
 
     def _score_on_cluster(self, folder: Path, name: str | None, plan: dict, bar,

@@ -1749,10 +1749,18 @@ def rtao_not_run(results: dict) -> str:
     """Why rtao has no rows on some scenes: "scene, scene: reason" for each reason (the mesh
     is missing, of another scene, or refused), or "" when it ran wherever the study asked for
     it."""
+    scenes = results.get("scenes") or {}
     by_reason: dict[str, list[str]] = {}   # scenes with the same reason said once
-    for name, info in (results.get("scenes") or {}).items():
+    for name, info in scenes.items():
         if (info or {}).get("rtao_not_run"):
             by_reason.setdefault(info["rtao_not_run"], []).append(name)
+    for why, names in by_reason.items():   # a sequence's frames said as one name
+        for seq, info in scenes.items():
+            frames = (info or {}).get("frame_scenes") or []
+            if frames and set(frames) <= set(names):
+                at = names.index(frames[0])
+                names[:] = [n for n in names if n not in frames]
+                names.insert(at, f"{seq} (its {len(frames)} frames)")
     return "; ".join(f"{', '.join(names)}: {why}" for why, names in by_reason.items())
 
 

@@ -230,6 +230,26 @@ def rtao_section(results: dict, agg: list[dict]) -> list[str]:
     return out + [""]
 
 
+#: The most frames a table of MAE per frame has columns for (a page's width).
+MAX_FRAME_COLUMNS = 9
+
+
+def shown_frames(frames: list[int]) -> list[int]:
+    """The frames a table of MAE per frame shows: all, or MAX_FRAME_COLUMNS evenly spaced ones
+    from the first to the last (the plots have every frame)."""
+    if len(frames) <= MAX_FRAME_COLUMNS:
+        return list(frames)
+    last, k = len(frames) - 1, MAX_FRAME_COLUMNS - 1
+    return [frames[(i * last + k // 2) // k] for i in range(MAX_FRAME_COLUMNS)]
+
+
+def frames_text(frames: list[int]) -> str:
+    """"Frames 1–24" for a run of consecutive frames, else the frames one by one."""
+    if len(frames) > 2 and frames == list(range(frames[0], frames[-1] + 1)):
+        return f"Frames {frames[0]}–{frames[-1]}"
+    return f'Frames {", ".join(str(f) for f in frames)}'
+
+
 def temporal_section(results: dict) -> list[str]:
     """"Temporal stability": per sequence scene, the reference's flicker floor, each method's
     best configuration within the budget with its MAE per frame, and the flicker of every
@@ -254,18 +274,21 @@ def temporal_section(results: dict) -> list[str]:
                       if r.get("sequence") == name and r.get("frame") is not None]
         floor = info.get("flicker_floor")
         frames = info.get("frames", [])
+        shown = shown_frames(frames)
         out += [f"### {name}", "",
-                f'Frames {", ".join(str(f) for f in frames)}, {info.get("width")}×'
+                f'{frames_text(frames)}, {info.get("width")}×'
                 f'{info.get("height")}, R = {info.get("radius")}; reference flicker floor: '
                 + (f'{_f(floor.get("value"))} ({floor["source"]}).' if floor else "unknown."),
-                "", f"MAE per frame, each method's best configuration within {budget:g} ms:", "",
-                "| method | setting | " + " | ".join(str(f) for f in frames) + " |",
-                "|---|---|" + "---|" * len(frames)]
+                "", ("MAE per frame" if shown == frames else
+                     f"MAE at {len(shown)} of the {len(frames)} frames")
+                + f", each method's best configuration within {budget:g} ms:", "",
+                "| method | setting | " + " | ".join(str(f) for f in shown) + " |",
+                "|---|---|" + "---|" * len(shown)]
         for b in report.sequence_best(rows, budget):
             mae = {r["frame"]: report.metric(r, "all_mae") for r in frame_rows
                    if (r["kind"], r["method"], r["label"]) == (b["kind"], b["method"], b["label"])}
             out.append(f'| {b["method"]} | {b["label"]} | '
-                       + " | ".join(_f(mae.get(f)) for f in frames) + " |")
+                       + " | ".join(_f(mae.get(f)) for f in shown) + " |")
         out += ["", "| method | setting | flicker | MAE (mean over frames) | ms | random pattern |",
                 "|---|---|---|---|---|---|"]
         for e in report.flicker_entries(rows):
