@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/base/parallel.h"
+#include "core/filters/temporal_pixel.h"
 
 namespace aolab {
 
@@ -114,8 +115,43 @@ void validate_ao(ConstImageView ao, const GBuffer& g) {
 
 }  // namespace
 
+void accumulate_pixel(const TemporalFrame& f, int x, int y) {
+  const TemporalSettings& s = f.settings;
+  const float d = f.g.depth(x, y), c = f.ao(x, y);
+  f.accumulated(x, y) = c;  // background, disocclusion: the current frame exactly
+  f.disoccluded(x, y) = 0.0f;
+  if (!f.g.valid(x, y)) {
+    f.depth(x, y) = std::numeric_limits<float>::quiet_NaN();
+    f.length(x, y) = 0.0f;  // not disoccluded: there is no surface to have history
+    return;
+  }
+  f.depth(x, y) = d;
+  const float* n =
+      f.normals.data() + (std::size_t(y) * std::size_t(f.g.width()) + std::size_t(x)) * 3;
+  const Reprojected r =
+      f.history.empty() ? Reprojected{}
+                        : reproject(f.history, x, y, f.motion(x, y, 0), f.motion(x, y, 1), d, n, s);
+  if (!r.found) {
+    f.disoccluded(x, y) = 1.0f;
+    f.length(x, y) = 1.0f;
+    return;
+  }
+  double past = r.ao;
+  if (TemporalClamp(s.clamp) != TemporalClamp::Off) {
+    double lo = 0.0, hi = 0.0;
+    clamp_range(f.ao, f.g, x, y, s, lo, hi);
+    past = std::clamp(past, lo, hi);
+  }
+  // w = max(α, 1/(n + 1)): the running mean until it reaches α, then the exponential
+  // average (Karis 2014's blend with a start that weighs every frame alike).
+  const double weight = std::max(double(s.alpha), 1.0 / (double(r.length) + 1.0));
+  f.accumulated(x, y) = float(past + weight * (double(c) - past));
+  f.length(x, y) = std::min(r.length + 1.0f, float(s.max_history));
+}
+
 TemporalResult accumulate(ConstImageView ao, const GBuffer& g, ConstImageView motion,
-                          TemporalHistory& history, const TemporalSettings& s, int threads) {
+                          TemporalHistory& history, const TemporalSettings& s, int threads,
+                          TemporalKernel kernel) {
   validate_settings(s, kTemporalFields);
   resolve_threads(threads);
   g.validate();
@@ -131,40 +167,16 @@ TemporalResult accumulate(ConstImageView ao, const GBuffer& g, ConstImageView mo
   Image normals = prepared_normals(g, threads);
   Image depth(w, h, 1), length(w, h, 1);
   TemporalResult out{Image(w, h, 1), Image(w, h, 1)};
-  const bool frame0 = history.empty();
-  const float alpha = s.alpha;
-  const float max_length = float(s.max_history);
+  const TemporalFrame frame{
+      ao, g, motion, history, s, normals, out.accumulated, out.disoccluded, depth, length};
   parallel_for_rows(h, threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < w; ++x) {
-        const float d = g.depth(x, y), c = ao(x, y);
-        out.accumulated(x, y) = c;  // background, disocclusion: the current frame exactly
-        if (!g.valid(x, y)) {
-          depth(x, y) = std::numeric_limits<float>::quiet_NaN();
-          continue;  // length 0, not disoccluded: there is no surface to have history
-        }
-        depth(x, y) = d;
-        const float* n = normals.data() + (std::size_t(y) * std::size_t(w) + std::size_t(x)) * 3;
-        const Reprojected r =
-            frame0 ? Reprojected{}
-                   : reproject(history, x, y, motion(x, y, 0), motion(x, y, 1), d, n, s);
-        if (!r.found) {
-          out.disoccluded(x, y) = 1.0f;
-          length(x, y) = 1.0f;
-          continue;
-        }
-        double past = r.ao;
-        if (TemporalClamp(s.clamp) != TemporalClamp::Off) {
-          double lo = 0.0, hi = 0.0;
-          clamp_range(ao, g, x, y, s, lo, hi);
-          past = std::clamp(past, lo, hi);
-        }
-        // w = max(α, 1/(n + 1)): the running mean until it reaches α, then the exponential
-        // average (Karis 2014's blend with a start that weighs every frame alike).
-        const double weight = std::max(double(alpha), 1.0 / (double(r.length) + 1.0));
-        out.accumulated(x, y) = float(past + weight * (double(c) - past));
-        length(x, y) = std::min(r.length + 1.0f, max_length);
+    for (int y = y0; y < y1; ++y) {
+      if (kernel == TemporalKernel::Simd) {
+        accumulate_row_simd(frame, y);
+        continue;
       }
+      for (int x = 0; x < w; ++x) accumulate_pixel(frame, x, y);
+    }
   });
   history.ao = out.accumulated;
   history.length = std::move(length);

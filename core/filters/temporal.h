@@ -100,6 +100,10 @@ struct TemporalResult {
   Image disoccluded;  ///< 1 where a geometry pixel had no usable history (all of frame 0), else 0
 };
 
+/// Which code runs the step: the SIMD kernel (temporal_simd.cpp) or the scalar per-pixel code
+/// it is tested against (temporal.cpp); the same bits either way.
+enum class TemporalKernel : int { Simd = 0, Scalar = 1 };
+
 /// Blends `ao` (1 channel, this frame's result of a method on `g`) into `history`, which it
 /// then replaces with this frame's. `motion` (2 channels, pixels): at pixel (i, j) the offset
 /// (dx, dy) to where the surface seen there was in the previous frame, y down; NaN on
@@ -109,7 +113,7 @@ struct TemporalResult {
 /// a geometry pixel; the history is then left as it was.
 TemporalResult accumulate(ConstImageView ao, const GBuffer& g, ConstImageView motion,
                           TemporalHistory& history, const TemporalSettings& settings,
-                          int threads = 0);
+                          int threads = 0, TemporalKernel kernel = TemporalKernel::Simd);
 
 /// The settings as type-erased descriptions (describe_settings(kTemporalFields)).
 std::vector<SettingDescription> temporal_setting_descriptions();

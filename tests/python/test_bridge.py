@@ -317,6 +317,24 @@ bpy.ops.wm.save_as_mainfile(filepath={str(blend)!r})
 
 
 @needs_blender
+def test_a_bridge_that_dies_before_its_handler_renders_nothing(tmp_path):
+    """A package Blender cannot import (one being rebuilt while a farm renders, say) kills the
+    bridge before its own error handler, where Blender used to exit 0: the command fails with
+    one line naming the scene, and the cache has no entry for it, not even an empty one."""
+    package = Path(aolab.__file__).parent
+    broken = tmp_path / "pkg"
+    shutil.copytree(package, broken / "aolab")
+    (broken / "aolab" / "bridge" / "intrinsics.py").write_text("raise ImportError('half-copied')\n")
+    cache = tmp_path / "cache"
+    env = dict(os.environ, PYTHONPATH=str(broken))
+    res = aolab_reference(str(TINY), "--spp", "1", "--cache", str(cache), env=env, check=False)
+    assert res.returncode != 0 and "tiny_scene" in res.stderr, res.stdout + res.stderr
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("aolab: ") and "half-copied" in lines[0]
+    assert not cache.exists() or not any(cache.iterdir()), list(cache.iterdir())
+
+
+@needs_blender
 def test_interrupted_batch_resumes_from_the_cache(tmp_path):
     """Killed during the second scene of a batch: the first stays cached, nothing half-written
     is left, and the same command finishes the batch, serving the first from the cache. A

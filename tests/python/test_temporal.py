@@ -85,7 +85,7 @@ def neighbourhood_range(ao, valid):
 
 
 @hsettings(max_examples=80)
-@given(w=st.integers(1, 12), h=st.integers(1, 10), frames=st.integers(1, 5),
+@given(w=st.integers(1, 24), h=st.integers(1, 10), frames=st.integers(1, 5),
        seed=st.integers(0, 2**32 - 1), alpha=st.floats(0, 1),
        clamp=st.sampled_from(["off", "minmax", "variance"]),
        depth_tolerance=st.floats(0, 10), normal_tolerance=st.floats(-1, 1),
@@ -96,9 +96,10 @@ def test_properties_over_random_frames(w, h, frames, seed, alpha, clamp, depth_t
     included) and settings: the result lies within the range of every input so far, and with
     a clamp within the current 3x3 neighbourhood's range; disoccluded pixels take the
     current frame exactly; frame 0 is disoccluded on every geometry pixel; background keeps
-    the current value and is never flagged."""
+    the current value and is never flagged. The scalar code gives the SIMD kernel's bits."""
     rng = np.random.default_rng(seed)
     history, lo_all, hi_all = aolab.TemporalHistory(), np.inf, -np.inf
+    scalar = aolab.TemporalHistory()
     for k in range(frames):
         depth = rng.choice(np.float32([1.0, 1.02, 1.5, 3.0, 1e10]), size=(h, w))
         normal = rng.normal(size=(h, w, 3)).astype(np.float32)
@@ -109,9 +110,13 @@ def test_properties_over_random_frames(w, h, frames, seed, alpha, clamp, depth_t
             hi_all, ao[valid].max(initial=-np.inf))
         motion = (rng.normal(size=(h, w, 2)) * motion_scale).astype(np.float32)
         motion[rng.random((h, w)) < 0.1] = np.nan
-        out, dis = aolab.accumulate(ao, g, motion, history, alpha=alpha, clamp=clamp,
-                                    depth_tolerance=depth_tolerance,
-                                    normal_tolerance=normal_tolerance)
+        chosen = dict(alpha=alpha, clamp=clamp, depth_tolerance=depth_tolerance,
+                      normal_tolerance=normal_tolerance)
+        out, dis = aolab.accumulate(ao, g, motion, history, **chosen)
+        out_s, dis_s = aolab.accumulate(ao, g, motion, scalar, kernel="scalar", **chosen)
+        np.testing.assert_array_equal(out.view(np.uint32), out_s.view(np.uint32))
+        np.testing.assert_array_equal(dis, dis_s)
+        np.testing.assert_array_equal(history.length, scalar.length)
         assert ((out[valid] >= lo_all) & (out[valid] <= hi_all)).all()
         np.testing.assert_array_equal(out[dis], ao[dis])
         np.testing.assert_array_equal(out[~valid], ao[~valid])
@@ -168,6 +173,8 @@ def test_bad_values_are_value_errors_naming_them():
         aolab.accumulate(ao, g, still(5, 5), history)
     with pytest.raises(ValueError, match="threads must be >= 0"):
         aolab.accumulate(ao, g, still(6, 5), history, threads=-1)
+    with pytest.raises(ValueError, match='kernel must be "simd" or "scalar", got fast'):
+        aolab.accumulate(ao, g, still(6, 5), history, kernel="fast")
     assert history.empty
     aolab.accumulate(ao, g, still(6, 5), history)
     with pytest.raises(ValueError, match=r"history must be empty \(frame 0\) or from frames"):

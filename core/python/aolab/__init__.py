@@ -155,7 +155,8 @@ def frame_seed(seed: int, frame: int) -> int:
 
 
 def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: TemporalHistory,
-               *, threads: int = 0, **settings) -> tuple[np.ndarray, np.ndarray]:
+               *, threads: int = 0, kernel: str = "simd",
+               **settings) -> tuple[np.ndarray, np.ndarray]:
     """Temporal accumulation (docs/temporal.md): blends this frame's ``ao`` (H, W) of a method
     on ``gbuffer`` into ``history``, reprojected by ``motion``, and updates ``history`` to
     this frame. Returns ``(accumulated, disoccluded)``: the float32 (H, W) blend, and a bool
@@ -168,9 +169,11 @@ def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: Te
     dx = -k. ``settings`` are those of :func:`accumulate_settings` (``alpha``,
     ``max_history``, ``depth_tolerance``, ``normal_tolerance``, ``clamp`` by name: ``"off"``,
     ``"minmax"`` or ``"variance"``, ``variance_gamma``). Vary the method's noise per frame
-    with ``compute(..., frame=k)``. Bad values are a ValueError naming them; the bits do not
-    depend on ``threads``."""
-    return _core.accumulate(ao, gbuffer, motion, history, settings, threads=threads)
+    with ``compute(..., frame=k)``. ``kernel``: ``"simd"`` (the default) or ``"scalar"``, the
+    per-pixel code the SIMD kernel is tested against; the same bits. Bad values are a
+    ValueError naming them; the bits do not depend on ``threads``."""
+    return _core.accumulate(ao, gbuffer, motion, history, settings, threads=threads,
+                            kernel=kernel)
 
 
 def accumulate_settings() -> list[dict]:

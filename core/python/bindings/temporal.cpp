@@ -37,7 +37,9 @@ frame 0. Pass the same object to every frame of a sequence; reset() starts again
   m.def(
       "accumulate",
       [](FloatArray ao, const PyGBuffer& g, const py::object& motion, TemporalHistory& history,
-         const py::dict& settings, int threads) {
+         const py::dict& settings, int threads, const std::string& kernel) {
+        if (kernel != "simd" && kernel != "scalar")
+          throw_invalid("kernel", "must be \"simd\" or \"scalar\"", kernel);
         const ConstImageView ao_view = view_of(ao, "ao", 0);
         const FloatArray motion_array =
             real_array(motion, "motion", "an array (H, W, 2) of pixel offsets");
@@ -48,13 +50,14 @@ frame 0. Pass the same object to every frame of a sequence; reset() starts again
         TemporalResult out;
         {
           py::gil_scoped_release release;
-          out = accumulate(ao_view, g.view, motion_view, history, s, threads);
+          out = accumulate(ao_view, g.view, motion_view, history, s, threads,
+                           kernel == "simd" ? TemporalKernel::Simd : TemporalKernel::Scalar);
         }
         py::array_t<float> mask = to_numpy(std::move(out.disoccluded));
         return py::make_tuple(to_numpy(std::move(out.accumulated)), mask.attr("astype")("bool"));
       },
       py::arg("ao"), py::arg("gbuffer"), py::arg("motion"), py::arg("history"), py::arg("settings"),
-      py::kw_only(), py::arg("threads") = 0);
+      py::kw_only(), py::arg("threads") = 0, py::arg("kernel") = "simd");
 
   m.def("accumulate_settings",
         [] { return describe_settings_for_python(temporal_setting_descriptions()); });

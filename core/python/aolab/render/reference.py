@@ -282,17 +282,21 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
                 scale=scale)
 
 
-def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
-    folder = cache / plan.key(blender)
+def complete_result(folder: Path, plan: Plan) -> bool:
+    """Whether ``folder`` holds every file of ``plan``'s result, none empty, and a sidecar that
+    reads as one."""
     try:
         paths = plan.result_files(folder)
         side = json.loads(files.read_text(paths[-1], "cached sidecar"))
-        if all(files.regular_file(f, "cached result").stat().st_size > 0
-               for f in paths[:-1]) and "scene_hash" in side:
-            return folder
+        return (all(files.regular_file(f, "cached result").stat().st_size > 0
+                    for f in paths[:-1]) and "scene_hash" in side)
     except (OSError, ValueError):
-        pass
-    return None
+        return False
+
+
+def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
+    folder = cache / plan.key(blender)
+    return folder if complete_result(folder, plan) else None
 
 
 def progress_bar(enabled: bool, desc: str):
@@ -333,7 +337,10 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
     s = plan.scene
-    cmd = [blender, "-b", "--factory-startup", "-noaudio", "--disable-autoexec"]
+    # --python-exit-code: a Python error outside the bridge's own handler (an import that
+    # fails, say) ends Blender with 1 instead of its usual 0
+    cmd = [blender, "-b", "--factory-startup", "-noaudio", "--disable-autoexec",
+           "--python-exit-code", "1"]
     if plan.peers and plan.eevee:
         cmd = _xvfb() + cmd  # EEVEE needs an OpenGL context even with -b (docs/blender_facts.md)
     if s.kind == "blend":
@@ -390,6 +397,9 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         rc = proc.wait()
         if rc != 0 or error:
             raise ReferenceError(f"{s.name}: " + (error or "Blender failed:\n" + "\n".join(tail)))
+        if not complete_result(tmp, plan):   # never an entry without its files
+            raise ReferenceError(f"{s.name}: Blender exited without writing the result:\n"
+                                 + "\n".join(tail))
         if final.exists():  # a concurrent run finished first; keep one
             shutil.rmtree(final)
         os.replace(tmp, final)
