@@ -339,7 +339,8 @@ def test_results_md_has_an_accumulation_section_only_with_accumulated_rows(pan, 
 
 
 def test_flythrough_cropped_accumulates_every_configuration(tmp_path):
-    """The committed flythrough (motion vectors in every frame), cropped to 64x36."""
+    """The committed flythrough (motion vectors in every frame, EEVEE's peer per frame),
+    cropped to 64x36."""
     where = SCENES
     if not (where / "flythrough" / "frames").exists():
         pytest.skip("the flythrough is not rendered")
@@ -359,6 +360,22 @@ def test_flythrough_cropped_accumulates_every_configuration(tmp_path):
             {(label + SUFFIX, True, index) for label in labels}
     assert all(math.isfinite(r["metrics"]["all"]["mae"]) for r in data["rows"]
                if r.get("accumulated"))
+    # EEVEE's peer of each frame (frames/NNNN/peers/): a row per frame, and over the sequence
+    # its converged error (the configurations' frames), flicker and the accumulation tables
+    eevee = [r for r in data["rows"] if r["kind"] == "eevee"]
+    names = [scenes.frame_scene_name("flythrough", f) for f in frames]
+    assert {r["scene"] for r in eevee} == set(names) | {"flythrough"}
+    (mean,) = [r for r in eevee if r["scene"] == "flythrough"]
+    last = next(r for r in eevee if r["scene"] == names[-1])
+    assert mean["converged_mae"] == last["metrics"]["all"]["mae"]
+    assert mean["flicker"] > 0 and mean["disoccluded_mae"] is not None
+    (peer,) = report_mod.peer_sequence_entries(data["rows"], "flythrough")
+    assert peer["converged"] == mean["converged_mae"]
+    text = results_doc.generated(data)
+    assert (f'| {mean["label"]} | {mean["total_ms"]:.0f} | {mean["converged_mae"]:.4f} |'
+            in text[text.index("## Temporal accumulation"):])
+    html_ = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    assert '<table class="check peers"><tr><th>peer</th>' in html_
 
 
 def test_long_sequences_say_their_frames_briefly():

@@ -890,6 +890,29 @@ def accumulation_entries(rows: list[dict], name: str) -> list[dict]:
     return sorted(out, key=lambda e: (e["method"], e["single_ms"] or big, e["label"]))
 
 
+#: The kinds of the peers' rows (reference_scenes/<name>/peers/peers.json).
+PEER_KINDS = ("cycles", "eevee")
+
+
+def peer_sequence_entries(rows: list[dict], name: str) -> list[dict]:
+    """The peers of sequence ``name`` (EEVEE, rendered per frame: its own samples accumulated
+    within each frame, nothing carried between frames) over its frames, for the accumulation
+    tables: render time, converged error (the same frames as the configurations'),
+    disoccluded error, flicker."""
+    out = [{"name": r["method"], "label": r["label"], "key": r["key"],
+            "ms": number(r.get("total_ms")), "converged": number(r.get("converged_mae")),
+            "disoccluded": number(r.get("disoccluded_mae")), "flicker": number(r.get("flicker"))}
+           for r in rows if r["scene"] == name and r["kind"] in PEER_KINDS]
+    return sorted(out, key=lambda e: e["name"])
+
+
+#: What the peers' row of the accumulation tables says of their times.
+PEER_TIME_NOTE = ("EEVEE renders each frame with its own samples (Blender's render settings) "
+                  "and carries nothing between frames; its time is Blender's render of the "
+                  "frame on this machine (software OpenGL here), not comparable with the "
+                  "methods' times.")
+
+
 #: accumulation_pairs' rule, as the report and docs/results.md state it.
 PAIRING_RULE = ("Per method, the cheapest configuration X (by its time per frame with the "
                 "step) whose accumulated converged error beats the single-frame error, over the "
@@ -1004,13 +1027,27 @@ def accumulation_html(name: str, rows: list[dict], info: dict) -> str:
             f'<td>{_cell(e["acc_disoccluded"])}</td><td>{_cell(e["single_flicker"])}</td>'
             f'<td>{_cell(e["acc_flicker"])}</td></tr>' for e in entries]
     table_ = f'<table class="check accumulation">{head}{"".join(body)}</table>'
+    peers = peer_sequence_entries(rows, name)
+    peer_html = []
+    if peers:
+        head = ("<tr><th>peer</th><th>render ms per frame</th><th>converged MAE</th>"
+                "<th>disoccluded MAE</th><th>flicker</th></tr>")
+        body = [f'<tr data-key="{html.escape(e["key"])}"><td>{html.escape(e["label"])}</td>'
+                f'<td>{_cell(e["ms"], ".0f")}</td><td>{_cell(e["converged"])}</td>'
+                f'<td>{_cell(e["disoccluded"])}</td><td>{_cell(e["flicker"])}</td></tr>'
+                for e in peers]
+        peer_html = [f'<p class="note">The peers on the same frames. '
+                     f'{html.escape(PEER_TIME_NOTE)}</p>',
+                     f'<div class="scroll"><table class="check peers">{head}{"".join(body)}'
+                     '</table></div>']
     return "\n".join([
         f'<h3 id="accumulation-{html.escape(name)}">Temporal accumulation</h3>',
         f'<p class="note">{html.escape(accumulation_rules(acc))} {PAIRING_RULE}</p>',
         f'<div class="scroll">{pairs}</div>',
         '<p class="note">Every configuration in one frame beside accumulated (times per '
         'frame; the errors and the flicker as above; the rows are in the table of the '
-        'sequence and in results.csv):</p>', f'<div class="scroll">{table_}</div>'])
+        'sequence and in results.csv):</p>', f'<div class="scroll">{table_}</div>',
+        *peer_html])
 
 
 def sequence_section(page, name: str, rows: list[dict], info: dict, budget_ms: float) -> str:

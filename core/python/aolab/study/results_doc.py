@@ -353,6 +353,13 @@ def accumulation_section(results: dict, image_dir: str = "images") -> list[str]:
                        f'{_f(e["acc_converged"])} | {_f(e["single_disoccluded"])} | '
                        f'{_f(e["acc_disoccluded"])} | {_f(e["single_flicker"])} | '
                        f'{_f(e["acc_flicker"])} |')
+        peers = report.peer_sequence_entries(results["rows"], name)
+        if peers:
+            out += ["", f"The peers on the same frames. {report.PEER_TIME_NOTE}", "",
+                    "| peer | render ms per frame | converged MAE | disoccluded MAE | flicker |",
+                    "|---|---|---|---|---|"]
+            out += [f'| {e["label"]} | {_f(e["ms"], ".0f")} | {_f(e["converged"])} | '
+                    f'{_f(e["disoccluded"])} | {_f(e["flicker"])} |' for e in peers]
         out.append("")
     return out
 
