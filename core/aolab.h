@@ -16,7 +16,8 @@
 //                   (files.h).
 // - core/scoring/   MAE, RMSE, PSNR, bias and SSIM against a reference (metrics.h, ssim.h).
 // - core/filters/   the separable Gaussian applied after a method (blur.h), temporal
-//                   accumulation over frames (temporal.h).
+//                   accumulation over frames (temporal.h; temporal_pixel.h: its per-pixel
+//                   step, the oracle of its SIMD kernel).
 // - core/scenes/    analytic scenes with closed-form Cycles AO (analytic_scenes.h).
 // - core/methods/   the registry (registry.h: every method by name, with its settings table)
 //                   and one folder per method; a method's helpers in its folder are private.
@@ -75,6 +76,7 @@
 // core/filters
 #include "core/filters/blur.h"
 #include "core/filters/temporal.h"
+#include "core/filters/temporal_pixel.h"
 
 // core/scenes
 #include "core/scenes/analytic_scenes.h"

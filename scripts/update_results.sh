@@ -2,7 +2,7 @@
 # Regenerates docs/results.md (the current results table and Pareto plots, with the
 # hand-written paragraph kept) from a fresh run of the comparison study on the whole corpus
 # (`aolab compare --corpus`: every scene, so that its means and intervals are over all 30
-# stills). Run it on a quiet machine; about twice the default study on 2 cores. Extra
+# stills, and the four sequences). Run it on a quiet machine; about 13 min on 2 cores. Extra
 # arguments go to `aolab compare` (e.g. --sweep full for every setting: much longer).
 #   scripts/update_results.sh [--sweep full] [...]
 set -euo pipefail
