@@ -265,8 +265,8 @@ def run_many(monkeypatch, tmp_path, fast_until: int, interrupt_at: int):
     submissions, stdout = [], InterruptingStdout(interrupt_at)
     real_connect = cluster.connect
 
-    def connect(scheduler, workers):
-        client, local = real_connect(scheduler, workers)
+    def connect(scheduler, workers, security=None):
+        client, local = real_connect(scheduler, workers, security)
         client.run(install_fake_render, fast_until)
         submit = client.submit
 

@@ -11,7 +11,7 @@ from ..raytracing import RTAO_LADDER
 from ..scenes import parse_crop
 from ..study import compare
 from ..util.arguments import MAX_SIDE, float_option, int_list_option, int_option
-from .options import add_cluster_options, add_timing_options
+from .options import add_cluster_options, add_timing_options, cluster_security
 
 
 def add_parser(sub):
@@ -72,5 +72,5 @@ def run(args) -> int:
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
         image_width=args.image_width, rtao_ladder=tuple(args.rtao_rays),
-        workers=args.workers, scheduler=args.scheduler)
+        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args))
     return compare.run_study(opts)

@@ -5,6 +5,7 @@ aolab.util.arguments (the bridge's entry point inside Blender shares them)."""
 from __future__ import annotations
 
 from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option
+from ..util.dask_cluster import ClusterSecurity, check_scheduler
 
 
 def threads_option():
@@ -34,4 +35,26 @@ def add_cluster_options(q, verb: str, alone: str, needs: str) -> None:
                    f"{MAX_WORKERS} (default 1: in this process, {alone}; docs/scale_out.md)")
     q.add_argument("--scheduler", metavar="ADDRESS",
                    help=f"{verb} on the Dask cluster whose scheduler is at ADDRESS (e.g. "
-                   f"tcp://10.0.0.5:8786); its workers need {needs} (docs/scale_out.md)")
+                   f"tls://10.0.0.5:8786, with the three --tls options); its workers need "
+                   f"{needs} (docs/scale_out.md)")
+    q.add_argument("--tls-ca-file", metavar="FILE",
+                   help="with a tls:// --scheduler: the CA certificate the farm's certificates "
+                   "are signed by (PEM; default: Dask's configuration)")
+    q.add_argument("--tls-cert", metavar="FILE",
+                   help="with a tls:// --scheduler: this client's certificate (PEM)")
+    q.add_argument("--tls-key", metavar="FILE",
+                   help="with a tls:// --scheduler: this client's private key (PEM)")
+    q.add_argument("--insecure", action="store_true",
+                   help="allow a plain tcp:// --scheduler beyond this machine: anyone who "
+                   "reaches its port can run code on every worker (docs/scale_out.md, "
+                   "\"Security\")")
+
+
+def cluster_security(args):
+    """The --tls-* and --insecure options as a ClusterSecurity, checked with --scheduler
+    before any work starts (a ValueError naming the option)."""
+    security = ClusterSecurity(ca_file=args.tls_ca_file, cert=args.tls_cert, key=args.tls_key,
+                               insecure=args.insecure)
+    if args.scheduler:
+        check_scheduler(args.scheduler, security)
+    return security

@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..render import cluster, reference
 from ..util.arguments import MAX_SAMPLES, checked_type, int_list_option, int_option
 from .common import RADIUS
-from .options import add_cluster_options
+from .options import add_cluster_options, cluster_security
 
 
 def add_parser(sub):
@@ -59,11 +59,13 @@ def delivery(args) -> reference.Delivery:
 def run(args) -> int:
     to = delivery(args)
     to.check()
+    security = cluster_security(args)
     plans = reference.command_plans(
         args.scenes, spp=args.spp, radius=args.radius, methods=args.methods, passes=args.passes,
         resolution=args.resolution, camera=args.camera, gbuffer_samples=args.gbuffer_samples,
         peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames)
     with reference.holding(args.out, "aolab reference"):
         if args.scheduler or args.workers > 1:
-            return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers)
+            return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers,
+                                     security=security)
         return reference.run_plans(plans, to)

@@ -11,7 +11,7 @@ from ..scenes import parse_crop
 from ..study import tune
 from ..study.tune import DEFAULT_MAX_MS, DEFAULT_TRIALS
 from ..util.arguments import float_option, int_option
-from .options import add_cluster_options, add_timing_options
+from .options import add_cluster_options, add_timing_options, cluster_security
 
 
 def add_parser(sub):
@@ -69,5 +69,5 @@ def run(args) -> int:
         presets_file=Path(args.presets_file) if args.presets_file else None,
         timing=tune.Timing(args.warmup, args.repeat, args.threads, args.max_ms),
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
-        workers=args.workers, scheduler=args.scheduler)
+        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args))
     return tune.run_command(opts)

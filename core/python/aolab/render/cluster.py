@@ -27,7 +27,7 @@ import time
 import uuid
 from pathlib import Path
 
-from ..util.dask_cluster import connect, threads
+from ..util.dask_cluster import ClusterSecurity, client_security_of, connect, threads
 from . import reference
 
 #: How often a running job asks the cluster whether to stop (s): each ask is a round trip to
@@ -59,7 +59,9 @@ def render_job(plan: reference.Plan, cache: str, force: bool, stop_event: str) -
     # A client of the job's own, closed when the job ends. The worker's shared client
     # (Event's default) is left to the worker process's exit, and when an interrupt stops
     # the cluster, Debian 13's distributed then prints "IOLoop is closed" from its __del__.
-    with Client(get_worker().scheduler.address, set_as_default=False) as client:
+    worker = get_worker()
+    with Client(worker.scheduler.address, set_as_default=False,
+                security=client_security_of(worker)) as client:
         event = Event(stop_event, client=client)
         if event.is_set():   # started after Ctrl-C (queued on this worker): no Blender at all
             raise reference.Stopped(f"{plan.scene.name}: stopped")
@@ -83,7 +85,8 @@ def window(n_threads: int) -> int:
 
 
 def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
-              scheduler: str | None = None, workers: int = 1) -> int:
+              scheduler: str | None = None, workers: int = 1,
+              security: ClusterSecurity | None = None) -> int:
     """The plans as jobs on the cluster at ``scheduler`` (None: a local one of ``workers``),
     a window of them at a time (``window``); their files copied to ``delivery.out`` as they
     finish. The exit status."""
@@ -92,7 +95,7 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
     cache.mkdir(parents=True, exist_ok=True)
     out = delivery.out
     several = len({p.scene.name for p in plans}) > 1
-    client, cluster = connect(scheduler, workers)
+    client, cluster = connect(scheduler, workers, security)
     stop = Event(f"aolab-stop-{uuid.uuid4().hex}", client=client)
     # Jobs are submitted as earlier ones are collected, never all at once: submitting costs
     # the client a few milliseconds and its memory per job, so 100000 frames submitted up

@@ -45,7 +45,7 @@ from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder
                       resolve_scenes)
 from ..scoring import check_same_bits, digest, signed_error_rgb
 from ..util import files
-from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
+from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files, stats
 from .pareto import hd_scale
@@ -475,6 +475,8 @@ class Options:
     #: scheduler's; the times are still measured here.
     workers: int = 1
     scheduler: str | None = None
+    #: How to meet a remote scheduler (TLS files, or consent to plain tcp on the network).
+    security: ClusterSecurity | None = None
 
 
 def _downscale(a: np.ndarray, width: int) -> np.ndarray:
@@ -737,7 +739,7 @@ class Study:
         threads = opts.threads
         bar = _progress(opts.progress, n_units)
         if opts.scheduler or opts.workers > 1:
-            self.client, self.cluster = connect(opts.scheduler, opts.workers)
+            self.client, self.cluster = connect(opts.scheduler, opts.workers, opts.security)
         try:
             for folder in folders:
                 if frame_numbers(folder):

@@ -50,7 +50,7 @@ from ..settings import described
 from ..util import dask_cluster, files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
-from ..util.dask_cluster import connect, crop_key, wait_all, worker_scene
+from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
 from . import pareto
 
 #: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: pareto.hd_scale).
@@ -368,6 +368,8 @@ class Options:
     #: Score trials on a Dask cluster: a local one of this many workers, or the scheduler's.
     workers: int = 1
     scheduler: str | None = None
+    #: How to meet a remote scheduler (TLS files, or consent to plain tcp on the network).
+    security: ClusterSecurity | None = None
 
 
 def default_methods() -> list[str]:
@@ -814,7 +816,7 @@ def run(opts: Options) -> dict:
     results = {}
     from optuna.exceptions import StorageInternalError
     from sqlalchemy.exc import SQLAlchemyError
-    client, cluster = (connect(opts.scheduler, opts.workers)
+    client, cluster = (connect(opts.scheduler, opts.workers, opts.security)
                        if opts.scheduler or opts.workers > 1 else (None, None))
     try:
         for m in methods:

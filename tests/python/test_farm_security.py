@@ -1,0 +1,174 @@
+"""The farm's security (docs/scale_out.md, "Security"): a plain tcp:// scheduler beyond this
+machine is refused unless --insecure says otherwise; a tls:// scheduler needs its CA,
+certificate and key; and a real TLS farm (a scheduler and two workers on the loopback
+interface, certificates made here with openssl) renders a reference for a client with a
+certificate of its CA and refuses one without."""
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
+                                     scheme_and_host)
+
+from test_bridge import TINY, needs_blender
+
+distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed "
+                                  "(scripts/install-deps.sh installs it)")
+OPENSSL = shutil.which("openssl")
+needs_openssl = pytest.mark.skipif(OPENSSL is None, reason="openssl is not installed "
+                                   "(scripts/install-deps.sh installs it)")
+
+
+def aolab(*args, timeout=300):
+    return subprocess.run([sys.executable, "-m", "aolab", *args], capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def test_addresses_are_read_as_dask_reads_them():
+    assert scheme_and_host("tls://10.0.0.5:8786") == ("tls", "10.0.0.5")
+    assert scheme_and_host("10.0.0.5:8786") == ("tcp", "10.0.0.5")
+    assert scheme_and_host("TCP://[::1]:8786") == ("tcp", "::1")
+    assert scheme_and_host("tcp://render-01:8786") == ("tcp", "render-01")
+    for host in ("127.0.0.1", "127.8.9.10", "::1", "localhost"):
+        assert is_loopback(host), host
+    for host in ("10.0.0.5", "0.0.0.0", "render-01", "::", "192.0.2.1"):
+        assert not is_loopback(host), host
+
+
+@pytest.mark.parametrize("command", [
+    ["reference", str(TINY)],
+    ["compare", "room", "--methods", "hbao"],
+    ["tune", "--methods", "hbao", "--trials", "1"],
+])
+def test_plain_tcp_beyond_this_machine_is_refused(command, tmp_path):
+    """Every command that takes --scheduler refuses tcp:// to another host before any work,
+    with one line that names the risk and the fix."""
+    r = aolab(*command, "--scheduler", "tcp://10.0.0.5:8786", "--out", str(tmp_path / "o"))
+    lines = r.stderr.splitlines()
+    assert r.returncode == 2 and len(lines) == 1, r.stderr
+    assert lines[0].startswith("aolab: --scheduler tcp://10.0.0.5:8786: refused")
+    assert "can run any code on every worker" in lines[0]
+    assert "tls://" in lines[0] and "--insecure" in lines[0]
+    assert not (tmp_path / "o").exists()
+
+
+def test_insecure_allows_it_and_warns_each_time(capsys):
+    for _ in range(2):
+        assert check_scheduler("tcp://10.0.0.5:8786", ClusterSecurity(insecure=True)) is None
+        err = capsys.readouterr().err
+        assert err.startswith("aolab: warning: --insecure: tcp://10.0.0.5:8786")
+    # on this machine's loopback interface plain tcp is allowed, and silent
+    for address in ("tcp://127.0.0.1:8786", "localhost:8786", "tcp://[::1]:8786"):
+        assert check_scheduler(address) is None
+    assert capsys.readouterr().err == ""
+
+
+def test_tls_needs_its_three_files(tmp_path, monkeypatch):
+    for var in ("CA_FILE", "CLIENT__CERT", "CLIENT__KEY"):
+        monkeypatch.delenv(f"DASK_DISTRIBUTED__COMM__TLS__{var}", raising=False)
+    with pytest.raises(ValueError, match="a tls:// scheduler needs --tls-ca-file"):
+        check_scheduler("tls://10.0.0.5:8786")
+    ca = tmp_path / "ca.pem"
+    ca.write_text("x")
+    with pytest.raises(ValueError, match="needs --tls-cert"):
+        check_scheduler("tls://10.0.0.5:8786", ClusterSecurity(ca_file=str(ca)))
+    with pytest.raises(ValueError, match=f"--tls-key {tmp_path}/none.key: no such file"):
+        check_scheduler("tls://10.0.0.5:8786", ClusterSecurity(
+            ca_file=str(ca), cert=str(ca), key=str(tmp_path / "none.key")))
+    with pytest.raises(ValueError, match="must be tls://HOST:PORT .*not ws://"):
+        check_scheduler("ws://10.0.0.5:8786")
+    r = aolab("reference", str(TINY), "--scheduler", "tls://127.0.0.1:8786")
+    assert r.returncode == 2 and "needs --tls-ca-file" in r.stderr, r.stderr
+
+
+def make_ca(folder: Path, name: str) -> tuple[Path, Path]:
+    """A certificate authority: (its certificate, its key)."""
+    cert, key = folder / f"{name}-ca.pem", folder / f"{name}-ca.key"
+    subprocess.run([OPENSSL, "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2",
+                    "-subj", f"/CN={name} CA", "-keyout", str(key), "-out", str(cert)],
+                   check=True, capture_output=True)
+    return cert, key
+
+
+def make_cert(folder: Path, name: str, ca: tuple[Path, Path]) -> tuple[Path, Path]:
+    """A certificate for 127.0.0.1 signed by ``ca``: (certificate, key)."""
+    cert, key, csr = folder / f"{name}.pem", folder / f"{name}.key", folder / f"{name}.csr"
+    ext = folder / f"{name}.ext"
+    ext.write_text("subjectAltName = IP:127.0.0.1, DNS:localhost\n")
+    subprocess.run([OPENSSL, "req", "-newkey", "rsa:2048", "-nodes", "-subj", f"/CN={name}",
+                    "-keyout", str(key), "-out", str(csr)], check=True, capture_output=True)
+    subprocess.run([OPENSSL, "x509", "-req", "-in", str(csr), "-CA", str(ca[0]), "-CAkey",
+                    str(ca[1]), "-CAcreateserial", "-days", "2", "-extfile", str(ext),
+                    "-out", str(cert)], check=True, capture_output=True)
+    return cert, key
+
+
+@pytest.fixture
+def tls_farm(tmp_path):
+    """A TLS scheduler and two workers on 127.0.0.1, each with a certificate of one CA;
+    yields (address, the folder of the certificates, the CA)."""
+    certs = tmp_path / "certs"
+    certs.mkdir()
+    ca = make_ca(certs, "farm")
+    node = make_cert(certs, "node", ca)
+    tls = ["--tls-ca-file", str(ca[0]), "--tls-cert", str(node[0]), "--tls-key", str(node[1])]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    file = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen(["dask", "scheduler", "--protocol", "tls", "--host", "127.0.0.1",
+                               "--port", "0", "--no-dashboard", "--scheduler-file", str(file),
+                               *tls], env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)]
+    try:
+        deadline = time.monotonic() + 60
+        while not file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert file.exists(), "the TLS scheduler did not start"
+        for _ in range(2):
+            procs.append(subprocess.Popen(
+                ["dask", "worker", "--scheduler-file", str(file), "--nthreads", "1",
+                 "--no-dashboard", "--host", "127.0.0.1", *tls], env=env,
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        import json
+        address = json.loads(file.read_text())["address"]
+        assert address.startswith("tls://127.0.0.1:")
+        yield address, certs, ca
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()
+
+
+@needs_blender
+@needs_openssl
+def test_a_tls_farm_renders_for_its_clients_only(tls_farm, tmp_path):
+    address, certs, ca = tls_farm
+    client = make_cert(certs, "client", ca)
+    cache = tmp_path / "cache"
+    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(cache),
+              "--scheduler", address, "--tls-ca-file", str(ca[0]), "--tls-cert",
+              str(client[0]), "--tls-key", str(client[1]), timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "tiny_scene: rendered" in r.stdout and " on " in r.stdout   # on a worker
+    assert [p for p in cache.iterdir() if (p / "reference.exr").is_file()]
+    # A certificate of another CA: the farm does not accept it.
+    other = make_cert(certs, "intruder", make_ca(certs, "other"))
+    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(tmp_path / "c2"),
+              "--scheduler", address, "--tls-ca-file", str(ca[0]), "--tls-cert",
+              str(other[0]), "--tls-key", str(other[1]), timeout=120)
+    lines = r.stderr.splitlines()
+    assert r.returncode == 2 and len(lines) == 1, r.stderr[-2000:]
+    assert "did not accept this client's certificate" in lines[0]
+    assert not (tmp_path / "c2").exists() or not any((tmp_path / "c2").iterdir())
+    # Plain tcp to the TLS port: no connection either.
+    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(tmp_path / "c3"),
+              "--scheduler", address.replace("tls://", "tcp://"), timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr[-2000:]
