@@ -1,8 +1,9 @@
 """The farm's security (docs/scale_out.md, "Security"): a plain tcp:// scheduler beyond this
 machine is refused unless --insecure says otherwise; a tls:// scheduler needs its CA,
-certificate and key; and a real TLS farm (a scheduler and two workers on the loopback
+certificate and key; a real TLS farm (a scheduler and two workers on the loopback
 interface, certificates made here with openssl) renders a reference for a client with a
-certificate of its CA and refuses one without."""
+certificate of its CA and refuses one without; and a cache entry whose files no longer
+have the SHA-256 recorded when they were rendered is rendered again, never served."""
 import os
 import shutil
 import subprocess
@@ -12,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from aolab.util import files
 from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
                                      scheme_and_host)
 
@@ -172,3 +174,52 @@ def test_a_tls_farm_renders_for_its_clients_only(tls_farm, tmp_path):
     r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(tmp_path / "c3"),
               "--scheduler", address.replace("tls://", "tcp://"), timeout=120)
     assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr[-2000:]
+
+
+def test_checksums_name_what_changed(tmp_path):
+    (tmp_path / "a.exr").write_bytes(b"abc")
+    (tmp_path / "a.json").write_text("{}")
+    files.write_checksums(tmp_path, ["a.exr", "a.json"])
+    sums = subprocess.run(["sha256sum", "-c", files.CHECKSUMS_NAME], cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert sums.returncode == 0, sums.stdout   # the format sha256sum checks
+    assert files.checksum_mismatch(tmp_path, ["a.exr", "a.json"]) is None
+    (tmp_path / "a.exr").write_bytes(b"abd")
+    assert files.checksum_mismatch(tmp_path, ["a.exr", "a.json"]).startswith(
+        "a.exr: SHA-256 ba7816bf8f01… recorded, ")
+    (tmp_path / "a.exr").write_bytes(b"abc")
+    (tmp_path / "b.exr").write_bytes(b"new")
+    assert files.checksum_mismatch(tmp_path, ["a.exr", "a.json", "b.exr"]) == (
+        "b.exr: not in SHA256SUMS")
+    (tmp_path / "a.json").unlink()
+    assert files.checksum_mismatch(tmp_path, ["a.exr"]).startswith("a.json: ")
+    (tmp_path / files.CHECKSUMS_NAME).write_text("nonsense\n")
+    assert "not a SHA256SUMS line" in files.checksum_mismatch(tmp_path, ["a.exr"])
+
+
+@needs_blender
+def test_a_changed_cache_entry_is_rendered_again_never_served(tmp_path):
+    cache = tmp_path / "cache"
+    args = ("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(cache))
+    r = aolab(*args)
+    assert r.returncode == 0 and "rendered" in r.stdout, r.stderr
+    (entry,) = [p for p in cache.iterdir() if not p.name.startswith(".")]
+    sums = subprocess.run(["sha256sum", "-c", files.CHECKSUMS_NAME], cwd=entry,
+                          capture_output=True, text=True)
+    assert sums.returncode == 0 and "reference.exr: OK" in sums.stdout, sums.stdout
+    assert "cached" in aolab(*args).stdout
+    # One byte of the EXR changed (a flipped bit on the disk, or an edit): reported, rendered
+    # again, and the new entry's files match their sums.
+    exr = entry / "reference.exr"
+    data = bytearray(exr.read_bytes())
+    data[len(data) // 2] ^= 0x01
+    exr.write_bytes(bytes(data))
+    r = aolab(*args)
+    assert r.returncode == 0 and "tiny_scene: rendered" in r.stdout, r.stdout + r.stderr
+    assert f"aolab: warning: cache entry {entry}: reference.exr: SHA-256 " in r.stderr
+    assert files.checksum_mismatch(entry, ["reference.exr", "reference.json"]) is None
+    # An entry from before the checksums is served and gets them, once.
+    (entry / files.CHECKSUMS_NAME).unlink()
+    r = aolab(*args)
+    assert "tiny_scene: cached" in r.stdout and r.stderr == "", r.stderr
+    assert (entry / files.CHECKSUMS_NAME).is_file()

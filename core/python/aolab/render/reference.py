@@ -294,9 +294,31 @@ def complete_result(folder: Path, plan: Plan) -> bool:
         return False
 
 
+def verified_result(folder: Path, plan: Plan) -> bool:
+    """Whether ``folder`` is a complete result (complete_result) whose files still have the
+    SHA-256 recorded when it was rendered (files.write_checksums). A changed or damaged entry
+    is reported on stderr and is not a result: the caller renders it again. An entry from
+    before the checksums has them recorded now, once (docs/scale_out.md, "Security")."""
+    if not complete_result(folder, plan):
+        return False
+    names = [f.name for f in plan.result_files(folder)]
+    try:
+        if files.read_checksums(folder) is None:
+            files.write_checksums(folder, names)
+            return True
+    except (OSError, ValueError):
+        pass   # unreadable or malformed: checksum_mismatch says so
+    why = files.checksum_mismatch(folder, names)
+    if why is None:
+        return True
+    print(f"aolab: warning: cache entry {folder}: {why}; not used, rendering it again",
+          file=sys.stderr, flush=True)
+    return False
+
+
 def cached_result(cache: Path, plan: Plan, blender: str | None = None) -> Path | None:
     folder = cache / plan.key(blender)
-    return folder if complete_result(folder, plan) else None
+    return folder if verified_result(folder, plan) else None
 
 
 def progress_bar(enabled: bool, desc: str):
@@ -400,6 +422,7 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
         if not complete_result(tmp, plan):   # never an entry without its files
             raise ReferenceError(f"{s.name}: Blender exited without writing the result:\n"
                                  + "\n".join(tail))
+        files.write_checksums(tmp, [f.name for f in plan.result_files(tmp)])
         if final.exists():  # a concurrent run finished first; keep one
             shutil.rmtree(final)
         os.replace(tmp, final)

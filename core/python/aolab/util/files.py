@@ -11,6 +11,9 @@
 - **Checking before work**: :func:`check_output_file` and :func:`check_output_folder` refuse an
   output path that cannot be written before a long computation starts.
 - **Owning a folder**: :func:`output_lock` lets one run at a time write into an output folder.
+- **Checksums**: :func:`write_checksums` records the SHA-256 and size of a folder's files in
+  its ``SHA256SUMS`` (sha256sum's format); :func:`checksum_mismatch` says which file no longer
+  matches, so that a changed or damaged file is never used as it was.
 
 Nothing here imports another ``aolab`` module but the compiled core, so every layer (the
 bridge inside Blender included) can use it.
@@ -21,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import hashlib
 import json
 import os
 import stat
@@ -30,6 +34,9 @@ from .. import _core
 
 #: The lock file :func:`output_lock` keeps in an output folder (hidden; it holds the owner).
 LOCK_NAME = ".aolab.lock"
+#: The file :func:`write_checksums` writes into a folder: ``<sha256>  <name>`` per line, as
+#: ``sha256sum`` writes and ``sha256sum -c`` checks.
+CHECKSUMS_NAME = "SHA256SUMS"
 
 
 class FolderInUse(OSError):
@@ -224,3 +231,58 @@ def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
             what = "does not exist" if not os.path.lexists(path) else "is not a folder"
             raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
                              f"{what}")
+
+
+def sha256_file(path) -> str:
+    """The SHA-256 of a regular file (checked by :func:`regular_file`), in hex."""
+    h = hashlib.sha256()
+    with open(regular_file(path, "checksummed file"), "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def write_checksums(folder, names: list[str]) -> None:
+    """Records the SHA-256 of ``folder``'s files ``names`` in ``folder/SHA256SUMS``
+    (atomically)."""
+    folder = Path(folder)
+    write_text(folder / CHECKSUMS_NAME,
+               "".join(f"{sha256_file(folder / n)}  {n}\n" for n in sorted(names)))
+
+
+def read_checksums(folder) -> dict[str, str] | None:
+    """``folder``'s SHA256SUMS as {name: sha256}, or None when it has none. A line that is
+    not ``<64 hex digits>  <name>`` is a ValueError naming the file."""
+    path = Path(folder) / CHECKSUMS_NAME
+    if not path.exists():
+        return None
+    out = {}
+    for line in read_text(path, "checksums").splitlines():
+        digest, sep, name = line.partition("  ")
+        if not sep or len(digest) != 64 or not all(c in "0123456789abcdef" for c in digest) \
+                or not name or "/" in name:
+            raise ValueError(f"{path}: not a SHA256SUMS line: {line!r}")
+        out[name] = digest
+    return out
+
+
+def checksum_mismatch(folder, names: list[str]) -> str | None:
+    """Why ``folder``'s files ``names`` do not match its SHA256SUMS ("reference.exr: SHA-256
+    a1b2… recorded, c3d4… now"), or None when each is recorded and matches and every file
+    recorded is there. A folder without SHA256SUMS is a mismatch too."""
+    try:
+        recorded = read_checksums(folder)
+    except (OSError, ValueError) as e:
+        return str(e)
+    if recorded is None:
+        return f"no {CHECKSUMS_NAME}"
+    for name in sorted(set(names) | set(recorded)):
+        if name not in recorded:
+            return f"{name}: not in {CHECKSUMS_NAME}"
+        try:
+            now = sha256_file(Path(folder) / name)
+        except OSError as e:
+            return f"{name}: {e}"
+        if now != recorded[name]:
+            return (f"{name}: SHA-256 {recorded[name][:12]}… recorded, {now[:12]}… now")
+    return None
