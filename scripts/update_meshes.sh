@@ -44,4 +44,5 @@ print(f"{d.name}: scene_hash matches reference.json")
 PY
   fi
 done
+"$root/scripts/update_checksums.sh" "${names[@]}"
 exit "$status"

@@ -34,3 +34,4 @@ for frame in sorted((fresh / "frames").iterdir()):
           f"{side['motion_previous_frame']})")
 PY
 done
+"$root/scripts/update_checksums.sh" "${names[@]}"

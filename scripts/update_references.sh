@@ -65,6 +65,7 @@ if [ "$workers" != 1 ]; then
   done
   rm -rf "$tmp"
   "$root/scripts/update_meshes.sh" "${stills[@]}"
+  "$root/scripts/update_checksums.sh" "${names[@]}"
   exit 0
 fi
 for name in "${names[@]}"; do
@@ -114,3 +115,5 @@ for name in "${names[@]}"; do
     --out "$root/reference_scenes/$name" "${force[@]}"
   /usr/bin/python3 -m aolab limits "$root/reference_scenes/$name"
 done
+# every file just written recorded in its folder's SHA256SUMS (docs/file_formats.md, "Checksums")
+"$root/scripts/update_checksums.sh" "${names[@]}"

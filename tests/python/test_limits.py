@@ -14,6 +14,7 @@ import aolab
 from aolab import scenes
 from aolab import cli
 from aolab.study import limits
+from aolab.util import files
 
 RADIUS = 0.5
 RAYS = 16
@@ -37,7 +38,7 @@ def test_limits_equal_the_method_and_are_described(tmp_path):
     for e, thickness in zip(entries, (0.25 * RADIUS, limits.HEIGHT_FIELD)):
         assert e["kind"] == "limit" and e["rays"] == RAYS and e["radius"] == RADIUS
         assert e["thickness"] == pytest.approx(thickness)
-        assert e["reference_sha256"] == limits.file_sha256(folder / "reference.exr")
+        assert e["reference_sha256"] == files.sha256_file(folder / "reference.exr")
         want = aolab.compute("screen_space_limit", g, radius=RADIUS, rays=RAYS,
                              thickness=thickness, threads=2)
         got = scenes.read_y_exr(folder / "limits" / e["file"])
@@ -98,7 +99,7 @@ def test_committed_limits_are_current():
         entries = limits.read_entries(folder)
         if not entries:
             continue
-        digest = limits.file_sha256(folder / "reference.exr")
+        digest = files.sha256_file(folder / "reference.exr")
         side = aolab.load_gbuffer(folder / "reference.exr").sidecar
         for e in entries:
             assert e["reference_sha256"] == digest, (folder.name, e["name"])

@@ -13,6 +13,7 @@ import pytest
 
 import aolab
 from aolab import scenes as scenes_mod
+from aolab.util import files
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = sorted(p for p in (ROOT / "reference_scenes").iterdir() if (p / "manifest.json").exists())
@@ -195,3 +196,58 @@ def test_full_1024_spp_reproduction(tmp_path, name):
     # Two independent 1024-spp renders: expected RMS 0.0043·sqrt(2/5) ≈ 0.003 on the measured
     # model (docs/blender_facts.md, "Noise"); 0.012 leaves room for noisier scenes.
     assert np.sqrt(np.mean(diff**2)) < 0.012 and abs(diff.mean()) < 1e-3
+
+
+def result_folders() -> list[Path]:
+    """Every committed folder that holds results: each scene (each frame of a sequence) and
+    its peers/ and limits/."""
+    out = []
+    for scene in SCENES:
+        frames = scenes_mod.frame_numbers(scene)
+        tops = [scenes_mod.frame_folder(scene, f) for f in frames] if frames else [scene]
+        for top in tops:
+            out += [f for f in (top, top / "peers", top / "limits")
+                    if f.is_dir() and scenes_mod.checked_names(f)]
+    return out
+
+
+def test_every_committed_result_has_its_checksums_and_they_hold():
+    """One rule for every committed result (references, meshes, peers, limits): its folder's
+    SHA256SUMS lists each result file, and Debian's `sha256sum -c` finds them all intact."""
+    folders = result_folders()
+    assert len(folders) > 100
+    for folder in folders:
+        listed = files.read_checksums(folder)
+        assert listed is not None, f"{folder}: no SHA256SUMS (scripts/update_checksums.sh)"
+        assert sorted(listed) == scenes_mod.checked_names(folder), folder
+        check = subprocess.run(["sha256sum", "--quiet", "-c", "SHA256SUMS"], cwd=folder,
+                               capture_output=True, text=True)
+        assert check.returncode == 0, f"{folder}: {check.stdout}{check.stderr}"
+
+
+def test_a_changed_committed_file_is_refused_naming_it(tmp_path):
+    """A copy of `room` with one byte of its reference changed: loading it is a ValueError
+    naming the file, and `aolab compare` says so in one line; the same for a peer's EXR."""
+    copy = tmp_path / "scenes" / "room"
+    room = ROOT / "reference_scenes" / "room"
+    shutil.copytree(room, copy)
+    scenes_mod.load_scene(copy)                     # intact: loads
+    exr = copy / "reference.exr"
+    data = bytearray(exr.read_bytes())
+    data[-100] ^= 0x10
+    exr.write_bytes(bytes(data))
+    with pytest.raises(ValueError, match=r"room: reference.exr: SHA-256 [0-9a-f]{12}… "
+                       r"recorded, [0-9a-f]{12}… now"):
+        scenes_mod.load_scene(copy)
+    r = subprocess.run([sys.executable, "-m", "aolab", "compare", "room", "--scenes-dir",
+                        str(tmp_path / "scenes"), "--methods", "hbao", "--out",
+                        str(tmp_path / "out"), "--no-progress"],
+                       capture_output=True, text=True, timeout=300)
+    lines = r.stderr.splitlines()
+    assert r.returncode == 2 and len(lines) == 1 and "reference.exr: SHA-256" in lines[0], \
+        r.stderr
+    shutil.copy(room / "reference.exr", exr)
+    peer = next((copy / "peers").glob("*.exr"))
+    peer.write_bytes(peer.read_bytes()[:-1])
+    with pytest.raises(ValueError, match=f"peers: {peer.name}: SHA-256"):
+        scenes_mod.load_scene(copy)

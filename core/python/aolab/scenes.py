@@ -15,7 +15,8 @@ import numpy as np
 
 import aolab
 
-from .bridge.constants import EEVEE_NEXT_JSON, PEERS_DIR, PEERS_JSON
+from .bridge.constants import (EEVEE_NEXT_JSON, PEERS_DIR, PEERS_JSON, RESULT_EXR, RESULT_JSON,
+                               RESULT_MESH, RESULT_MESH_JSON)
 from .regions import region_masks
 from .scoring import nothing_to_score
 from .util import files
@@ -174,6 +175,51 @@ class Peer:
     entry: dict
 
 
+#: The files of a scene or frame folder that its SHA256SUMS covers: a render's results (the
+#: manifest and build script are the render's inputs, in its cache key).
+RESULT_FILES = (RESULT_EXR, RESULT_JSON, RESULT_MESH, RESULT_MESH_JSON)
+
+
+def checked_names(folder: Path) -> list[str]:
+    """The files of ``folder`` its SHA256SUMS covers: in a scene or frame folder the render's
+    results that are there (RESULT_FILES); in peers/ and limits/ every file."""
+    if folder.name in (PEERS_DIR, LIMITS_DIR):
+        return sorted(p.name for p in folder.iterdir() if p.is_file()
+                      and not p.name.startswith(".") and p.name != files.CHECKSUMS_NAME)
+    return [n for n in RESULT_FILES if (folder / n).is_file()]
+
+
+def verify_folder(folder: Path) -> None:
+    """A ValueError naming the file when ``folder`` has a SHA256SUMS that its files no longer
+    match (docs/file_formats.md, "Checksums"); a folder without one is not checked."""
+    if not (folder / files.CHECKSUMS_NAME).exists():
+        return
+    why = files.checksum_mismatch(folder, checked_names(folder))
+    if why:
+        raise ValueError(f"{folder}: {why}: not the files recorded when they were made; "
+                         "restore them (git checkout) or make them again "
+                         "(scripts/update_references.sh, which records them anew)")
+
+
+def write_folder_checksums(folder: Path) -> None:
+    """Records the SHA-256 of ``folder``'s checked_names in its SHA256SUMS."""
+    files.write_checksums(folder, checked_names(folder))
+
+
+def write_scene_checksums(scene: Path) -> list[Path]:
+    """SHA256SUMS in every folder of a scene that holds results: the scene folder (or each
+    frame of a sequence) and the peers/ and limits/ beside it; returns the folders."""
+    frames = frame_numbers(scene)
+    tops = [frame_folder(scene, f) for f in frames] if frames else [scene]
+    done = []
+    for top in tops:
+        for folder in (top, top / PEERS_DIR, top / LIMITS_DIR):
+            if folder.is_dir() and checked_names(folder):
+                write_folder_checksums(folder)
+                done.append(folder)
+    return done
+
+
 def load_peers(folder: Path, shape: tuple[int, int], crop) -> tuple[list[Peer], list[str]]:
     """The peers of a scene folder and its committed screen-space limits (aolab limits, kind
     "limit"), and notes about entries that could not be used."""
@@ -191,6 +237,7 @@ def load_renders(where: Path, json_name: str, shape: tuple[int, int],
     path = where / json_name
     if not path.exists():
         return [], []
+    verify_folder(where)
     notes = []
     try:
         listing = json.loads(files.read_text(path, "limits"))
@@ -272,6 +319,7 @@ def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None
     """(G-buffer, reference AO, R, the crop fitted to the frame or None) of a scene folder,
     cropped to a centred ``crop`` if given; ``name`` (default: the folder's) in errors."""
     shown = name or folder.name
+    verify_folder(folder)
     g = aolab.load_gbuffer(folder / "reference.exr")
     sidecar = g.sidecar or {}
     if "ao_distance" not in sidecar:

@@ -33,6 +33,7 @@ import aolab
 from ..bridge.constants import (BRIDGE_VERSION, LADDER_SPP, PEERS_JSON, RESULT_EXR, RESULT_JSON,
                                 RESULT_MESH, RESULT_MESH_JSON)
 from ..bridge.passes import parse_passes, required_passes
+from .. import scenes
 from ..util import files
 from ..util.files import check_paths
 
@@ -507,6 +508,7 @@ def copy_result(plan: Plan, folder: Path, out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     files.write_together([(out / src.name, files.read_bytes(src, "cached result"))
                           for src in plan.result_files(folder)])
+    scenes.write_folder_checksums(out)   # what the folder holds now, this render's included
 
 
 def check_resolution(resolution, name: str = "resolution") -> tuple[int, int]:

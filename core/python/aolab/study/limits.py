@@ -24,7 +24,6 @@ finished.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 import time
@@ -35,7 +34,8 @@ import numpy as np
 import aolab
 
 from ..bridge.exr import write_gray
-from ..scenes import LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes
+from ..scenes import (LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes,
+                      write_folder_checksums)
 from ..util import files
 from ..util.files import check_paths
 from ..util.provenance import git_commit
@@ -80,14 +80,6 @@ def parse_thickness(text) -> float:
     return v
 
 
-def file_sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(files.regular_file(path, "input"), "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 def read_entries(folder: Path) -> list[dict]:
     """The entries of a scene's limits.json ([] when there is none)."""
     path = folder / LIMITS_DIR / LIMITS_JSON
@@ -107,7 +99,7 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
     """Computes the missing or stale limits of one scene folder; returns its entries."""
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
-    digest = file_sha256(folder / "reference.exr")
+    digest = files.sha256_file(folder / "reference.exr")
     out_dir = folder / LIMITS_DIR
     out_dir.mkdir(exist_ok=True)
     entries = {e["name"]: e for e in read_entries(folder)}
@@ -151,6 +143,7 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
     ordered = sorted(entries.values(), key=lambda e: (
         order.index(e["name"]) if e["name"] in order else len(order), e["name"]))
     files.write_text(out_dir / LIMITS_JSON, json.dumps({"entries": ordered}, indent=1) + "\n")
+    write_folder_checksums(out_dir)
     log(f"{folder.name}: {', '.join(together)} in {seconds:.1f} s (one pass)")
     return read_entries(folder)
 
