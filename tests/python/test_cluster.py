@@ -80,19 +80,12 @@ def blender_children_of(pids: set[int], marker: str) -> dict[int, int]:
     return found
 
 
-@needs_blender
-def test_a_killed_worker_loses_no_frame_and_leaves_nothing_partial(tmp_path):
-    seq = aolab_reference(str(ANIMATION), "--frames", FRAMES, "--spp", "256", "--cache",
-                          str(tmp_path / "seq_cache"), "--out", str(tmp_path / "seq"))
-    out, err = seq.communicate(timeout=600)
-    assert seq.returncode == 0, err[-2000:]
-    cache = tmp_path / "cluster_cache"
-    run = aolab_reference(str(ANIMATION), "--frames", FRAMES, "--spp", "256", "--cache",
-                          str(cache), "--out", str(tmp_path / "cluster"), "--workers", "2")
+def kill_a_worker_while_rendering(run: subprocess.Popen, cache: Path):
+    """Waits for a Blender rendering into ``cache`` and kills its worker process (SIGKILL: no
+    clean-up of any kind, as when a machine goes away), then lets the command ``run`` finish;
+    returns ((Blender's pid, the worker's) or None, stdout, stderr)."""
     killed = None
     try:
-        # Wait for a Blender rendering into our cache, and kill its worker process (SIGKILL:
-        # no clean-up of any kind, as when a machine goes away).
         deadline = time.monotonic() + 120
         while killed is None and time.monotonic() < deadline and run.poll() is None:
             for pid, worker in blender_children_of(set(), str(cache)).items():
@@ -105,6 +98,19 @@ def test_a_killed_worker_loses_no_frame_and_leaves_nothing_partial(tmp_path):
     finally:
         if run.poll() is None:
             run.kill()
+    return killed, out, err
+
+
+@needs_blender
+def test_a_killed_worker_loses_no_frame_and_leaves_nothing_partial(tmp_path):
+    seq = aolab_reference(str(ANIMATION), "--frames", FRAMES, "--spp", "256", "--cache",
+                          str(tmp_path / "seq_cache"), "--out", str(tmp_path / "seq"))
+    out, err = seq.communicate(timeout=600)
+    assert seq.returncode == 0, err[-2000:]
+    cache = tmp_path / "cluster_cache"
+    run = aolab_reference(str(ANIMATION), "--frames", FRAMES, "--spp", "256", "--cache",
+                          str(cache), "--out", str(tmp_path / "cluster"), "--workers", "2")
+    killed, out, err = kill_a_worker_while_rendering(run, cache)
     assert killed is not None, "no render was caught running: " + err[-2000:]
     assert run.returncode == 0, err[-3000:]
     # The killed worker's Blender died with it; no Blender of ours is left.
@@ -129,14 +135,9 @@ def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
     assert "--scheduler tcp://127.0.0.1:9" in r.stderr and "Traceback" not in r.stderr
 
 
-@needs_blender
-def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_path):
-    """Ctrl-C at a terminal sends SIGINT to the whole foreground process group: the command,
-    its local workers and their Blenders. The command ends with status 130, no Blender is
-    left, and the cache holds complete entries only; the same command then resumes."""
-    cache = tmp_path / "cache"
-    args = [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
-            FRAMES, "--spp", "1024", "--cache", str(cache), "--workers", "2"]
+def ctrl_c_while_rendering(args: list[str], cache: Path):
+    """Runs the command ``args`` as a terminal would, sends Ctrl-C (SIGINT to its process
+    group) once a Blender renders into ``cache``; returns (process, stdout, stderr)."""
     # A background shell (CI's) starts children with SIGINT ignored, and the command would then
     # run to its end (status 0); a terminal's Ctrl-C reaches a command with the default.
     run = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -152,6 +153,18 @@ def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_pa
     finally:
         if run.poll() is None:
             os.killpg(run.pid, signal.SIGKILL)
+    return run, out, err
+
+
+@needs_blender
+def test_ctrl_c_stops_the_cluster_renders_and_leaves_the_cache_consistent(tmp_path):
+    """Ctrl-C at a terminal sends SIGINT to the whole foreground process group: the command,
+    its local workers and their Blenders. The command ends with status 130, no Blender is
+    left, and the cache holds complete entries only; the same command then resumes."""
+    cache = tmp_path / "cache"
+    args = [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
+            FRAMES, "--spp", "1024", "--cache", str(cache), "--workers", "2"]
+    run, out, err = ctrl_c_while_rendering(args, cache)
     assert run.returncode == 130, err[-2000:]
     assert "interrupted" in err and "Traceback" not in err
     time.sleep(1.0)

@@ -13,11 +13,14 @@ from pathlib import Path
 
 import pytest
 
+from aolab.render import reference
 from aolab.util import files
 from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
                                      scheme_and_host)
 
 from test_bridge import TINY, needs_blender
+from test_cluster import (ANIMATION, FRAMES, blender_children_of, ctrl_c_while_rendering,
+                          kill_a_worker_while_rendering)
 
 distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed "
                                   "(scripts/install-deps.sh installs it)")
@@ -223,3 +226,52 @@ def test_a_changed_cache_entry_is_rendered_again_never_served(tmp_path):
     r = aolab(*args)
     assert "tiny_scene: cached" in r.stdout and r.stderr == "", r.stderr
     assert (entry / files.CHECKSUMS_NAME).is_file()
+
+
+def tls_args(certs: Path, ca) -> list[str]:
+    client = certs / "client.pem"
+    if not client.exists():
+        make_cert(certs, "client", ca)
+    return ["--tls-ca-file", str(ca[0]), "--tls-cert", str(client),
+            "--tls-key", str(certs / "client.key")]
+
+
+@needs_blender
+@needs_openssl
+def test_ctrl_c_stops_the_tls_farm_renders(tls_farm, tmp_path):
+    """As on the local cluster (test_cluster.py): Ctrl-C ends the command with status 130,
+    the workers' Blenders stop (told through the farm, over TLS), and the cache holds
+    complete entries only."""
+    address, certs, ca = tls_farm
+    cache = tmp_path / "cache"
+    args = [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
+            FRAMES, "--spp", "1024", "--cache", str(cache), "--scheduler", address,
+            *tls_args(certs, ca)]
+    run, out, err = ctrl_c_while_rendering(args, cache)
+    assert run.returncode == 130 and "interrupted" in err and "Traceback" not in err, err
+    deadline = time.monotonic() + 30   # the jobs poll the stop event every STOP_POLL_S
+    while blender_children_of(set(), str(cache)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not blender_children_of(set(), str(cache))
+    assert not [p.name for p in cache.iterdir() if p.name.startswith(".")]
+    assert all((p / "reference.json").exists() for p in cache.iterdir())
+
+
+@needs_blender
+@needs_openssl
+def test_a_killed_tls_worker_loses_no_frame(tls_farm, tmp_path):
+    """A worker process killed mid-render (SIGKILL, as when a machine goes away): every frame
+    still arrives, rendered by the other worker or the restarted one, over TLS."""
+    address, certs, ca = tls_farm
+    cache = tmp_path / "cache"
+    run = subprocess.Popen(
+        [sys.executable, "-m", "aolab", "reference", "--quiet", str(ANIMATION), "--frames",
+         FRAMES, "--spp", "256", "--cache", str(cache), "--out", str(tmp_path / "out"),
+         "--scheduler", address, *tls_args(certs, ca)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    killed, out, err = kill_a_worker_while_rendering(run, cache)
+    assert killed is not None, "no render was caught running: " + err[-2000:]
+    assert run.returncode == 0, err[-3000:]
+    frames = sorted(int(p.name) for p in (tmp_path / "out" / "frames").iterdir())
+    assert frames == reference.parse_frames(FRAMES)
+    assert all((p / "reference.json").exists() for p in cache.iterdir())

@@ -306,8 +306,8 @@ def test_mesh_pass_agrees_with_the_depth_pass(tmp_path):
                     "depth,normal,mesh", "--cache", str(tmp_path / "cache"))
     assert res.returncode == 0, res.stdout[-2000:] + res.stderr[-2000:]
     folder = next((tmp_path / "cache").iterdir())
-    assert sorted(p.name for p in folder.iterdir()) == [
-        "reference.exr", "reference.json", "reference.mesh", "reference.mesh.json"]
+    assert sorted(p.name for p in folder.iterdir()) == [   # SHA256SUMS: the entry's checksums
+        "SHA256SUMS", "reference.exr", "reference.json", "reference.mesh", "reference.mesh.json"]
     g = aolab.load_gbuffer(folder / "reference.exr")
     assert g.sidecar["passes"] == ["depth", "normal", "mesh", "ao"]
     assert g.sidecar["mesh_file"] == "reference.mesh"
@@ -328,7 +328,7 @@ def test_aolab_mesh_is_cached_and_its_errors_name_the_option(tmp_path):
     folder = next(cache.iterdir())
     assert folder.name.startswith("tiny_scene-mesh-")
     before = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
-    assert sorted(before) == ["reference.mesh", "reference.mesh.json"]
+    assert sorted(before) == ["SHA256SUMS", "reference.mesh", "reference.mesh.json"]
     spy, mark = blender_spy(tmp_path)
     res = aolab_cmd("mesh", "--quiet", str(TINY), "--cache", str(cache), "--resolution", "80x60",
                     env=dict(os.environ, AOLAB_BLENDER=str(spy)))
