@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
+from pathlib import Path
 
 import aolab
 
@@ -13,7 +14,7 @@ from ..study.compare import json_safe
 from ..util import files
 from ..util.arguments import int_option
 from ..util.files import check_paths
-from .common import RADIUS
+from .common import RADIUS, gbuffer_files, mesh_files
 from .options import threads_option
 
 
@@ -55,8 +56,10 @@ def add_parser(sub):
     a.add_argument("--cache", help="cache folder of the renders (default $AOLAB_CACHE or "
                    "~/.cache/aolab/references)")
     a.add_argument("--json", help="also write every configuration's scores and the advice "
-                   "to this JSON file")
-    a.add_argument("--plot", help="also write the accuracy-against-time front to this PNG")
+                   "to this JSON file (not SCENE's own files nor --plot: refused before any "
+                   "work)")
+    a.add_argument("--plot", help="also write the accuracy-against-time front to this PNG "
+                   "(not SCENE's own files nor --json)")
     return a
 
 
@@ -68,9 +71,10 @@ def run(args) -> int:
     if args.reference not in advise.REFERENCE_CHOICES:
         raise ValueError(f"--reference must be one of {', '.join(advise.REFERENCE_CHOICES)}, "
                          f"got {args.reference!r}")
-    check_paths(files={"--json": args.json, "--plot": args.plot}, folders={"--cache": args.cache})
     if args.plot and not args.plot.lower().endswith(".png"):
         raise ValueError(f"--plot must name a .png file, got {args.plot!r}")
+    check_paths(files={"--json": args.json, "--plot": args.plot}, folders={"--cache": args.cache},
+                reads=_scene_files(advise.scene_spec(args.scene)))
     known = aolab.methods()
     for m in args.methods or []:
         if m not in known:
@@ -107,6 +111,18 @@ def run(args) -> int:
         outputs.append((args.plot, aolab.encode_image(args.plot, image)))
     files.write_together(outputs)
     return 0
+
+
+def _scene_files(scene: Path) -> dict:
+    """The files advise reads of its SCENE, {what: path}: a G-buffer with its sidecar and
+    the .mesh beside it (the quick reference's triangles); a scene folder's own files; or
+    the .blend or build script itself."""
+    if scene.suffix.lower() == ".exr":
+        return {**gbuffer_files(str(scene)),
+                **mesh_files(scene.with_suffix(".mesh"), "the input's mesh")}
+    if scene.is_dir():
+        return {"the scene's file": sorted(p for p in scene.iterdir() if p.is_file())}
+    return {"the scene": scene}
 
 
 def _numbers(got: dict) -> dict:

@@ -13,6 +13,7 @@ import numpy as np
 
 import aolab
 
+from ..bridge import mesh as mesh_file
 from ..scoring import metrics_mask
 from ..settings import parse_assignments
 from ..util import files
@@ -99,12 +100,12 @@ def output_stem(out: str | None, method: str) -> Path:
     """The path aolab run writes STEM.exr and STEM.png to: METHOD_ao by default, inside
     ``out`` when it is an existing folder or ends in a slash, else ``out`` without its .exr
     or .png suffix; another suffix (out.txt) is a ValueError naming it, and so is a path
-    under a file. Creates the folders."""
+    under a file. :func:`check_outputs` then makes its folder."""
     default = f"{method}_ao"
     if not out:
         return Path(default)
     if out.endswith(("/", os.sep)) or Path(out).is_dir():
-        folder, stem = Path(out), Path(out) / default
+        stem = Path(out) / default
     else:
         stem = Path(out)
         suffix = stem.suffix
@@ -113,18 +114,46 @@ def output_stem(out: str | None, method: str) -> Path:
         elif re.fullmatch(r"\.[A-Za-z][A-Za-z0-9]*", suffix):
             raise ValueError(f"--out is the output path without extension (aolab run writes "
                              f"OUT.exr and OUT.png), got {out!r} with the suffix {suffix!r}")
-        folder = stem.parent
         if stem.is_dir():
             raise ValueError(f"--out {out!r}: {stem} is a folder")
     blocker = existing_ancestor_is_not_a_folder(stem)
     if blocker is not None:
         raise ValueError(f"--out {out!r}: {blocker} is a file, not a folder")
-    for suffix in OUT_SUFFIXES:
-        target = stem.parent / (stem.name + suffix)
+    for target in out_paths(stem):
         if target.is_dir():
             raise ValueError(f"--out {out!r}: {target} is a folder")
-    folder.mkdir(parents=True, exist_ok=True)
     return stem
+
+
+def out_paths(stem: Path) -> list[Path]:
+    """The files written for --out STEM: STEM.exr and STEM.png."""
+    return [stem.parent / (stem.name + suffix) for suffix in OUT_SUFFIXES]
+
+
+def gbuffer_files(spec: str, label: str = "the input") -> dict:
+    """The files a G-buffer input is read from, {what: path} for files.check_distinct: the
+    EXR and its sidecar (``<stem>.json`` beside the path given, as aolab.load_gbuffer finds
+    it); nothing for ``analytic:NAME``."""
+    if spec.startswith("analytic:"):
+        return {}
+    found = {label: spec}
+    if Path(spec).name not in ("", ".", ".."):
+        found[f"{label}'s sidecar"] = Path(spec).with_suffix(".json")
+    return found
+
+
+def mesh_files(path, label: str) -> dict:
+    """The files a .mesh is read from: the mesh and its .mesh.json beside it."""
+    return {label: path, f"{label}'s JSON": mesh_file.json_path(path)}
+
+
+def check_outputs(stem: Path, json_path: str | None, reads: dict) -> None:
+    """Before any work: the --json file can be written, no output (STEM.exr, STEM.png, the
+    --json file) is an input (``reads``, {what: path}) or another output; then STEM's
+    folder is made."""
+    files.check_paths(files={"--json": json_path})
+    files.check_distinct(reads=reads, writes={"--out": out_paths(stem), "--json": json_path})
+    stem.parent.mkdir(parents=True, exist_ok=True)
 
 
 def scores(g, ao) -> tuple[dict | None, str]:
@@ -147,7 +176,7 @@ def scores(g, ao) -> tuple[dict | None, str]:
 def write_result(g, ao, stem: Path, result: dict, json_path: str | None, header: str) -> None:
     """STEM.exr, STEM.png and the --json file, put in place together (files.write_together:
     a full disk leaves the earlier ones), then the header line and the scores printed."""
-    exr, png = (stem.parent / (stem.name + suffix) for suffix in OUT_SUFFIXES)
+    exr, png = out_paths(stem)
     metrics, line = scores(g, ao)
     if metrics is not None:
         result["metrics"] = metrics

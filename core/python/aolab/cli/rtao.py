@@ -11,8 +11,8 @@ import aolab
 from ..raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
 from ..util import files
 from ..util.arguments import int_option
-from ..util.files import check_paths
-from .common import input_options, load_input, output_stem, write_result
+from .common import (check_outputs, gbuffer_files, input_options, load_input, mesh_files,
+                     output_stem, write_result)
 
 
 def add_parser(sub):
@@ -38,16 +38,19 @@ def add_parser(sub):
                     help="seed of the per-pixel jitter, 0 to 2^31 - 1 (default 0)")
     rt.add_argument("--out", help="output path without extension: writes OUT.exr and OUT.png "
                     "(default rtao_ao in the current folder)")
-    rt.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
+    rt.add_argument("--json", help="also write the result (timing, metrics) to this JSON file "
+                    "(never an input, its sidecar or mesh, or an --out file: refused before "
+                    "any work)")
     return rt
 
 
 def run(args) -> int:
     """aolab rtao: ray-traced AO of a G-buffer against its scene's triangles."""
-    check_paths(files={"--json": args.json})
     spec = args.input
     if not spec.startswith("analytic:") and Path(spec).is_dir():
         spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
+    out = output_stem(args.out, "rtao")
+    check_outputs(out, args.json, {**gbuffer_files(spec), **_mesh_files(spec, args.mesh)})
     g, radius = load_input(spec, args.radius, args.width, args.height)
     unknown = args.allow_unknown_scene
     if args.mesh:
@@ -58,7 +61,6 @@ def run(args) -> int:
         mesh.vertices, mesh.triangles = aolab.analytic_scene_mesh(name)
     else:
         mesh = aolab.mesh_for_gbuffer(g, allow_unknown_scene=unknown)
-    out = output_stem(args.out, "rtao")
     scene = aolab.ray_scene(mesh, g, threads=args.threads, allow_unknown_scene=unknown)
     t0 = time.perf_counter()
     ao = aolab.rtao(g, scene, radius=radius, rays=args.rays, seed=args.seed,
@@ -73,3 +75,13 @@ def run(args) -> int:
                  f"{scene.triangles} triangles: BVH {scene.build_seconds * 1000:.1f} ms, rays "
                  f"{elapsed * 1000:.1f} ms")
     return 0
+
+
+def _mesh_files(spec: str, mesh: str | None) -> dict:
+    """The mesh rtao reads: --mesh, else ``<stem>.mesh`` beside the G-buffer (as
+    aolab.mesh_for_gbuffer finds it), each with its .mesh.json."""
+    if mesh:
+        return mesh_files(mesh, "--mesh")
+    if spec.startswith("analytic:"):
+        return {}
+    return mesh_files(Path(spec).with_suffix(".mesh"), "the input's mesh")

@@ -8,8 +8,8 @@ import time
 import aolab
 
 from ..util.arguments import float_option, int_option
-from ..util.files import check_paths
-from .common import input_options, key_values, load_input, output_stem, write_result
+from .common import (check_outputs, gbuffer_files, input_options, key_values, load_input,
+                     output_stem, write_result)
 
 
 def add_parser(sub):
@@ -20,7 +20,8 @@ def add_parser(sub):
     r.add_argument("--out", help="output path without extension: writes OUT.exr and OUT.png "
                    "(a trailing .exr or .png is dropped; another extension, such as .txt, is "
                    "refused); an existing folder or a path ending in / gets METHOD_ao.exr and "
-                   ".png inside it (default METHOD_ao in the current folder)")
+                   ".png inside it (default METHOD_ao in the current folder); an OUT.exr or "
+                   "OUT.png that is the input or its sidecar is refused")
     r.add_argument("--preset", help="a named preset of the method (`aolab presets METHOD`: "
                    "default, low, medium, high, ultra, tuned-...); --set and --blur/--no-blur "
                    "override it")
@@ -31,15 +32,16 @@ def add_parser(sub):
                    help="the blur's standard deviation, 0.1 to 64 px (default 1.5)")
     r.add_argument("--blur-taps", type=int_option("--blur-taps", 1, 129, odd=True), default=5,
                    help="the blur's taps per pass, odd, 1 to 129 (default 5)")
-    r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file")
+    r.add_argument("--json", help="also write the result (timing, metrics) to this JSON file "
+                   "(never the input, its sidecar or an --out file: refused before any work)")
     return r
 
 
 def run(args) -> int:
     settings = key_values(args.set, args.method)
-    check_paths(files={"--json": args.json})
-    g, radius = load_input(args.input, args.radius, args.width, args.height)
     out = output_stem(args.out, args.method)
+    check_outputs(out, args.json, gbuffer_files(args.input))
+    g, radius = load_input(args.input, args.radius, args.width, args.height)
     kwargs = dict(radius=radius, threads=args.threads, preset=args.preset, blur=args.blur,
                   blur_sigma=args.blur_sigma, blur_taps=args.blur_taps, **settings)
     t0 = time.perf_counter()

@@ -367,7 +367,7 @@ def plot(result: dict, budgets=BUDGETS_MS, size: tuple[int, int] = (640, 540)) -
 # A scene from the command line
 
 
-def _scene_spec(spec: str) -> Path:
+def scene_spec(spec: str) -> Path:
     """A path, else a reference_scenes name; a ValueError naming what is accepted."""
     p = Path(spec)
     if p.exists():
@@ -403,7 +403,7 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
     when the cache holds one (the panel's Render Reference, or ``aolab reference
     --resolution WxH``), else the quick reference. ``reference`` "cycles" insists on
     Cycles, "quick" on rtao. Problems are ValueErrors saying what to do."""
-    p = _scene_spec(spec)
+    p = scene_spec(spec)
     if reference not in REFERENCE_CHOICES:
         raise ValueError(f"--reference must be one of {', '.join(REFERENCE_CHOICES)}, "
                          f"got {reference!r}")

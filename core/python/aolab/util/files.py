@@ -9,7 +9,9 @@
   checked, fsync, close checked, rename, the folder synced. A full disk raises OSError and
   leaves the earlier file and no temporary behind.
 - **Checking before work**: :func:`check_output_file` and :func:`check_output_folder` refuse an
-  output path that cannot be written before a long computation starts.
+  output path that cannot be written before a long computation starts; :func:`check_distinct`
+  refuses an output that is one of the command's inputs or another of its outputs (real
+  paths, after symbolic links); :func:`check_paths` does both for a command's options.
 - **Owning a folder**: :func:`output_lock` lets one run at a time write into an output folder.
 - **Checksums**: :func:`write_checksums` records the SHA-256 and size of a folder's files in
   its ``SHA256SUMS`` (sha256sum's format); :func:`checksum_mismatch` says which file no longer
@@ -209,16 +211,19 @@ def _locked(lock: Path, owner: str) -> int:
 
 
 def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
-                inputs: dict = {}) -> None:
+                inputs: dict = {}, reads: dict = {}, cleared: dict = {}) -> None:
     """Checks, before a command's work starts, the paths its options name ({option: path};
     an option left unset is skipped), so that a mistyped path costs no hours of work: an
     output file (``files``: its folder exists and is writable, the path is no folder or
-    special file), an output folder (``folders``: a folder, or one that can be made), a file
-    rewritten in place (``edited``: an existing regular file that can be replaced), an input
-    folder (``inputs``: an existing folder). A ValueError naming the option otherwise."""
+    special file; a list of paths for an option that writes several, such as --out's
+    OUT.exr and OUT.png), an output folder (``folders``: a folder, or one that can be made),
+    a file rewritten in place (``edited``: an existing regular file that can be replaced),
+    an input folder (``inputs``: an existing folder). A ValueError naming the option
+    otherwise. Then :func:`check_distinct`: no output is an input (``reads``, ``inputs``) or
+    another output, and no input lies in a folder the command clears (``cleared``)."""
     for option, path in files.items():
-        if path:
-            check_output_file(path, option)
+        for p in _listed(path):
+            check_output_file(p, option)
     for option, path in folders.items():
         if path:
             check_output_folder(path, option)
@@ -231,6 +236,57 @@ def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
             what = "does not exist" if not os.path.lexists(path) else "is not a folder"
             raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
                              f"{what}")
+    check_distinct(reads={**reads, **inputs}, writes={**edited, **files}, cleared=cleared)
+
+
+def _listed(value) -> list:
+    """A path, or a list of paths, as a list without the unset ones."""
+    return [p for p in (value if isinstance(value, (list, tuple)) else [value]) if p]
+
+
+def _named(paths: dict, own: bool = False) -> list[tuple[str, str]]:
+    """(what, real path) of each path of {label: path or [paths]}: ``label path``, or with
+    ``own`` (an option's outputs) ``label's path`` for one of several (--out's y.exr)."""
+    out = []
+    for label, value in paths.items():
+        mark = "'s" if own and isinstance(value, (list, tuple)) else ""
+        out.extend((f"{label}{mark} {p}", real_path(p)) for p in _listed(value))
+    return out
+
+
+def real_path(path) -> str:
+    """``path`` after every symbolic link, made absolute; for a path that does not exist
+    yet, its existing folder's real path joined with the rest. Two paths with the same real
+    path are the same file."""
+    return os.path.realpath(os.fspath(path))
+
+
+def _inside(path: str, folder: str) -> bool:
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
+
+
+def check_distinct(*, reads: dict = {}, writes: dict = {}, cleared: dict = {}) -> None:
+    """Refuses, before any work, a command whose outputs would destroy what it reads or
+    what it writes itself, comparing real paths (after symbolic links): an output
+    (``writes``: {option: path or [paths]}) that is an input (``reads``: {label: path or
+    [paths]}, files or folders) or another output, and a folder the command empties or
+    replaces (``cleared``: {option: folder}) that is or holds an input.
+    A ValueError naming both paths."""
+    inputs = _named(reads)
+    seen: list[tuple[str, str]] = []
+    for what, real in _named(writes, own=True):
+        for other, other_real in inputs:
+            if real == other_real:
+                raise ValueError(f"{what} is {other}: an output would overwrite an input")
+        for other, other_real in seen:
+            if real == other_real:
+                raise ValueError(f"{what} is also written as {other}")
+        seen.append((what, real))
+    for what, real in _named(cleared):
+        for other, other_real in inputs:
+            if _inside(other_real, real):
+                raise ValueError(f"{what} is cleared by this command and {other} is in "
+                                 "it: an output would destroy an input")
 
 
 def sha256_file(path) -> str:
