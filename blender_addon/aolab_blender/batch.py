@@ -3,7 +3,9 @@
     --scene PATH        a .blend (already opened by Blender, with --disable-autoexec) or a
                         build script (.py) run into an empty factory file
     --kind blend|script
-    --out FILE.exr      where the merged G-buffer + reference goes (sidecar beside it)
+    --out FILE.exr      where the merged G-buffer + reference goes (sidecar beside it); a
+                        file it writes that is the scene (--scene, the open .blend) or
+                        another of its files is refused before anything runs
     --radius R          AO distance (default: the scene world's AO distance)
     --spp N             reference samples          --gbuffer-samples N (default 1)
     --passes a,b        G-buffer passes (depth always)
@@ -44,6 +46,7 @@ from aolab.bridge.passes import parse_passes  # noqa: E402
 from aolab.util.arguments import (MAX_SAMPLES, Parser, checked_type, float_option,  # noqa: E402
                                   int_list_option, int_option)
 from aolab.bridge.intrinsics import image_size  # noqa: E402
+from aolab.bridge.outputs import check_export  # noqa: E402
 from aolab.render.reference import MAX_FRAME, MIN_RESOLUTION, parse_resolution  # noqa: E402
 
 from aolab_blender import export, mesh_export, peers  # noqa: E402
@@ -101,6 +104,10 @@ def scale_output(render, percent: int) -> None:
 
 def main(argv):
     args = parse(argv)
+    # Before the scene runs or renders: no file the export writes is the scene itself.
+    scene_files = {"--scene": args.scene, "the open .blend": bpy.data.filepath or None}
+    check_export(args.out, scene_files, passes=args.passes, mesh_only=args.mesh_only,
+                 peers=args.peers)
     if args.kind == "script":
         bpy.ops.wm.read_factory_settings(use_empty=True)
         runpy.run_path(args.scene, run_name="__main__")

@@ -132,6 +132,14 @@ def resolve_scenes(specs: list[str], scenes_dir: Path | None, *,
     return out
 
 
+def scene_files(folders: list[Path]) -> dict:
+    """Every file the scene folders hold (their frames, peers and limits included), as
+    ``reads`` for files.check_distinct: what a command that reads scenes must not
+    overwrite."""
+    return {"the scene file": sorted(p for folder in folders for p in Path(folder).rglob("*")
+                                     if p.is_file())}
+
+
 def median_projected_radius(g, radius: float) -> float:
     """The median over geometry pixels of R·f/d, the radius's length on screen in pixels."""
     depth = np.asarray(g.depth, np.float64)

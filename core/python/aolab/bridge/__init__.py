@@ -6,7 +6,8 @@ as pure I/O that needs neither Blender nor the study.
 - ``passes``: which render passes a reference needs;
 - ``exr``: reading Blender's multilayer EXRs, writing the merged G-buffer and the peers;
 - ``mesh``: the ``.mesh`` scene-geometry file;
-- ``motion``: Cycles' Vector pass in AO Lab's motion convention, the Motion pass read back.
+- ``motion``: Cycles' Vector pass in AO Lab's motion convention, the Motion pass read back;
+- ``outputs``: the files an export writes, checked not to be the scene or one another.
 
 The bpy side (``blender_addon/aolab_blender``: export, peers, batch, the add-on's classes)
 imports these modules; nothing in ``aolab`` imports bpy or ``aolab_blender``

@@ -35,7 +35,7 @@ import aolab
 
 from ..bridge.constants import PEERS_DIR
 from ..render import reference
-from ..scenes import find_scenes_dir, frame_folder, frame_numbers, read_y_exr
+from ..scenes import find_scenes_dir, frame_folder, frame_numbers, read_y_exr, scene_files
 from ..util import files
 from ..util.files import check_paths
 from ..util.markdown import write_generated_block
@@ -215,13 +215,16 @@ def run_check(scenes: list[str], *, spp: int = CHECK_SPP, cache: str | None = No
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
     reference.Delivery(cache=cache, out=out).check()
-    check_paths(edited={"--update-doc": update_doc})
-    with files.output_lock(out, "aolab bridge-check"):
-        return _check(scenes, spp=spp, cache=cache, out=out, update_doc=update_doc)
-
-
-def _check(scenes, *, spp, cache, out, update_doc) -> int:
     items = committed_scenes(find_scenes_dir(), scenes)   # every error before a render
+    out = Path(out)
+    check_paths(edited={"--update-doc": update_doc},
+                reads=scene_files(sorted({folder for _, folder, _ in items})),
+                made={"--out": [out / "agreement.md", out / "agreement.json"]})
+    with files.output_lock(out, "aolab bridge-check"):
+        return _check(items, spp=spp, cache=cache, out=out, update_doc=update_doc)
+
+
+def _check(items, *, spp, cache, out, update_doc) -> int:
     blender = reference.find_blender()
     version = reference.blender_version(blender)
     results = []
@@ -237,7 +240,6 @@ def _check(scenes, *, spp, cache, out, update_doc) -> int:
     meta = (f"`aolab bridge-check` with Blender {version} against the committed references "
             f"(Blender {results[0]['committed_blender'] if results else '?'}), AO pass at "
             f"{spp} spp, on {time.strftime('%Y-%m-%d')}.")
-    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     files.write_together([(out / "agreement.md", (meta + "\n\n" + table + "\n").encode()),
                           (out / "agreement.json", json.dumps(results, indent=1).encode())])

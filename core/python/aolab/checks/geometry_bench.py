@@ -427,13 +427,15 @@ def check(opts: Options) -> list[Frame]:
     opts.methods = opts.methods or kernel_bench.default_methods()
     for method in opts.methods:
         kernel_bench.bench_preset(method, opts.preset)
+    where = Path(opts.scenes_dir) if opts.scenes_dir else scenes.find_scenes_dir()
+    read = scenes.resolve_scenes(opts.scenes, where) if opts.geometry else []
     files.check_paths(files={"--json": opts.json_path, "--svg": opts.svg},
-                      folders={"--profile": opts.profile})
+                      folders={"--profile": opts.profile}, reads=scenes.scene_files(read),
+                      made={"--profile": kernel_bench.profile_files(opts.methods, opts.profile)})
     if opts.profile:
         kernel_bench.need_perf()
     if not opts.geometry:
         return []
-    where = Path(opts.scenes_dir) if opts.scenes_dir else scenes.find_scenes_dir()
     return load_frames(opts.scenes, where, opts.corpus)
 
 

@@ -250,7 +250,7 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     returns its ``top`` hottest functions (self time)."""
     need_perf()
     folder.mkdir(parents=True, exist_ok=True)
-    data, report = folder / f"{method}.perf.data", folder / f"{method}.txt"
+    data, report = profile_files([method], folder)
     code = ("import json, sys, aolab\n"
             "m, s, w, h, r, n = json.loads(sys.argv[1])\n"
             "g = aolab.analytic_scene('blocks', w, h)\n"
@@ -265,6 +265,12 @@ def profile(method: str, settings: dict, folder: Path, *, size=SIZE, runs: int =
     lines = [line.rstrip() for line in out.splitlines()
              if line.strip() and not line.lstrip().startswith("#")]
     return lines[:top]
+
+
+def profile_files(methods: list[str], folder) -> list[Path]:
+    """The files :func:`profile` writes into ``folder`` for ``methods`` (none without one)."""
+    return [Path(folder) / f"{m}{suffix}" for m in methods for suffix in (".perf.data", ".txt")
+            if folder]
 
 
 def need_perf() -> None:

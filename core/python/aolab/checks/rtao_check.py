@@ -27,7 +27,8 @@ import aolab
 from ..bridge.constants import PEERS_DIR, PEERS_JSON
 from ..regions import REGIONS, region_masks
 from ..render.reference import default_cache
-from ..scenes import find_scenes_dir, load_renders, noise_floor_peer, read_y_exr, resolve_scenes
+from ..scenes import (find_scenes_dir, load_renders, noise_floor_peer, read_y_exr,
+                      resolve_scenes, scene_files)
 from ..util import files
 from ..util.files import check_paths
 from ..util.markdown import with_generated_block, write_generated_block
@@ -212,11 +213,12 @@ def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | No
                              "mean_difference": float(blocks[j, i])}
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        aolab.write_image(out / f"{folder.name}_rtao.exr", ao)
+        rtao_exr, difference, block_difference = scene_outputs(folder, out)
+        aolab.write_image(rtao_exr, ao)
         # Signed difference, 0.5 grey = equal, full scale ±0.1.
-        aolab.write_image(out / f"{folder.name}_difference.png",
+        aolab.write_image(difference,
                           np.clip(0.5 + np.where(valid, diff, 0.0) * 5.0, 0, 1).astype(np.float32))
-        aolab.write_image(out / f"{folder.name}_block_difference.png",
+        aolab.write_image(block_difference,
                           np.clip(0.5 + np.kron(blocks, np.ones((BLOCK, BLOCK))) * 25.0, 0, 1)
                           .astype(np.float32))
     return result
@@ -273,20 +275,32 @@ def run_check(scenes: list[str], *, rays: int = CHECK_RAYS, seed: int = 0, threa
     """``aolab rtao-check`` on ``scenes`` (none: every scene with a mesh); the exit status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
-    check_paths(folders={"--out": out})
+    folders = resolve_scenes(scenes, find_scenes_dir())
+    if not scenes:
+        folders = [f for f in folders if (f / "reference.mesh").exists()]
+    check_paths(folders={"--out": out}, reads=scene_files(folders),
+                made={"--out": written(folders, Path(out)), "--update-doc": update_doc})
     if update_doc:
         check_doc(Path(update_doc))
     with files.output_lock(out, "aolab rtao-check"):
-        return _check(scenes, rays=rays, seed=seed, threads=threads, out=out,
+        return _check(folders, rays=rays, seed=seed, threads=threads, out=Path(out),
                       update_doc=update_doc)
 
 
-def _check(scenes, *, rays, seed, threads, out, update_doc) -> int:
-    scenes_dir = find_scenes_dir()
-    folders = resolve_scenes(scenes, scenes_dir)
-    if not scenes:
-        folders = [f for f in folders if (f / "reference.mesh").exists()]
-    out = Path(out)
+def scene_outputs(folder: Path, out: Path) -> list[Path]:
+    """The images check_scene writes into ``out`` for the scene ``folder``: its rtao, the
+    difference and the block difference."""
+    return [out / f"{folder.name}{tail}"
+            for tail in ("_rtao.exr", "_difference.png", "_block_difference.png")]
+
+
+def written(folders: list[Path], out: Path) -> list[Path]:
+    """The files rtao-check writes into ``out`` for the scene ``folders``."""
+    return [out / "agreement.md", out / "agreement.json"] + [
+        p for f in folders for p in scene_outputs(f, out)]
+
+
+def _check(folders, *, rays, seed, threads, out, update_doc) -> int:
     results = []
     for folder in folders:
         t0 = time.perf_counter()

@@ -151,8 +151,7 @@ def check_outputs(stem: Path, json_path: str | None, reads: dict) -> None:
     """Before any work: the --json file can be written, no output (STEM.exr, STEM.png, the
     --json file) is an input (``reads``, {what: path}) or another output; then STEM's
     folder is made."""
-    files.check_paths(files={"--json": json_path})
-    files.check_distinct(reads=reads, writes={"--out": out_paths(stem), "--json": json_path})
+    files.check_paths(files={"--json": json_path}, made={"--out": out_paths(stem)}, reads=reads)
     stem.parent.mkdir(parents=True, exist_ok=True)
 
 

@@ -64,6 +64,7 @@ def run(args) -> int:
         args.scenes, spp=args.spp, radius=args.radius, methods=args.methods, passes=args.passes,
         resolution=args.resolution, camera=args.camera, gbuffer_samples=args.gbuffer_samples,
         peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames)
+    to.check_plans(plans)
     with reference.holding(args.out, "aolab reference"):
         if args.scheduler or args.workers > 1:
             return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers,

@@ -681,6 +681,18 @@ class Delivery:
         the render."""
         check_paths(folders={"--cache": self.cache, "--out": self.out})
 
+    def check_plans(self, plans: list[Plan]) -> None:
+        """Before any render: no file a plan copies to --out (its result and the folder's
+        SHA256SUMS) is a scene file a plan reads (files.check_distinct)."""
+        if not self.out:
+            return
+        several = len({p.scene.name for p in plans}) > 1
+        reads = {"the scene": sorted({p.scene.path for p in plans})}
+        for plan in plans:
+            folder = output_folder(self.out, plan, several)
+            files.check_distinct(reads=reads, writes={"--out": [
+                *plan.result_files(folder), folder / files.CHECKSUMS_NAME]})
+
     def cache_folder(self) -> Path:
         return Path(self.cache) if self.cache else default_cache()
 
@@ -696,6 +708,7 @@ def export_meshes(scenes: list[str], delivery: Delivery, *, resolution: str | No
     plans = [make_plan(s, passes=["depth"], resolution=size, camera=camera) for s in found]
     for plan in plans:
         plan.mesh_only = True
+    delivery.check_plans(plans)
     with holding(delivery.out, "aolab mesh"):
         return run_plans(plans, delivery)
 

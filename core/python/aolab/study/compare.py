@@ -42,7 +42,7 @@ from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
                       frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
-                      resolve_scenes)
+                      resolve_scenes, scene_files)
 from ..scoring import check_same_bits, digest, signed_error_rgb
 from ..util import files
 from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
@@ -705,6 +705,10 @@ class Study:
         check_out(Path(opts.out))
         scenes_dir = opts.scenes_dir or find_scenes_dir()
         folders = resolve_scenes(opts.scenes, scenes_dir, default_study=not opts.corpus)
+        out, staging = Path(opts.out), staging_folder(opts.out)
+        files.check_paths(reads=scene_files(folders),
+                          made={"--out": [f / n for f in (out, staging) for n in OUTPUT_FILES]},
+                          cleared={"the report folder of --out": out / report_files.FOLDER})
         motion = {}   # sequence -> every frame after the first has motion vectors
         for folder in folders:  # every scene's errors before any work
             if frame_numbers(folder):

@@ -188,6 +188,10 @@ def plot(rows: list[dict], path: Path) -> None:
     files.write_bytes(path, svg.getvalue())
 
 
+#: The files radius-study writes into --out.
+OUTPUT_FILES = ("radius_study.json", "radius_study.md", "radius_study.svg")
+
+
 def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -> list:
     """(scene name, scale, reference.Plan) for every scene and scale; the passes are given
     (depth and normal, which all three methods read), so the plans do not depend on which
@@ -218,10 +222,12 @@ def run_study(scenes: list[str] = DEFAULT_SCENES, *, scales=DEFAULT_SCALES,
     refused naming the first instead of mixing their files. Its paths are checked first
     (--out was refused after the renders, 35 min)."""
     reference.Delivery(cache=cache, out=out).check()
+    size = reference.parse_resolution(resolution)
+    plans = study_plans(list(scenes), list(scales), size, spp,
+                        Path(scenes_dir) if scenes_dir else None)
+    files.check_paths(reads={"the scene": [plan.scene.path for _, _, plan in plans]},
+                      made={"--out": [Path(out) / name for name in OUTPUT_FILES]})
     with files.output_lock(out, "aolab radius-study"):
-        size = reference.parse_resolution(resolution)
-        plans = study_plans(list(scenes), list(scales), size, spp,
-                            Path(scenes_dir) if scenes_dir else None)
         started = time.time()
         rows = measure(plans, cache, threads=threads, warmup=warmup, repeat=repeat,
                        quiet=quiet)
@@ -255,8 +261,8 @@ def write(result: dict, out: Path) -> None:
     printed."""
     out.mkdir(parents=True, exist_ok=True)
     rows = result["rows"]
-    files.write_together([
-        (out / "radius_study.json", (json.dumps(result, indent=1) + "\n").encode()),
-        (out / "radius_study.md", table(rows).encode())])
-    plot(rows, out / "radius_study.svg")
+    json_file, md_file, svg_file = (out / name for name in OUTPUT_FILES)
+    files.write_together([(json_file, (json.dumps(result, indent=1) + "\n").encode()),
+                          (md_file, table(rows).encode())])
+    plot(rows, svg_file)
     print(table(rows))

@@ -44,7 +44,8 @@ from .. import catalog
 from .. import named_presets as presets_mod
 from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
 from ..regions import occluded_pixels
-from ..scenes import family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes
+from ..scenes import (family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes,
+                      scene_files)
 from ..scoring import check_same_bits, digest, scored_mask
 from ..settings import described
 from ..util import dask_cluster, files
@@ -792,6 +793,8 @@ def run(opts: Options) -> dict:
     scenes_dir = opts.scenes_dir or find_scenes_dir()
     folders = still_scenes(resolve_scenes(opts.scenes, scenes_dir))
     presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
+    check_paths(reads=scene_files(folders),
+                made={"--out": [opts.out / DB_NAME], "--presets-file": presets_file})
     db = check_store(opts.out)
     check_presets_file(presets_file)
     deadline = None if opts.timeout is None else time.monotonic() + opts.timeout

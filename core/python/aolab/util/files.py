@@ -211,7 +211,8 @@ def _locked(lock: Path, owner: str) -> int:
 
 
 def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
-                inputs: dict = {}, reads: dict = {}, cleared: dict = {}) -> None:
+                inputs: dict = {}, reads: dict = {}, made: dict = {},
+                cleared: dict = {}) -> None:
     """Checks, before a command's work starts, the paths its options name ({option: path};
     an option left unset is skipped), so that a mistyped path costs no hours of work: an
     output file (``files``: its folder exists and is writable, the path is no folder or
@@ -219,8 +220,9 @@ def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
     OUT.exr and OUT.png), an output folder (``folders``: a folder, or one that can be made),
     a file rewritten in place (``edited``: an existing regular file that can be replaced),
     an input folder (``inputs``: an existing folder). A ValueError naming the option
-    otherwise. Then :func:`check_distinct`: no output is an input (``reads``, ``inputs``) or
-    another output, and no input lies in a folder the command clears (``cleared``)."""
+    otherwise. Then :func:`check_distinct`: no output (those above, and ``made``: files in a
+    folder the command makes later) is an input (``reads``, ``inputs``) or another output,
+    and no input lies in a folder the command clears (``cleared``)."""
     for option, path in files.items():
         for p in _listed(path):
             check_output_file(p, option)
@@ -236,7 +238,8 @@ def check_paths(*, files: dict = {}, folders: dict = {}, edited: dict = {},
             what = "does not exist" if not os.path.lexists(path) else "is not a folder"
             raise ValueError(f"{option} must be an existing folder, got {str(path)!r}, which "
                              f"{what}")
-    check_distinct(reads={**reads, **inputs}, writes={**edited, **files}, cleared=cleared)
+    check_distinct(reads={**reads, **inputs}, writes={**made, **edited, **files},
+                   cleared=cleared)
 
 
 def _listed(value) -> list:
