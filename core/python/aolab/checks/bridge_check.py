@@ -215,11 +215,12 @@ def run_check(scenes: list[str], *, spp: int = CHECK_SPP, cache: str | None = No
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
     reference.Delivery(cache=cache, out=out).check()
+    check_paths(edited={"--update-doc": update_doc})
     items = committed_scenes(find_scenes_dir(), scenes)   # every error before a render
     out = Path(out)
-    check_paths(edited={"--update-doc": update_doc},
-                reads=scene_files(sorted({folder for _, folder, _ in items})),
-                made={"--out": [out / "agreement.md", out / "agreement.json"]})
+    check_paths(reads=scene_files(sorted({folder for _, folder, _ in items})),
+                made={"--out": [out / "agreement.md", out / "agreement.json"],
+                      "--update-doc": update_doc})
     with files.output_lock(out, "aolab bridge-check"):
         return _check(items, spp=spp, cache=cache, out=out, update_doc=update_doc)
 

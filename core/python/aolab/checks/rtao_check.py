@@ -275,13 +275,14 @@ def run_check(scenes: list[str], *, rays: int = CHECK_RAYS, seed: int = 0, threa
     """``aolab rtao-check`` on ``scenes`` (none: every scene with a mesh); the exit status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
+    check_paths(folders={"--out": out})
+    if update_doc:
+        check_doc(Path(update_doc))
     folders = resolve_scenes(scenes, find_scenes_dir())
     if not scenes:
         folders = [f for f in folders if (f / "reference.mesh").exists()]
-    check_paths(folders={"--out": out}, reads=scene_files(folders),
+    check_paths(reads=scene_files(folders),
                 made={"--out": written(folders, Path(out)), "--update-doc": update_doc})
-    if update_doc:
-        check_doc(Path(update_doc))
     with files.output_lock(out, "aolab rtao-check"):
         return _check(folders, rays=rays, seed=seed, threads=threads, out=Path(out),
                       update_doc=update_doc)
