@@ -392,12 +392,15 @@ def test_scene_key_covers_the_shared_helpers(tmp_path):
     assert resolve_scene(str(scenes / "analytic")).content_sha256 != before
 
 
-def run_batch(out, *args: str) -> subprocess.CompletedProcess:
+TINY_SCENE = ROOT / "tests" / "data" / "tiny_scene.py"
+
+
+def run_batch(out, *args: str, scene: Path = TINY_SCENE) -> subprocess.CompletedProcess:
     """batch.py run directly inside Blender on the tiny scene, writing to `out`."""
     return subprocess.run(
         [BLENDER, "-b", "--factory-startup", "-noaudio", "--disable-autoexec", "--python",
          str(ROOT / "blender_addon" / "aolab_blender" / "batch.py"), "--", "--scene",
-         str(ROOT / "tests" / "data" / "tiny_scene.py"), "--kind", "script", "--out", str(out),
+         str(scene), "--kind", "script", "--out", str(out),
          *args], capture_output=True, text=True, timeout=300, env=checkout_env())
 
 
@@ -431,6 +434,26 @@ def test_batch_out_under_a_file_is_a_message(tmp_path):
     assert res.returncode == 2, res.stdout[-2000:] + res.stderr[-2000:]
     assert "AOLAB_ERROR" in res.stdout and "file" in res.stdout, res.stdout[-2000:]
     assert "Traceback" not in res.stdout + res.stderr
+
+
+@needs_blender
+@pytest.mark.parametrize("out, passes, message", [
+    ("scene.py", "depth", "--out {d}/scene.py is --scene {d}/scene.py: an output would "
+                          "overwrite an input"),
+    ("x.json", "depth", "the sidecar {d}/x.json is also written as --out {d}/x.json"),
+    ("x.mesh", "depth,mesh", "the mesh {d}/x.mesh is also written as --out {d}/x.mesh"),
+])
+def test_batch_refuses_an_export_over_the_scene_or_itself(tmp_path, out, passes, message):
+    """The bridge's export checks its files before the scene runs: none is the scene (the
+    build script, the open .blend) or another file of the same export (aolab.bridge.outputs);
+    one AOLAB_ERROR line naming both, exit 2, nothing written."""
+    scene = tmp_path / "scene.py"
+    scene.write_bytes(TINY_SCENE.read_bytes())
+    res = run_batch(tmp_path / out, "--passes", passes, "--spp", "1", scene=scene)
+    assert res.returncode == 2, res.stdout[-2000:] + res.stderr[-2000:]
+    assert f"AOLAB_ERROR {message.format(d=tmp_path)}" in res.stdout.splitlines()
+    assert scene.read_bytes() == TINY_SCENE.read_bytes()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.py"]
 
 
 @needs_blender
