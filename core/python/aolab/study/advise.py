@@ -35,6 +35,7 @@ from ..bridge.constants import RESULT_EXR
 from ..bridge.passes import required_passes
 from ..render import reference as render
 from ..scenes import find_scenes_dir
+from ..scoring import require_scoreable
 from ..util import files
 from . import pareto, quick_reference, tune
 from .report import pareto_front
@@ -60,13 +61,15 @@ REFERENCE_CHOICES = ("auto", quick_reference.CYCLES, quick_reference.QUICK)
 
 
 def parse_budget(text: str) -> float:
-    """"16ms", "16 ms" or "16" -> 16.0: a time per 1280x720 frame in (0, MAX_BUDGET_MS] ms;
-    anything else is a ValueError naming it."""
-    m = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*(?:ms)?\s*", str(text))
+    """"16ms", "16 ms", "16" or "1e3" -> 16.0 (1000.0): a time per 1280x720 frame in
+    (0, MAX_BUDGET_MS] ms; anything else is a ValueError naming it, with the bound in full
+    (1000000, not 1e+06, which reads as the text it refuses)."""
+    m = re.fullmatch(r"\s*((?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*(?:ms)?\s*",
+                     str(text))
     value = float(m.group(1)) if m else math.nan
     if not 0 < value <= MAX_BUDGET_MS:
         raise ValueError(f"--budget must be a time per 1280x720 frame in ms, more than 0 and at "
-                         f"most {MAX_BUDGET_MS:g}, e.g. 16ms, 33ms or 100ms; got {text!r}")
+                         f"most {MAX_BUDGET_MS:.0f}, e.g. 16ms, 33ms or 100ms; got {text!r}")
     return value
 
 
@@ -106,7 +109,9 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     timed and scored against ``reference``. ``on_step(i, n, config)`` is called before each
     (progress; it may raise to stop). Returns the advice's data, JSON-ready: the scene, the
     reference's info, AO = 1's scores, the trials (pareto's form: "scenes" -> {name: scores})
-    and the configurations a method refused."""
+    and the configurations a method refused. A G-buffer with no geometry pixel, or a
+    reference nowhere finite on geometry, is a ValueError before anything runs."""
+    require_scoreable(g, reference.ao, name=name)
     t0 = time.perf_counter()
     scene = tune.make_scene(name, g, reference.ao, radius)
     chosen = list(methods) if methods else tune.default_methods()
@@ -427,6 +432,11 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
                  f"{g.width}x{g.height} --spp {spp}, or the panel's Render Reference)")
     if reference == quick_reference.CYCLES and cycles is None:
         raise ValueError(where + "; or use --reference quick")
+    # Nothing to score is refused before the work: no scores of NaN, no time from no pixel.
+    require_scoreable(g, np.ones((g.height, g.width), np.float32), name=spec)
+    if reference != quick_reference.QUICK and cycles is not None:
+        require_scoreable(cycles, name=spec if cycles is g else f"the cached Cycles reference "
+                          f"of {name}", hint="; or use --reference quick")
     if reference != quick_reference.QUICK and cycles is not None:
         return name, cycles, radius, quick_reference.cycles(cycles)
     return name, g, radius, quick_reference.quick(g, radius=radius, rays=rays, threads=threads)

@@ -155,7 +155,10 @@ def compute_scenes(specs: list[str], *, thickness: list[float] | None = None, ra
     default THICKNESS_R), each scene's limits folder held while it is written."""
     check_paths(inputs={"--scenes-dir": scenes_dir})
     thickness = [parse_thickness(t) for t in thickness] if thickness else list(THICKNESS_R)
-    for folder in resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir()):
+    folders = resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir())
+    for folder in folders:   # before any work: a file named limits is no folder to write in
+        files.check_output_folder(folder / LIMITS_DIR, "the limits folder of a scene")
+    for folder in folders:
         # One run at a time per scene: two would each rewrite limits.json from what they read.
         with files.output_lock(folder / LIMITS_DIR, "aolab limits"):
             compute_scene(folder, thickness, rays, threads, force)

@@ -64,18 +64,27 @@ def float32_number(name: str, value, *, positive: bool = False, allow_inf: bool 
     head = f"{name} must be {need}, got {shown(value)}"
     if _is_bool(value) or not isinstance(value, numbers.Real):
         raise ValueError(f"{head} ({type(value).__name__})")
-    try:
-        v = float(value)
-        struct.pack("<f", v)   # float32 rounding, OverflowError past it (no numpy warning)
-    except OverflowError:     # beyond float32, or an int beyond any float
-        side = ("above float32's largest, " if value > 0 else "below float32's lowest, -")
-        raise ValueError(f"{head}, {side}{FLOAT32_MAX:.8g}") from None
+    beyond = beyond_float32(value)
+    if beyond:
+        raise ValueError(f"{head}, {beyond}")
+    v = float(value)
     if not (math.isfinite(v) or (allow_inf and v == math.inf)) or (positive and not v > 0):
         raise ValueError(head)
     if positive and v < FLOAT32_MIN_NORMAL:
         raise ValueError(f"{head}, below float32's smallest normal number, "
                          f"{FLOAT32_MIN_NORMAL:.8g}")
     return v
+
+
+def beyond_float32(value) -> str | None:
+    """"above float32's largest, 3.4028235e+38" (or below its lowest) when the real number
+    ``value`` is finite and float32 would round it to an infinity; else None."""
+    try:
+        struct.pack("<f", float(value))   # float32's rounding; OverflowError past it
+    except OverflowError:                 # (or an int beyond any float)
+        side = "above float32's largest, " if value > 0 else "below float32's lowest, -"
+        return f"{side}{FLOAT32_MAX:.8g}"
+    return None
 
 
 def intrinsics(fx, fy, cx, cy) -> tuple[float, float, float, float]:
