@@ -231,7 +231,7 @@ def _require_unit_interval(name: str, image) -> None:
     if outside.any():
         y, x = (int(i) for i in np.argwhere(outside)[0])
         raise ValueError(f"{name} must be in [0, 1] (ambient accessibility), got "
-                         f"{checked.shown(a[y, x].item())} at pixel (x={x}, y={y})")
+                         f"{checked.shown(a[y, x])} at pixel (x={x}, y={y})")
 
 
 def accumulate_settings() -> list[dict]:
