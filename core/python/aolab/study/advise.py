@@ -239,9 +239,9 @@ def choose(result: dict, budget_ms: float) -> dict:
     elif not result["trials"]:
         out["why"] = "every configuration was refused"
     elif all(_scores(result, t)["ms"] > budget_ms for t in result["trials"]):
-        out["why"] = f"no configuration takes {budget_ms:g} ms or less per 1280x720 frame here"
+        out["why"] = f"no configuration takes {budget_ms:.10g} ms or less per 1280x720 frame here"
     else:
-        out["why"] = (f"every configuration within {budget_ms:g} ms is worse on the whole frame "
+        out["why"] = (f"every configuration within {budget_ms:.10g} ms is worse on the whole frame "
                       "than AO = 1 or than its method's default, or no better than AO = 1 "
                       "where there is occlusion")
     return out
@@ -258,7 +258,8 @@ def describe(result: dict, trial: dict) -> str:
     s = _scores(result, trial)
     measured = "" if result["time_scale"] == 1 else \
         f" ({s['measured_ms']:.2f} ms at {result['width']}x{result['height']})"
-    return (f"{trial['label']}: occluded MAE {s['mae']:.4f}, whole frame {s['all_mae']:.4f}, "
+    occluded = f"{s['mae']:.4f}" if math.isfinite(s["mae"]) else "none (no occluded pixel)"
+    return (f"{trial['label']}: occluded MAE {occluded}, whole frame {s['all_mae']:.4f}, "
             f"{s['ms']:.1f} ms per 1280x720 frame{measured}")
 
 
@@ -279,7 +280,7 @@ def advice_lines(result: dict, budget_ms: float) -> list[str]:
     """The advice for one budget as lines: the best, those not told apart from it at the
     reference's noise, or why there is none."""
     got = choose(result, budget_ms)
-    head = f"within {budget_ms:g} ms per 1280x720 frame: "
+    head = f"within {budget_ms:.10g} ms per 1280x720 frame: "
     if got["best"] is None:
         lines = [head + f"no advice: {got['why']}"]
         if got["fastest"] is not None:
