@@ -16,7 +16,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import aolab
-from aolab.study import advise
+from aolab import named_presets
+from aolab.study import advise, limits
 from aolab.util import values
 
 K = dict(fx=20.0, fy=20.0, cx=8.0, cy=4.5)
@@ -97,6 +98,7 @@ def int_calls(g):
         ("threads", lambda v: aolab.ray_scene(mesh, camera_to_world=np.eye(4), threads=v)),
         ("threads", lambda v: aolab.rtao(g, mesh, radius=1.0, rays=1, threads=v)),
         ("threads", lambda v: aolab.rtao_range(g, mesh, radius=1.0, threads=v)),
+        ("threads", lambda v: named_presets.shared_blur(ao, g, threads=v)),
     ]
 
 
@@ -370,6 +372,8 @@ def test_a_limits_entry_that_is_a_file_is_named(tmp_path):
     one_line_exit_2(res, "the limits folder of a scene must be a folder, got "
                     f"'{folder / 'limits'}', which is a regular file")
     assert "File exists" not in res.stderr and snapshot(folder) == before
+    refused(lambda: limits.compute_scene(folder, (1.0,), 4, 2**31, False),
+            THREADS + "2147483648")
 
 
 # --- the shared helpers ------------------------------------------------------------------

@@ -37,6 +37,7 @@ from ..bridge.exr import write_gray
 from ..scenes import (LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes,
                       write_folder_checksums)
 from ..util import files
+from ..util import values as checked
 from ..util.files import check_paths
 from ..util.provenance import git_commit
 
@@ -97,6 +98,7 @@ def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
 def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: bool,
                   log=print) -> list[dict]:
     """Computes the missing or stale limits of one scene folder; returns its entries."""
+    threads = checked.threads(threads)
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     digest = files.sha256_file(folder / "reference.exr")
