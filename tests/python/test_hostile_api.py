@@ -155,6 +155,22 @@ def test_any_int_outside_the_range_is_a_value_error_never_a_type_error(value):
             call(value)
 
 
+def test_a_setting_beyond_a_double_is_quoted_as_given(plane):
+    """Settings cross as doubles: 2**63 would be printed as 9.223372036854776e+18."""
+    still = np.zeros((9, 16, 2), np.float32)
+    ao = np.ones((9, 16), np.float32)
+    refused(lambda: aolab.compute("sao", plane, radius=1.0, seed=2**63),
+            "seed must be in [0, 2147483647], got 9223372036854775808")
+    refused(lambda: aolab.accumulate(ao, plane, still, aolab.TemporalHistory(),
+                                     max_history=2**64), "max_history must be in [1, ",
+            "got 18446744073709551616")
+    refused(lambda: aolab.rtao(plane, aolab.RayScene(np.eye(3, dtype=np.float32), [[0, 1, 2]],
+                                                     np.eye(4)), radius=1.0, rays=2**64),
+            "rays must be in [1, ", "got 18446744073709551616")
+    refused(lambda: aolab.vao_pp_with_stats(plane, radius=1.0, seed=-2**70),
+            "seed must be in [0, 2147483647], got -1180591620717411303424")
+
+
 def test_even_blur_taps_are_named_as_given(plane):
     refused(lambda: aolab.compute("sao", plane, radius=1.0, blur=True, blur_taps=4),
             "blur_taps must be odd, got 4")

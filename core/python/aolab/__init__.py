@@ -153,6 +153,7 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     values["radius"] = radius
     if frame is not None:
         _apply_frame(method, values, frame)
+    checked.settings_as_given(values, lambda: method_info(method)["settings"])
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress,
                        kernel=kernel)
     if blur:
@@ -216,6 +217,7 @@ def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: Te
     NaN is refused on geometry pixels); the bits do not depend on ``threads``."""
     threads = checked.threads(threads)
     _require_unit_interval("ao", ao)
+    checked.settings_as_given(settings, accumulate_settings)
     return _core.accumulate(ao, gbuffer, motion, history, settings, threads=threads,
                             kernel=kernel)
 
@@ -287,6 +289,7 @@ def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
     (1/8-resolution pixels evaluated)."""
     values = dict(settings)
     values["radius"] = radius
+    checked.settings_as_given(values, lambda: method_info("vao_pp")["settings"])
     return _core.vao_pp_with_stats(gbuffer, values, threads=checked.threads(threads),
                                    progress=progress)
 

@@ -101,9 +101,10 @@ def rtao(gbuffer, scene, *, radius: float, rays: int = DEFAULT_RAYS, seed: int =
     exceeds 1 % of ``radius`` an :class:`RtaoRangeWarning` says on how many pixels
     (:func:`rtao_range` gives the same numbers without tracing)."""
     threads = checked.threads(threads)
+    settings = {"radius": radius, "rays": rays, "seed": seed}
+    checked.settings_as_given(settings, rtao_settings)
     scene = _paired_scene(gbuffer, scene, threads, allow_unknown_scene)
-    ao, offsets = _core.rtao(gbuffer, scene, {"radius": radius, "rays": rays, "seed": seed},
-                             threads=threads, progress=progress)
+    ao, offsets = _core.rtao(gbuffer, scene, settings, threads=threads, progress=progress)
     if offsets["warning"]:
         warnings.warn(offsets["warning"], RtaoRangeWarning, stacklevel=2)
     return ao

@@ -103,3 +103,26 @@ def float32_params(params: dict) -> None:
     for name, value in params.items():
         if isinstance(value, numbers.Real) and not _is_bool(value):
             float32_number(str(name), value)
+
+
+def _exact(x: float) -> str:
+    """A bound as the C++ side prints it (exact_number): 2147483647, 1e-12, 1e+30."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e16 else repr(float(x))
+
+
+def settings_as_given(settings: dict, describe) -> None:
+    """Refuses, quoting it, a whole-number setting that a double cannot hold exactly (beyond
+    2**53): the C++ side reads every setting as a double and would print 2**63 as
+    9.223372036854776e+18. ``describe()`` gives the settings' descriptions (method_info's),
+    asked only when there is such a value."""
+    big = [name for name, v in settings.items()
+           if isinstance(v, numbers.Integral) and not _is_bool(v) and abs(int(v)) > 2**53]
+    if not big:
+        return
+    described = {d["name"]: d for d in describe()}
+    for name in big:
+        d = described.get(name, {})
+        if "min" in d and "max" in d:
+            unit = f" {d['unit']}" if d.get("unit") else ""
+            raise ValueError(f"{name} must be in [{_exact(d['min'])}, {_exact(d['max'])}]{unit}, "
+                             f"got {shown(settings[name])}")
