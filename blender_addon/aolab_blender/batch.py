@@ -70,7 +70,7 @@ def parse(argv):
     p.add_argument("--scene", required=True)
     p.add_argument("--kind", choices=("blend", "script"), required=True)
     p.add_argument("--out", required=True)
-    p.add_argument("--radius", type=float_option("--radius", unit="scene units"))
+    p.add_argument("--radius", type=float_option("--radius", unit="scene units", float32=True))
     p.add_argument("--spp", type=int_option("--spp", 1, MAX_SAMPLES), default=1024)
     p.add_argument("--gbuffer-samples", type=int_option("--gbuffer-samples", 1, MAX_SAMPLES),
                    default=1)

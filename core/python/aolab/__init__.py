@@ -20,6 +20,8 @@ from .motion import camera_motion  # noqa: F401
 # The ray-traced peer (raytracing.py): Embree against the scene's triangles.
 from .raytracing import (RayScene, RtaoRangeWarning, analytic_scene_mesh,  # noqa: F401
                          ray_scene, rtao, rtao_range, rtao_settings)
+from .util import values as checked
+from .util.arguments import MAX_SIDE
 
 __all__ = [
     "GBuffer", "methods", "method_info", "compute", "gaussian_blur", "metrics",
@@ -31,10 +33,33 @@ __all__ = [
     "accumulate", "accumulate_settings", "frame_seed",
 ]
 
-GBuffer = _core.GBuffer
 Progress = _core.Progress
 Cancelled = _core.Cancelled
 TemporalHistory = _core.TemporalHistory
+
+
+class GBuffer(_core.GBuffer):
+    __doc__ = _core.GBuffer.__doc__ + """
+fx, fy and background_depth must be > 0 and normal float32 numbers, cx and cy finite float32
+numbers (background_depth may be inf): each is checked as given, before the float32
+conversion, so that 1e39 is refused by name rather than made inf (a ValueError naming it)."""
+
+    def __init__(self, depth, normal=None, color=None, *, fx, fy, cx, cy,
+                 background_depth=_core.DEFAULT_BACKGROUND_DEPTH, emission=None):
+        fx, fy, cx, cy = checked.intrinsics(fx, fy, cx, cy)
+        background_depth = checked.float32_number("background_depth", background_depth,
+                                                  positive=True, allow_inf=True)
+        super().__init__(depth, normal, color, fx=fx, fy=fy, cx=cx, cy=cy,
+                         background_depth=background_depth, emission=emission)
+
+    def view_positions(self, threads: int = 0):
+        """View-space positions (H, W, 3); NaN on background."""
+        return super().view_positions(threads=checked.threads(threads))
+
+    def prepared_normals(self, threads: int = 0):
+        """The normals methods use: renormalised, facing the camera, estimated from depth
+        where missing or degenerate; (0, 0, 0) on background."""
+        return super().prepared_normals(threads=checked.threads(threads))
 
 
 def simd_target() -> str:
@@ -106,12 +131,18 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     ``blur`` must be a bool (``True``, ``False``, a numpy bool) or None (the preset's switch,
     else off); anything else, ``"no"`` or ``1`` included, is a ValueError naming ``blur``.
 
+    ``threads``, ``blur_taps`` and ``frame`` are whole numbers (a bool is not one) in the C++
+    side's range, ``blur_sigma`` a number float32 holds: anything else is a ValueError naming
+    it and quoting the value.
+
     ``frame`` (an int >= 0) makes the method's per-pixel random numbers those of that frame of
     a sequence, for :func:`accumulate`: its ``seed`` (given, the preset's or the default)
     becomes ``frame_seed(seed, frame)``; frame 0 is the method as it is. A method without a
     ``seed`` (Chebyshev AO draws nothing at random) is unchanged.
     """
     _require_bool_or_none("blur", blur)
+    threads = checked.threads(threads)
+    blur_sigma, blur_taps = _blur_values(blur_sigma, blur_taps, "blur_sigma", "blur_taps")
     if preset is not None:
         values = named_presets.settings_of(method, preset)
         preset_blur = bool(values.pop("blur", False))
@@ -122,6 +153,7 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
     values["radius"] = radius
     if frame is not None:
         _apply_frame(method, values, frame)
+    checked.settings_as_given(values, lambda: method_info(method)["settings"])
     ao = _core.compute(method, gbuffer, values, threads=threads, progress=progress,
                        kernel=kernel)
     if blur:
@@ -131,6 +163,19 @@ def compute(method: str, gbuffer: GBuffer, *, radius: float, threads: int = 0,
         ao = _core.gaussian_blur(ao, gbuffer, sigma=blur_sigma, taps=blur_taps,
                                  threads=threads)
     return ao
+
+
+#: The blur's most taps per pass (BlurSettings::taps, core/filters/blur.h).
+BLUR_MAX_TAPS = 129
+
+
+def _blur_values(sigma, taps, sigma_name: str, taps_name: str) -> tuple[float, int]:
+    """The blur's sigma and taps checked before they become a float32 and a C int (their
+    ranges, [0.1, 64] px and odd in [1, 129], are the C++ side's)."""
+    taps = checked.whole_number(taps_name, taps, 1, BLUR_MAX_TAPS, note="(odd)")
+    if taps % 2 == 0:
+        raise ValueError(f"{taps_name} must be odd, got {taps}")
+    return checked.float32_number(sigma_name, sigma, positive=True), taps
 
 
 def _apply_frame(method: str, values: dict, frame) -> None:
@@ -147,11 +192,8 @@ def frame_seed(seed: int, frame: int) -> int:
     for frame 0, for later frames a hash of both in [1, 2**31 - 1], so that every method's
     per-pixel random numbers vary per frame. Both must be whole numbers in [0, 2**31 - 1]
     (a ValueError naming the argument otherwise)."""
-    for name, value in (("seed", seed), ("frame", frame)):
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-            raise ValueError(f"{name} must be a whole number in [0, 2147483647], got "
-                             f"{value!r} ({type(value).__name__})")
-    return _core.frame_seed(int(seed), int(frame))
+    return _core.frame_seed(checked.whole_number("seed", seed),
+                            checked.whole_number("frame", frame))
 
 
 def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: TemporalHistory,
@@ -171,9 +213,27 @@ def accumulate(ao: np.ndarray, gbuffer: GBuffer, motion: np.ndarray, history: Te
     ``"minmax"`` or ``"variance"``, ``variance_gamma``). Vary the method's noise per frame
     with ``compute(..., frame=k)``. ``kernel``: ``"simd"`` (the default) or ``"scalar"``, the
     per-pixel code the SIMD kernel is tested against; the same bits. Bad values are a
-    ValueError naming them; the bits do not depend on ``threads``."""
+    ValueError naming them, and so is an ``ao`` outside [0, 1] (AO is ambient accessibility;
+    NaN is refused on geometry pixels); the bits do not depend on ``threads``."""
+    threads = checked.threads(threads)
+    _require_unit_interval("ao", ao)
+    checked.settings_as_given(settings, accumulate_settings)
     return _core.accumulate(ao, gbuffer, motion, history, settings, threads=threads,
                             kernel=kernel)
+
+
+def _require_unit_interval(name: str, image) -> None:
+    """A ValueError naming ``name``, the first pixel and its value when an AO image holds a
+    value outside [0, 1] (NaN is left to the C++ side, which refuses it on geometry)."""
+    a = np.asarray(image)
+    if a.dtype.kind not in "fiu" or a.ndim != 2:
+        return   # the C++ side names a wrong dtype or shape
+    with np.errstate(invalid="ignore"):
+        outside = (a < 0) | (a > 1)
+    if outside.any():
+        y, x = (int(i) for i in np.argwhere(outside)[0])
+        raise ValueError(f"{name} must be in [0, 1] (ambient accessibility), got "
+                         f"{checked.shown(a[y, x])} at pixel (x={x}, y={y})")
 
 
 def accumulate_settings() -> list[dict]:
@@ -193,7 +253,9 @@ def gaussian_blur(ao: np.ndarray, gbuffer: GBuffer, *, sigma: float = 1.5, taps:
                   threads: int = 0) -> np.ndarray:
     """Separable Gaussian low-pass of an AO image over the G-buffer's valid pixels:
     background pixels neither contribute nor change."""
-    return _core.gaussian_blur(ao, gbuffer, sigma=sigma, taps=taps, threads=threads)
+    sigma, taps = _blur_values(sigma, taps, "sigma", "taps")
+    return _core.gaussian_blur(ao, gbuffer, sigma=sigma, taps=taps,
+                               threads=checked.threads(threads))
 
 
 def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, *,
@@ -215,7 +277,7 @@ def metrics(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = Non
             "(colour bleeding), which cannot be scored against a 1-channel AO reference "
             f"{tuple(np.shape(reference))}; report it as an image, or score the AO of the same "
             "settings with color_bleeding=False")
-    return _core.metrics(ao, reference, mask, threads=threads)
+    return _core.metrics(ao, reference, mask, threads=checked.threads(threads))
 
 
 def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
@@ -227,7 +289,9 @@ def vao_pp_with_stats(gbuffer: GBuffer, *, radius: float, threads: int = 0,
     (1/8-resolution pixels evaluated)."""
     values = dict(settings)
     values["radius"] = radius
-    return _core.vao_pp_with_stats(gbuffer, values, threads=threads, progress=progress)
+    checked.settings_as_given(values, lambda: method_info("vao_pp")["settings"])
+    return _core.vao_pp_with_stats(gbuffer, values, threads=checked.threads(threads),
+                                   progress=progress)
 
 
 def load_gbuffer(path) -> GBuffer:
@@ -305,7 +369,14 @@ def analytic_scene_names() -> list[str]:
 def analytic_scene(name: str, width: int = 320, height: int = 180, **params) -> GBuffer:
     """A G-buffer of a built-in scene with known answers, rendered exactly. Its
     ``reference`` is the closed-form Cycles AO for ``params['radius']`` (default 1) where the
-    scene has one, NaN elsewhere; ``camera_to_world`` is a 4x4 list (row-major)."""
+    scene has one, NaN elsewhere; ``camera_to_world`` is a 4x4 list (row-major).
+
+    ``width`` and ``height`` are whole numbers in [1, 16384], the command line's cap (a
+    larger side would need tens of gigabytes), and numeric ``params`` numbers float32 holds
+    (the depth is float32): anything else is a ValueError naming it."""
+    width = checked.whole_number("width", width, 1, MAX_SIDE)
+    height = checked.whole_number("height", height, 1, MAX_SIDE)
+    checked.float32_params(params)
     data = _core.analytic_scene(name, width, height, params)
     g = GBuffer(data["depth"], data["normal"], fx=data["fx"], fy=data["fy"], cx=data["cx"],
                 cy=data["cy"])

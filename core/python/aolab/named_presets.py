@@ -31,6 +31,7 @@ from . import _core, catalog
 from .catalog.kinds import PRESET_ORDER
 from .settings import described
 from .util import files
+from .util import values as checked
 
 #: Preset names, cheapest first (catalog/kinds.py). ``--sweep quick`` (the default study) runs
 #: the first two beside the method's defaults and its tuned presets; ``high`` and ``ultra``
@@ -50,7 +51,7 @@ def shared_blur(ao, gbuffer, threads: int = 0) -> np.ndarray:
     """``ao`` after the shared blur (BLUR_SIGMA, BLUR_TAPS), as the study and the tuner run
     and time it after a configuration with ``blur``."""
     return np.asarray(_core.gaussian_blur(ao, gbuffer, sigma=BLUR_SIGMA, taps=BLUR_TAPS,
-                                          threads=threads))
+                                          threads=checked.threads(threads)))
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,16 @@ import numpy as np
 
 from . import _core
 from .bridge.mesh import check_pairing
+from .util import values as checked
 
-RayScene = _core.RayScene
+
+class RayScene(_core.RayScene):
+    __doc__ = _core.RayScene.__doc__
+
+    def __init__(self, vertices, triangles, camera_to_world, *, threads: int = 0):
+        super().__init__(vertices, triangles, camera_to_world, threads=checked.threads(threads))
+
+
 #: The default rays per pixel: the reference's own 1024 samples (core/raytracing/rtao.h).
 DEFAULT_RAYS = next(s["default"] for s in _core.rtao_settings() if s["name"] == "rays")
 #: rtao's rays per pixel in the study (`aolab compare --rtao-rays`): the CPU ray tracer's
@@ -92,9 +100,11 @@ def rtao(gbuffer, scene, *, radius: float, rays: int = DEFAULT_RAYS, seed: int =
     which ε ≥ ``radius`` at some pixel is a ValueError saying what to change, and where ε
     exceeds 1 % of ``radius`` an :class:`RtaoRangeWarning` says on how many pixels
     (:func:`rtao_range` gives the same numbers without tracing)."""
+    threads = checked.threads(threads)
+    settings = {"radius": radius, "rays": rays, "seed": seed}
+    checked.settings_as_given(settings, rtao_settings)
     scene = _paired_scene(gbuffer, scene, threads, allow_unknown_scene)
-    ao, offsets = _core.rtao(gbuffer, scene, {"radius": radius, "rays": rays, "seed": seed},
-                             threads=threads, progress=progress)
+    ao, offsets = _core.rtao(gbuffer, scene, settings, threads=threads, progress=progress)
     if offsets["warning"]:
         warnings.warn(offsets["warning"], RtaoRangeWarning, stacklevel=2)
     return ao
@@ -110,6 +120,8 @@ def rtao_range(gbuffer, scene, *, radius: float, threads: int = 0,
     ``largest_share_of_radius``; the scene's ``camera_distance``, ``longest_edge`` and
     ``coordinate_scale``; and the texts of rtao's ``refusal`` and ``warning`` (None when there
     is none). ``scene`` is a :class:`RayScene` or a mesh, paired as for :func:`rtao`."""
+    threads = checked.threads(threads)
+    radius = checked.float32_number("radius", radius, positive=True)
     scene = _paired_scene(gbuffer, scene, threads, allow_unknown_scene)
     return _core.rtao_range(gbuffer, scene, radius, threads=threads)
 
@@ -120,4 +132,6 @@ def analytic_scene_mesh(name: str, extent: float = 1000.0, **params):
     face a square of half-side ``extent`` about the camera, clipped to the face, so unbounded
     planes end ``extent`` away."""
     params.pop("radius", None)  # the closed form's R; the geometry does not depend on it
-    return _core.analytic_scene_mesh(name, params, float(extent))
+    checked.float32_params(params)
+    extent = checked.float32_number("extent", extent, positive=True)
+    return _core.analytic_scene_mesh(name, params, extent)

@@ -36,22 +36,33 @@ def scored_mask(g, reference: np.ndarray | None = None) -> np.ndarray:
     return valid & np.isfinite(reference)
 
 
-def nothing_to_score(g, reference: np.ndarray | None = None, where: str = "") -> str | None:
-    """Why no pixel of the reference G-buffer ``g`` can be scored against ``reference``
-    (default: ``g.reference``), or None: its frame is all background (the camera sees no
-    object), or its AO pass is nowhere finite on geometry. ``where`` narrows the message
-    (" in the 64x36 crop"). ``aolab compare`` and the add-on's Compare say it alike."""
+def nothing_to_score(g, reference: np.ndarray | None = None, where: str = "",
+                     name: str = "reference.exr") -> str | None:
+    """Why no pixel of the reference G-buffer ``g`` (called ``name``) can be scored against
+    ``reference`` (default: ``g.reference``), or None: its frame is all background (the
+    camera sees no object), or its AO pass is nowhere finite on geometry. ``where`` narrows
+    the message (" in the 64x36 crop"). ``aolab compare``, ``aolab advise`` and the add-on's
+    Compare and Advise say it alike."""
     valid = np.asarray(g.valid_mask(), bool)
     if not valid.any():
-        return (f"reference.exr has no geometry pixel{where} (its depth is background "
+        return (f"{name} has no geometry pixel{where} (its depth is background "
                 "everywhere: the camera sees no object), so there is nothing to score")
     if reference is None:
         reference = getattr(g, "reference", None)
     if reference is None or not np.isfinite(np.asarray(reference)[valid]).any():
-        return (f"the AO pass of reference.exr has no finite value on any geometry pixel{where} "
+        return (f"the AO pass of {name} has no finite value on any geometry pixel{where} "
                 "(all NaN or infinite), so there is nothing to score against; render the "
                 "reference again")
     return None
+
+
+def require_scoreable(g, reference: np.ndarray | None = None, name: str = "reference.exr",
+                      hint: str = "") -> None:
+    """A ValueError saying :func:`nothing_to_score` (then ``hint``) when there is nothing to
+    score: refused before any work, never answered with NaN scores."""
+    problem = nothing_to_score(g, reference, name=name)
+    if problem:
+        raise ValueError(problem + hint)
 
 
 def metrics_mask(g) -> np.ndarray | None:

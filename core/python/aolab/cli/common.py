@@ -21,7 +21,7 @@ from ..util.arguments import MAX_SIDE, MAX_THREADS, float_option, int_option
 from .options import threads_option
 
 #: The --radius option's type.
-RADIUS = float_option("--radius", unit="view-space units")
+RADIUS = float_option("--radius", unit="view-space units", float32=True)
 #: The --width and --height options' types.
 SIDE = {name: int_option(name, 1, MAX_SIDE) for name in ("--width", "--height")}
 

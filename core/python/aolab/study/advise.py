@@ -35,6 +35,7 @@ from ..bridge.constants import RESULT_EXR
 from ..bridge.passes import required_passes
 from ..render import reference as render
 from ..scenes import find_scenes_dir
+from ..scoring import require_scoreable
 from ..util import files
 from . import pareto, quick_reference, tune
 from .report import pareto_front
@@ -60,13 +61,15 @@ REFERENCE_CHOICES = ("auto", quick_reference.CYCLES, quick_reference.QUICK)
 
 
 def parse_budget(text: str) -> float:
-    """"16ms", "16 ms" or "16" -> 16.0: a time per 1280x720 frame in (0, MAX_BUDGET_MS] ms;
-    anything else is a ValueError naming it."""
-    m = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*(?:ms)?\s*", str(text))
+    """"16ms", "16 ms", "16" or "1e3" -> 16.0 (1000.0): a time per 1280x720 frame in
+    (0, MAX_BUDGET_MS] ms; anything else is a ValueError naming it, with the bound in full
+    (1000000, not 1e+06, which reads as the text it refuses)."""
+    m = re.fullmatch(r"\s*((?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*(?:ms)?\s*",
+                     str(text))
     value = float(m.group(1)) if m else math.nan
     if not 0 < value <= MAX_BUDGET_MS:
         raise ValueError(f"--budget must be a time per 1280x720 frame in ms, more than 0 and at "
-                         f"most {MAX_BUDGET_MS:g}, e.g. 16ms, 33ms or 100ms; got {text!r}")
+                         f"most {MAX_BUDGET_MS:.0f}, e.g. 16ms, 33ms or 100ms; got {text!r}")
     return value
 
 
@@ -106,7 +109,9 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     timed and scored against ``reference``. ``on_step(i, n, config)`` is called before each
     (progress; it may raise to stop). Returns the advice's data, JSON-ready: the scene, the
     reference's info, AO = 1's scores, the trials (pareto's form: "scenes" -> {name: scores})
-    and the configurations a method refused."""
+    and the configurations a method refused. A G-buffer with no geometry pixel, or a
+    reference nowhere finite on geometry, is a ValueError before anything runs."""
+    require_scoreable(g, reference.ao, name=name)
     t0 = time.perf_counter()
     scene = tune.make_scene(name, g, reference.ao, radius)
     chosen = list(methods) if methods else tune.default_methods()
@@ -234,9 +239,9 @@ def choose(result: dict, budget_ms: float) -> dict:
     elif not result["trials"]:
         out["why"] = "every configuration was refused"
     elif all(_scores(result, t)["ms"] > budget_ms for t in result["trials"]):
-        out["why"] = f"no configuration takes {budget_ms:g} ms or less per 1280x720 frame here"
+        out["why"] = f"no configuration takes {budget_ms:.10g} ms or less per 1280x720 frame here"
     else:
-        out["why"] = (f"every configuration within {budget_ms:g} ms is worse on the whole frame "
+        out["why"] = (f"every configuration within {budget_ms:.10g} ms is worse on the whole frame "
                       "than AO = 1 or than its method's default, or no better than AO = 1 "
                       "where there is occlusion")
     return out
@@ -253,7 +258,8 @@ def describe(result: dict, trial: dict) -> str:
     s = _scores(result, trial)
     measured = "" if result["time_scale"] == 1 else \
         f" ({s['measured_ms']:.2f} ms at {result['width']}x{result['height']})"
-    return (f"{trial['label']}: occluded MAE {s['mae']:.4f}, whole frame {s['all_mae']:.4f}, "
+    occluded = f"{s['mae']:.4f}" if math.isfinite(s["mae"]) else "none (no occluded pixel)"
+    return (f"{trial['label']}: occluded MAE {occluded}, whole frame {s['all_mae']:.4f}, "
             f"{s['ms']:.1f} ms per 1280x720 frame{measured}")
 
 
@@ -274,7 +280,7 @@ def advice_lines(result: dict, budget_ms: float) -> list[str]:
     """The advice for one budget as lines: the best, those not told apart from it at the
     reference's noise, or why there is none."""
     got = choose(result, budget_ms)
-    head = f"within {budget_ms:g} ms per 1280x720 frame: "
+    head = f"within {budget_ms:.10g} ms per 1280x720 frame: "
     if got["best"] is None:
         lines = [head + f"no advice: {got['why']}"]
         if got["fastest"] is not None:
@@ -427,6 +433,11 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
                  f"{g.width}x{g.height} --spp {spp}, or the panel's Render Reference)")
     if reference == quick_reference.CYCLES and cycles is None:
         raise ValueError(where + "; or use --reference quick")
+    # Nothing to score is refused before the work: no scores of NaN, no time from no pixel.
+    require_scoreable(g, np.ones((g.height, g.width), np.float32), name=spec)
+    if reference != quick_reference.QUICK and cycles is not None:
+        require_scoreable(cycles, name=spec if cycles is g else f"the cached Cycles reference "
+                          f"of {name}", hint="; or use --reference quick")
     if reference != quick_reference.QUICK and cycles is not None:
         return name, cycles, radius, quick_reference.cycles(cycles)
     return name, g, radius, quick_reference.quick(g, radius=radius, rays=rays, threads=threads)

@@ -37,6 +37,7 @@ from ..bridge.exr import write_gray
 from ..scenes import (LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes,
                       write_folder_checksums)
 from ..util import files
+from ..util import values as checked
 from ..util.files import check_paths
 from ..util.provenance import git_commit
 
@@ -97,6 +98,7 @@ def _up_to_date(entry: dict | None, folder: Path, want: dict) -> bool:
 def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: bool,
                   log=print) -> list[dict]:
     """Computes the missing or stale limits of one scene folder; returns its entries."""
+    threads = checked.threads(threads)
     g = aolab.load_gbuffer(folder / "reference.exr")
     radius = float(g.sidecar["ao_distance"])
     digest = files.sha256_file(folder / "reference.exr")
@@ -155,7 +157,10 @@ def compute_scenes(specs: list[str], *, thickness: list[float] | None = None, ra
     default THICKNESS_R), each scene's limits folder held while it is written."""
     check_paths(inputs={"--scenes-dir": scenes_dir})
     thickness = [parse_thickness(t) for t in thickness] if thickness else list(THICKNESS_R)
-    for folder in resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir()):
+    folders = resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir())
+    for folder in folders:   # before any work: a file named limits is no folder to write in
+        files.check_output_folder(folder / LIMITS_DIR, "the limits folder of a scene")
+    for folder in folders:
         # One run at a time per scene: two would each rewrite limits.json from what they read.
         with files.output_lock(folder / LIMITS_DIR, "aolab limits"):
             compute_scene(folder, thickness, rays, threads, force)

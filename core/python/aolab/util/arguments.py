@@ -10,6 +10,8 @@ import argparse
 import math
 import sys
 
+from .values import beyond_float32
+
 
 # --- option values, validated when the command line is read --------------------------------
 
@@ -91,10 +93,12 @@ def int_list_option(name: str, hi: int):
 
 
 def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
-                 lo_inclusive: bool = False, allow_inf: bool = False, unit: str = ""):
+                 lo_inclusive: bool = False, allow_inf: bool = False, unit: str = "",
+                 float32: bool = False):
     """An argparse ``type=`` for a float option: finite (or +inf when ``allow_inf``), > lo
-    (>= lo when ``lo_inclusive``) and <= hi: the float, or argparse.ArgumentTypeError naming
-    the option and the text."""
+    (>= lo when ``lo_inclusive``) and <= hi, and with ``float32`` a value float32 holds (it
+    becomes one in C++ or Blender, where 1e300 would be inf): the float, or
+    argparse.ArgumentTypeError naming the option and the text."""
     unit = f" {unit}" if unit else ""
     if math.isinf(hi):
         need = f"{'>=' if lo_inclusive else '>'} {lo:g}{unit}"
@@ -110,6 +114,10 @@ def float_option(name: str, lo: float = 0.0, hi: float = math.inf, *,
         ok = (value >= lo if lo_inclusive else value > lo) and value <= hi
         if not ok or (math.isinf(value) and not allow_inf):
             raise argparse.ArgumentTypeError(f"{name} must be {need}, got {_shown(text)}")
+        beyond = beyond_float32(value) if float32 else None
+        if beyond:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be {need}, got {_shown(text)}, {beyond}")
         return value
     parse.__name__ = name
     return parse
