@@ -92,7 +92,7 @@ def traced(folder: Path, g, mesh, rays: int, seed: int,
     key_material = {"version": RTAO_CACHE_VERSION, "gbuffer": _sha256(Path(g.path)),
                     "mesh": mesh_sha, "rays": rays, "seed": seed, "radius": radius}
     key = hashlib.sha256(json.dumps(key_material, sort_keys=True).encode()).hexdigest()[:20]
-    where = cache_dir() / f"{folder.name}-{key}.exr"
+    where = cache_dir() / f"{files.file_name_for(folder.name)}-{key}.exr"
     side = where.with_suffix(".json")
     if where.exists() and side.exists():
         return read_y_exr(where), json.loads(files.read_text(side, "rtao cache sidecar"))
@@ -212,11 +212,12 @@ def check_scene(folder: Path, rays: int, seed: int, threads: int, out: Path | No
                              "mean_difference": float(blocks[j, i])}
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        aolab.write_image(out / f"{folder.name}_rtao.exr", ao)
+        stem = files.file_name_for(folder.name)
+        aolab.write_image(out / f"{stem}_rtao.exr", ao)
         # Signed difference, 0.5 grey = equal, full scale ±0.1.
-        aolab.write_image(out / f"{folder.name}_difference.png",
+        aolab.write_image(out / f"{stem}_difference.png",
                           np.clip(0.5 + np.where(valid, diff, 0.0) * 5.0, 0, 1).astype(np.float32))
-        aolab.write_image(out / f"{folder.name}_block_difference.png",
+        aolab.write_image(out / f"{stem}_block_difference.png",
                           np.clip(0.5 + np.kron(blocks, np.ones((BLOCK, BLOCK))) * 25.0, 0, 1)
                           .astype(np.float32))
     return result

@@ -240,7 +240,7 @@ class Plan:
         frame. Cheap, where key() hashes, so that count_cached looks at most keys by name."""
         kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
         frame = "" if self.frame is None else f"f{self.frame:04d}-"
-        return f"{self.scene.name}-{kind}{frame}"
+        return f"{files.file_name_for(self.scene.name)}-{kind}{frame}"
 
     def result_files(self, folder: Path) -> list[Path]:
         """The files a finished render leaves in its folder (the JSON last)."""
@@ -629,11 +629,12 @@ def count_cached(cache: Path, plans: list[Plan]) -> int:
 
 
 def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
-    """Where --out receives a plan's files: OUT, OUT/<scene> when several scenes, and
-    .../frames/NNNN for a frame (docs/file_formats.md, "Sequences")."""
+    """Where --out receives a plan's files: OUT, OUT/<scene> when several scenes (the scene's
+    name as files.file_name_for makes it a file name), and .../frames/NNNN for a frame
+    (docs/file_formats.md, "Sequences")."""
     out = Path(out)
     if several_scenes:
-        out = out / plan.scene.name
+        out = out / files.file_name_for(plan.scene.name)
     if plan.frame is not None:
         out = out / "frames" / f"{plan.frame:04d}"
     return out

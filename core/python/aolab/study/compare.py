@@ -717,6 +717,7 @@ class Study:
                 motion[folder] = check_sequence(folder, opts.crop, follow_symlinks=follow)
             else:
                 load_cropped(folder, opts.crop, follow_symlinks=follow)
+        report_files.check_names_fit(Path(opts.out))
         # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
         # when named.
         methods = opts.methods if opts.methods else [
