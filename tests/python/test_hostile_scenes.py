@@ -121,16 +121,26 @@ def test_a_sequence_whose_frames_lead_out_of_its_folder_is_refused(tmp_path, lin
     assert_refused(compare(seq, out), link, target, before, out)
 
 
-@pytest.mark.parametrize("command", ["limits", "tune"])
-def test_limits_and_tune_refuse_a_symlinked_reference_too(tmp_path, command):
+#: Each command that reads a scene folder, with the options that keep it small; none gets as
+#: far as its work (Blender, for reference and mesh).
+READERS = {"limits": ["--rays", "1"],
+           "tune": ["--trials", "1", "--crop", "32x32", "--presets-file", "presets.json"],
+           "reference": ["--cache", "cache"], "mesh": ["--cache", "cache"]}
+
+
+@pytest.mark.parametrize("command", sorted(READERS))
+def test_each_command_that_reads_a_scene_refuses_a_symlinked_file(tmp_path, command,
+                                                                  monkeypatch):
+    monkeypatch.chdir(tmp_path)
     folder = copied(tmp_path)
     target = link_elsewhere(folder, "reference.exr", tmp_path / "elsewhere")
     before = taken(tmp_path / "scenes", tmp_path / "elsewhere")
     out = tmp_path / "out"
-    run = aolab_cmd(*(["limits", "--rays", "1", str(folder)] if command == "limits" else
-                      ["tune", "--trials", "1", "--crop", "32x32", "--scenes", str(folder),
-                       "--out", str(out), "--presets-file", str(tmp_path / "presets.json")]))
+    scene = ["--scenes", str(folder)] if command == "tune" else [str(folder)]
+    extra = [] if command == "limits" else ["--out", str(out)]
+    run = aolab_cmd(command, *scene, *READERS[command], *extra)
     assert_refused(run, folder / "reference.exr", target, before, out)
+    assert not (tmp_path / "cache").exists()
 
 
 def test_follow_symlinks_reads_the_link_and_says_so(tmp_path):
@@ -212,3 +222,15 @@ def test_a_peer_entry_naming_a_file_out_of_its_folder_is_not_used(tmp_path):
     assert name not in [p.name for p in scene.peers]
     assert any(n.startswith(f"peer {name}: not used (its file '../../room/reference.exr' is "
                             "not a plain file name") for n in scene.notes), scene.notes
+
+
+def test_a_manifest_naming_a_build_script_out_of_the_folder_is_refused(tmp_path):
+    folder = copied(tmp_path)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    (folder / "manifest.json").write_text(json.dumps({**manifest, "build": "../../evil.py"}))
+    before = taken(tmp_path / "scenes")
+    run = aolab_cmd("reference", str(folder), "--cache", str(tmp_path / "cache"))
+    assert run.returncode == 2, run.stderr
+    assert_one_error_line(run.stderr, '"build" must be the name of a file in the scene\'s '
+                          "folder, got '../../evil.py'")
+    assert snapshot(tmp_path / "scenes") == before["files"]
