@@ -125,7 +125,8 @@ def test_a_sequence_whose_frames_lead_out_of_its_folder_is_refused(tmp_path, lin
 #: far as its work (Blender, for reference and mesh).
 READERS = {"limits": ["--rays", "1"],
            "tune": ["--trials", "1", "--crop", "32x32", "--presets-file", "presets.json"],
-           "reference": ["--cache", "cache"], "mesh": ["--cache", "cache"]}
+           "reference": ["--cache", "cache"], "mesh": ["--cache", "cache"],
+           "rtao": ["--rays", "1"]}
 
 
 @pytest.mark.parametrize("command", sorted(READERS))

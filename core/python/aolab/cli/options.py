@@ -10,7 +10,8 @@ from ..util.dask_cluster import ClusterSecurity, check_scheduler
 
 def add_follow_symlinks_option(q) -> None:
     """--follow-symlinks: read a scene's files through symbolic links (compare, tune, limits,
-    reference, mesh, radius-study; docs/file_formats.md, "Scene folders: confined")."""
+    reference, mesh, radius-study, rtao of a scene folder; docs/file_formats.md, "Scene
+    folders: confined")."""
     q.add_argument("--follow-symlinks", action="store_true",
                    help="read a scene's files even where they are symbolic links (by default a "
                    "link among a scene's files is refused: its files must be regular files "

@@ -9,10 +9,12 @@ from types import SimpleNamespace
 import aolab
 
 from ..raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
+from ..scenes import check_confined
 from ..util import files
 from ..util.arguments import int_option
 from ..util.files import check_paths
 from .common import input_options, load_input, output_stem, write_result
+from .options import add_follow_symlinks_option
 
 
 def add_parser(sub):
@@ -27,6 +29,7 @@ def add_parser(sub):
     input_options(rt, settings=False)
     rt.add_argument("--mesh", help="the scene's .mesh file (default: <stem>.mesh beside the "
                     "G-buffer); its scene hash must equal the G-buffer's")
+    add_follow_symlinks_option(rt)
     rt.add_argument("--allow-unknown-scene", action="store_true",
                     help="trace a mesh whose scene cannot be checked: the mesh or the "
                     "G-buffer carries no scene hash (an analytic scene, a .mesh without its "
@@ -47,7 +50,8 @@ def run(args) -> int:
     check_paths(files={"--json": args.json})
     spec = args.input
     if not spec.startswith("analytic:") and Path(spec).is_dir():
-        spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
+        check_confined(Path(spec), args.follow_symlinks)   # a reference_scenes/<name> folder
+        spec = str(Path(spec) / "reference.exr")
     g, radius = load_input(spec, args.radius, args.width, args.height)
     unknown = args.allow_unknown_scene
     if args.mesh:
