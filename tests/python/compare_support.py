@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
-import os
+import shutil
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -30,13 +30,22 @@ def write_y_exr(path: Path, image: np.ndarray, half: bool = True) -> None:
     out.close()
 
 
+def copy_files(src: Path, dst: Path, names) -> None:
+    """Copies of ``src``'s files ``names`` in ``dst`` (made if missing): a scene's files are
+    regular files inside its folder (a symbolic link among them is refused)."""
+    dst.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        shutil.copyfile(src / name, dst / name)
+
+
 def link_scene(src: Path, dst: Path, mesh: bool = False) -> None:
+    """A scene folder ``dst`` with copies of ``src``'s reference, sidecar and manifest (and
+    mesh)."""
     dst.mkdir(parents=True)
     names = ["reference.exr", "reference.json", "manifest.json"]
     if mesh:   # the scene's triangles: the study then runs rtao on it
         names += ["reference.mesh", "reference.mesh.json"]
-    for name in names:
-        os.symlink(src / name, dst / name)
+    copy_files(src, dst, names)
 
 
 def write_synthetic_peers(folder: Path, seed: int = 7) -> dict:

@@ -509,15 +509,12 @@ def test_a_mesh_file_without_its_json_needs_allow_unknown_scene(tmp_path):
 def test_compare_names_a_mesh_of_another_scene_where_rtao_did_not_run(tmp_path):
     """Was: "no scene has a mesh beside its reference", while room had one, of another
     scene."""
-    import os
-    from compare_support import SCENES
+    from compare_support import SCENES, copy_files
     from test_compare import run_compare
     room = tmp_path / "scenes" / "room"
-    room.mkdir(parents=True)
-    for name in ("reference.exr", "reference.json", "manifest.json"):
-        os.symlink(SCENES / "room" / name, room / name)
-    for name in ("reference.mesh", "reference.mesh.json"):   # colored_room's geometry
-        os.symlink(SCENES / "colored_room" / name, room / name)
+    copy_files(SCENES / "room", room, ("reference.exr", "reference.json", "manifest.json"))
+    copy_files(SCENES / "colored_room", room,   # colored_room's geometry
+               ("reference.mesh", "reference.mesh.json"))
     out = tmp_path / "out"
     assert run_compare(tmp_path / "scenes", out, "--methods", "crytek_ssao", "--sweep",
                        "quick", "--rtao-rays", "1") == 0
@@ -532,13 +529,11 @@ def test_compare_notes_a_scene_rtao_refuses_and_goes_on(tmp_path):
     """The study's rtao rungs on a scene whose R is below the ray offset (room's sidecar with
     ao_distance 1e-5): noted, and the study goes on. Was: the ValueError ended the study."""
     import json
-    import os
-    from compare_support import SCENES
+    from compare_support import SCENES, copy_files
     from test_compare import run_compare
     room = tmp_path / "scenes" / "room"
-    room.mkdir(parents=True)
-    for name in ("reference.exr", "manifest.json", "reference.mesh", "reference.mesh.json"):
-        os.symlink(SCENES / "room" / name, room / name)
+    copy_files(SCENES / "room", room,
+               ("reference.exr", "manifest.json", "reference.mesh", "reference.mesh.json"))
     side = json.loads((SCENES / "room" / "reference.json").read_text())
     (room / "reference.json").write_text(json.dumps(dict(side, ao_distance=1e-5)))
     out = tmp_path / "out"

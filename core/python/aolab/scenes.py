@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -101,11 +102,42 @@ def in_default_study(folder: Path) -> bool:
     return manifest(folder).get(DEFAULT_STUDY_KEY) is True
 
 
-def resolve_scenes(specs: list[str], scenes_dir: Path | None, *,
-                   default_study: bool = False) -> list[Path]:
+def resolve_scenes(specs: list[str], scenes_dir: Path | None, *, default_study: bool = False,
+                   follow_symlinks: bool = False) -> list[Path]:
     """Scene folders (is_scene): names in ``scenes_dir``, folders, or .exr paths (their
     folder). No spec: every scene folder of ``scenes_dir``, sorted (a sequence not rendered
-    yet is left out) — only those of the default study when ``default_study``."""
+    yet is left out) — only those of the default study when ``default_study``. Each is
+    confined (check_confined, ``follow_symlinks``)."""
+    folders = _resolved(specs, scenes_dir, default_study)
+    for folder in folders:
+        check_confined(folder, follow_symlinks)
+    return folders
+
+
+#: How a command and the API let a scene's symbolic links be read (check_confined).
+FOLLOW_SYMLINKS_HINT = "--follow-symlinks (follow_symlinks=True in Python) reads it anyway"
+_followed: set[str] = set()   # the links check_confined has warned about, once each
+
+
+def check_confined(folder: Path, follow_symlinks: bool = False) -> None:
+    """A scene's files are regular files inside its folder: a symbolic link anywhere in
+    ``folder`` (a file or a subfolder such as frames/0001) is a ValueError naming it and
+    where it points, before anything is read through it; with ``follow_symlinks`` it is
+    read, and a warning line says so. ``folder`` itself may be a link (the user's)."""
+    link = files.first_symlink(folder)
+    if link is None:
+        return
+    where = f"{str(link)!r} is a symbolic link to {os.readlink(link)!r}"
+    if not follow_symlinks:
+        raise ValueError(f"scene {Path(folder).name!r}: {where}: a scene's files must be "
+                         f"regular files inside its folder; {FOLLOW_SYMLINKS_HINT}")
+    if where not in _followed:
+        _followed.add(where)
+        print(f"aolab: warning: scene {Path(folder).name!r}: {where}, followed "
+              "(--follow-symlinks)", file=sys.stderr, flush=True)
+
+
+def _resolved(specs: list[str], scenes_dir: Path | None, default_study: bool) -> list[Path]:
     if not specs:
         if scenes_dir is None:
             raise ValueError("no reference_scenes folder found: run from the repository, pass "
@@ -258,6 +290,8 @@ def load_renders(where: Path, json_name: str, shape: tuple[int, int],
     peers = []
     for e in entries:
         try:
+            if not files.plain_name(str(e["file"])):   # never a path out of the folder
+                raise ValueError(f"its file {e['file']!r} is not a plain file name in {where}")
             ao = read_y_exr(where / e["file"])
             if crop is not None:
                 ao = crop.apply(ao)
@@ -323,10 +357,13 @@ class Scene:
     outputs: dict | None = None
 
 
-def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None) -> tuple:
+def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None, *,
+                 follow_symlinks: bool = False) -> tuple:
     """(G-buffer, reference AO, R, the crop fitted to the frame or None) of a scene folder,
-    cropped to a centred ``crop`` if given; ``name`` (default: the folder's) in errors."""
+    cropped to a centred ``crop`` if given; ``name`` (default: the folder's) in errors. A
+    symbolic link among its files is refused unless ``follow_symlinks`` (check_confined)."""
     shown = name or folder.name
+    check_confined(folder, follow_symlinks)
     verify_folder(folder)
     g = aolab.load_gbuffer(folder / "reference.exr")
     sidecar = g.sidecar or {}
@@ -364,17 +401,22 @@ def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None
     return g, reference, radius, crop
 
 
-def load_scene(folder: Path, crop: Crop | None = None, name: str | None = None) -> Scene:
-    g, reference, radius, crop = load_cropped(folder, crop, name)
+def load_scene(folder: Path, crop: Crop | None = None, name: str | None = None, *,
+               follow_symlinks: bool = False) -> Scene:
+    """A scene folder loaded (load_cropped) with its regions and peers."""
+    g, reference, radius, crop = load_cropped(folder, crop, name,
+                                              follow_symlinks=follow_symlinks)
     masks = region_masks(g, reference, radius)
     peers, notes = load_peers(folder, reference.shape, crop)
     return Scene(name or folder.name, folder, g, reference, radius, masks, peers, notes)
 
 
-def check_sequence(folder: Path, crop: Crop | None = None) -> bool:
+def check_sequence(folder: Path, crop: Crop | None = None, *,
+                   follow_symlinks: bool = False) -> bool:
     """Every frame of a sequence loads (load_cropped) and all have the first frame's size and
     R, so that consecutive frames compare pixel by pixel; a ValueError names the frame.
     Returns whether every frame after the first carries motion vectors (GBuffer.motion)."""
+    check_confined(folder, follow_symlinks)   # frames/ and frames/NNNN included
     first = None
     motion = True
     for i, frame in enumerate(frame_numbers(folder)):
@@ -384,7 +426,8 @@ def check_sequence(folder: Path, crop: Crop | None = None) -> bool:
             raise ValueError(f"scene {folder.name!r}: frame {frame} has no reference.exr "
                              f"(looked in {where}); render the sequence with `aolab reference "
                              "--frames`")
-        g, reference, radius, _ = load_cropped(where, crop, name)
+        g, reference, radius, _ = load_cropped(where, crop, name,
+                                               follow_symlinks=follow_symlinks)
         motion = motion and (i == 0 or g.motion is not None)
         if first is None:
             first = (reference.shape, radius)

@@ -93,7 +93,7 @@ def traced(folder: Path, g, mesh, rays: int, seed: int,
     key_material = {"version": RTAO_CACHE_VERSION, "gbuffer": _sha256(Path(g.path)),
                     "mesh": mesh_sha, "rays": rays, "seed": seed, "radius": radius}
     key = hashlib.sha256(json.dumps(key_material, sort_keys=True).encode()).hexdigest()[:20]
-    where = cache_dir() / f"{folder.name}-{key}.exr"
+    where = cache_dir() / f"{files.file_name_for(folder.name)}-{key}.exr"
     side = where.with_suffix(".json")
     if where.exists() and side.exists():
         return read_y_exr(where), json.loads(files.read_text(side, "rtao cache sidecar"))
@@ -291,7 +291,8 @@ def run_check(scenes: list[str], *, rays: int = CHECK_RAYS, seed: int = 0, threa
 def scene_outputs(folder: Path, out: Path) -> list[Path]:
     """The images check_scene writes into ``out`` for the scene ``folder``: its rtao, the
     difference and the block difference."""
-    return [out / f"{folder.name}{tail}"
+    stem = files.file_name_for(folder.name)
+    return [out / f"{stem}{tail}"
             for tail in ("_rtao.exr", "_difference.png", "_block_difference.png")]
 
 

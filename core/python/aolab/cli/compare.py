@@ -11,7 +11,8 @@ from ..raytracing import RTAO_LADDER
 from ..scenes import parse_crop
 from ..study import compare
 from ..util.arguments import MAX_SIDE, float_option, int_list_option, int_option
-from .options import add_cluster_options, add_timing_options, cluster_security
+from .options import (add_cluster_options, add_follow_symlinks_option, add_timing_options,
+                      cluster_security)
 
 
 def add_parser(sub):
@@ -57,6 +58,7 @@ def add_parser(sub):
                    help="rtao's rays per pixel on every scene with a mesh, comma-separated "
                    "integers in [1, 65536] (default " + ",".join(str(n) for n in RTAO_LADDER)
                    + "); 'none' runs no rtao")
+    add_follow_symlinks_option(c)
     add_cluster_options(c, "score the configurations", "scored as they are timed",
                         "aolab and the scenes at the same path; times are still measured "
                         "here, one configuration at a time")
@@ -72,5 +74,6 @@ def run(args) -> int:
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
         image_width=args.image_width, rtao_ladder=tuple(args.rtao_rays),
-        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args))
+        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args),
+        follow_symlinks=args.follow_symlinks)
     return compare.run_study(opts)

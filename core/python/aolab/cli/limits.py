@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..study import limits
 from ..study.limits import MAX_THICKNESS_R, RAYS, THICKNESS_R, parse_thickness
 from ..util.arguments import MAX_THREADS, checked_type, int_option
-from .options import threads_option
+from .options import add_follow_symlinks_option, threads_option
 
 
 def add_parser(sub):
@@ -28,10 +28,12 @@ def add_parser(sub):
                    help=f"worker threads, 0 to {MAX_THREADS} (0 = all cores)")
     p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
     p.add_argument("--force", action="store_true", help="recompute even if up to date")
+    add_follow_symlinks_option(p)
     return p
 
 
 def run(args) -> int:
     limits.compute_scenes(args.scenes, thickness=args.thickness, rays=args.rays,
-                          threads=args.threads, force=args.force, scenes_dir=args.scenes_dir)
+                          threads=args.threads, force=args.force, scenes_dir=args.scenes_dir,
+                          follow_symlinks=args.follow_symlinks)
     return 0

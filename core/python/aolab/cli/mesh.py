@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from ..render import reference
+from .options import add_follow_symlinks_option
 from .reference import delivery
 
 
@@ -27,9 +28,10 @@ def add_parser(sub):
                     "~/.cache/aolab/references)")
     ms.add_argument("--force", action="store_true", help="export even if cached")
     ms.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_follow_symlinks_option(ms)
     return ms
 
 
 def run(args) -> int:
     return reference.export_meshes(args.scenes, delivery(args), resolution=args.resolution,
-                                   camera=args.camera)
+                                   camera=args.camera, follow_symlinks=args.follow_symlinks)

@@ -8,6 +8,16 @@ from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option
 from ..util.dask_cluster import ClusterSecurity, check_scheduler
 
 
+def add_follow_symlinks_option(q) -> None:
+    """--follow-symlinks: read a scene's files through symbolic links (compare, tune, limits,
+    reference, mesh, radius-study, rtao of a scene folder; docs/file_formats.md, "Scene
+    folders: confined")."""
+    q.add_argument("--follow-symlinks", action="store_true",
+                   help="read a scene's files even where they are symbolic links (by default a "
+                   "link among a scene's files is refused: its files must be regular files "
+                   "inside its folder); each link followed is named on stderr")
+
+
 def threads_option():
     return int_option("--threads", 0, MAX_THREADS, what="0 = all cores")
 

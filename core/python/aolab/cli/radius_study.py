@@ -6,7 +6,7 @@ from __future__ import annotations
 from ..study import radius_study
 from ..study.radius_study import DEFAULT_RESOLUTION, DEFAULT_SCALES, DEFAULT_SCENES, DEFAULT_SPP
 from ..util.arguments import MAX_SAMPLES, float_option, int_option
-from .options import add_timing_options
+from .options import add_follow_symlinks_option, add_timing_options
 
 
 def add_parser(sub):
@@ -31,6 +31,7 @@ def add_parser(sub):
     p.add_argument("--scenes-dir", help="folder of the scenes (default as aolab compare)")
     p.add_argument("--out", default="out/radius_study", help="output folder")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_follow_symlinks_option(p)
     return p
 
 
@@ -38,4 +39,5 @@ def run(args) -> int:
     return radius_study.run_study(
         args.scenes, scales=args.scales, resolution=args.resolution, spp=args.spp,
         threads=args.threads, warmup=args.warmup, repeat=args.repeat, cache=args.cache,
-        scenes_dir=args.scenes_dir, out=args.out, quiet=args.quiet)
+        scenes_dir=args.scenes_dir, out=args.out, quiet=args.quiet,
+        follow_symlinks=args.follow_symlinks)

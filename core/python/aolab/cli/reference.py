@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..render import cluster, reference
 from ..util.arguments import MAX_SAMPLES, checked_type, int_list_option, int_option
 from .common import RADIUS
-from .options import add_cluster_options, cluster_security
+from .options import add_cluster_options, add_follow_symlinks_option, cluster_security
 
 
 def add_parser(sub):
@@ -43,6 +43,7 @@ def add_parser(sub):
     f.add_argument("--no-eevee", action="store_true", help="with --peers: skip EEVEE")
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_follow_symlinks_option(f)
     f.add_argument("--frames", type=checked_type(reference.parse_frames, "--frames"),
                    help="animation frames: N, START-END or START-END:STEP (one reference each, "
                    "copied to OUT/frames/NNNN; default: a sequence scene's manifest frames)")
@@ -63,7 +64,8 @@ def run(args) -> int:
     plans = reference.command_plans(
         args.scenes, spp=args.spp, radius=args.radius, methods=args.methods, passes=args.passes,
         resolution=args.resolution, camera=args.camera, gbuffer_samples=args.gbuffer_samples,
-        peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames)
+        peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames,
+        follow_symlinks=args.follow_symlinks)
     to.check_plans(plans)
     with reference.holding(args.out, "aolab reference"):
         if args.scheduler or args.workers > 1:

@@ -9,10 +9,12 @@ from types import SimpleNamespace
 import aolab
 
 from ..raytracing import DEFAULT_RAYS as RTAO_DEFAULT_RAYS
+from ..scenes import check_confined
 from ..util import files
 from ..util.arguments import int_option
 from .common import (check_outputs, gbuffer_files, input_options, load_input, mesh_files,
                      output_stem, write_result)
+from .options import add_follow_symlinks_option
 
 
 def add_parser(sub):
@@ -27,6 +29,7 @@ def add_parser(sub):
     input_options(rt, settings=False)
     rt.add_argument("--mesh", help="the scene's .mesh file (default: <stem>.mesh beside the "
                     "G-buffer); its scene hash must equal the G-buffer's")
+    add_follow_symlinks_option(rt)
     rt.add_argument("--allow-unknown-scene", action="store_true",
                     help="trace a mesh whose scene cannot be checked: the mesh or the "
                     "G-buffer carries no scene hash (an analytic scene, a .mesh without its "
@@ -48,7 +51,8 @@ def run(args) -> int:
     """aolab rtao: ray-traced AO of a G-buffer against its scene's triangles."""
     spec = args.input
     if not spec.startswith("analytic:") and Path(spec).is_dir():
-        spec = str(Path(spec) / "reference.exr")   # a reference_scenes/<name> folder
+        check_confined(Path(spec), args.follow_symlinks)   # a reference_scenes/<name> folder
+        spec = str(Path(spec) / "reference.exr")
     out = output_stem(args.out, "rtao")
     check_outputs(out, args.json, {**gbuffer_files(spec), **_mesh_files(spec, args.mesh)})
     g, radius = load_input(spec, args.radius, args.width, args.height)

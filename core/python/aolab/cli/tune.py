@@ -11,7 +11,8 @@ from ..scenes import parse_crop
 from ..study import tune
 from ..study.tune import DEFAULT_MAX_MS, DEFAULT_TRIALS
 from ..util.arguments import float_option, int_option
-from .options import add_cluster_options, add_timing_options, cluster_security
+from .options import (add_cluster_options, add_follow_symlinks_option, add_timing_options,
+                      cluster_security)
 
 
 def add_parser(sub):
@@ -55,6 +56,7 @@ def add_parser(sub):
                    f"alone (ms > 0; default {DEFAULT_MAX_MS:g} ms: 2x the largest budget)")
     t.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar (default: when stderr is a terminal)")
+    add_follow_symlinks_option(t)
     add_cluster_options(t, "score the trials", "scored as they are timed",
                         "aolab and the scenes at the same path; times are still measured "
                         "here, one configuration at a time")
@@ -69,5 +71,6 @@ def run(args) -> int:
         presets_file=Path(args.presets_file) if args.presets_file else None,
         timing=tune.Timing(args.warmup, args.repeat, args.threads, args.max_ms),
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
-        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args))
+        workers=args.workers, scheduler=args.scheduler, security=cluster_security(args),
+        follow_symlinks=args.follow_symlinks)
     return tune.run_command(opts)

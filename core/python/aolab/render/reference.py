@@ -147,7 +147,11 @@ class Scene:
     content_sha256: str = ""
 
 
-def resolve_scene(spec: str) -> Scene:
+def resolve_scene(spec: str, follow_symlinks: bool = False) -> Scene:
+    """The scene of ``spec`` (a .blend, a build script or a scene folder) and the hash of
+    what its render depends on. A scene folder is confined (scenes.check_confined: a symbolic
+    link among its files is refused unless ``follow_symlinks``), its build script a plain
+    file name in it."""
     p = Path(spec)
     if not p.exists():
         raise ReferenceError(f"no such scene: {spec} (give a .blend, a build script .py or a "
@@ -156,12 +160,17 @@ def resolve_scene(spec: str) -> Scene:
     # Every file is checked to be a regular file before it is hashed: reading a FIFO would
     # wait forever for a writer (files.read_bytes).
     if p.is_dir():
+        scenes.check_confined(p, follow_symlinks)
         mpath = p / "manifest.json"
         if not mpath.exists():
             raise ReferenceError(f"{spec} is a folder without manifest.json")
         manifest_bytes = files.read_bytes(mpath, "scene manifest")   # read once: parsed, hashed
         manifest = files.json_object(manifest_bytes, mpath, "scene manifest")
-        script = p / manifest.get("build", "build.py")
+        build = manifest.get("build", "build.py")
+        if not (isinstance(build, str) and files.plain_name(build)):
+            raise ReferenceError(f'{mpath}: "build" must be the name of a file in the scene\'s '
+                                 f"folder, got {build!r}")
+        script = p / build
         if not script.exists():
             raise ReferenceError(f"{mpath} names the build script {script.name}, which is missing")
         h = hashlib.sha256(files.read_bytes(script, "build script") + manifest_bytes)
@@ -240,7 +249,7 @@ class Plan:
         frame. Cheap, where key() hashes, so that count_cached looks at most keys by name."""
         kind = "peers-" if self.peers else "mesh-" if self.mesh_only else ""
         frame = "" if self.frame is None else f"f{self.frame:04d}-"
-        return f"{self.scene.name}-{kind}{frame}"
+        return f"{files.file_name_for(self.scene.name)}-{kind}{frame}"
 
     def result_files(self, folder: Path) -> list[Path]:
         """The files a finished render leaves in its folder (the JSON last)."""
@@ -629,11 +638,12 @@ def count_cached(cache: Path, plans: list[Plan]) -> int:
 
 
 def output_folder(out: Path, plan: Plan, several_scenes: bool) -> Path:
-    """Where --out receives a plan's files: OUT, OUT/<scene> when several scenes, and
-    .../frames/NNNN for a frame (docs/file_formats.md, "Sequences")."""
+    """Where --out receives a plan's files: OUT, OUT/<scene> when several scenes (the scene's
+    name as files.file_name_for makes it a file name), and .../frames/NNNN for a frame
+    (docs/file_formats.md, "Sequences")."""
     out = Path(out)
     if several_scenes:
-        out = out / plan.scene.name
+        out = out / files.file_name_for(plan.scene.name)
     if plan.frame is not None:
         out = out / "frames" / f"{plan.frame:04d}"
     return out
@@ -644,12 +654,12 @@ def command_plans(scenes: list[str], *, spp: int | None = None, radius: float | 
                   resolution: str | None = None, camera: str | None = None,
                   gbuffer_samples: int = 1, peers: bool = False,
                   ladder: tuple[int, ...] | None = None, no_eevee: bool = False,
-                  frames=None) -> list[Plan]:
+                  frames=None, follow_symlinks: bool = False) -> list[Plan]:
     """The plans of an `aolab reference` call (its options by name), every error raised
     before any render. The caller runs them here (run_plans) or on a cluster
     (aolab.render.cluster.run_plans); this module never imports the cluster."""
     size = parse_resolution(resolution) if resolution else None
-    found = [resolve_scene(s) for s in scenes]  # every error before any render
+    found = [resolve_scene(s, follow_symlinks) for s in scenes]  # every error before a render
     plans = [make_plan(s, spp=spp, radius=radius, methods=methods,
                        passes=passes.split(",") if passes else None,
                        resolution=size, camera=camera,
@@ -698,13 +708,13 @@ class Delivery:
 
 
 def export_meshes(scenes: list[str], delivery: Delivery, *, resolution: str | None = None,
-                  camera: str | None = None) -> int:
+                  camera: str | None = None, follow_symlinks: bool = False) -> int:
     """`aolab mesh`: each scene's world-space triangles as Cycles renders them, without
     rendering, at the resolution and camera a reference of it has (so that the scene_hash of
     reference.mesh.json equals reference.json's); the exit status."""
     delivery.check()
     size = parse_resolution(resolution) if resolution else None
-    found = [resolve_scene(s) for s in scenes]  # every error before any export
+    found = [resolve_scene(s, follow_symlinks) for s in scenes]  # every error before any export
     plans = [make_plan(s, passes=["depth"], resolution=size, camera=camera) for s in found]
     for plan in plans:
         plan.mesh_only = True

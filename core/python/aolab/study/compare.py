@@ -477,6 +477,8 @@ class Options:
     scheduler: str | None = None
     #: How to meet a remote scheduler (TLS files, or consent to plain tcp on the network).
     security: ClusterSecurity | None = None
+    #: Read a scene's files through symbolic links (scenes.check_confined); refused without.
+    follow_symlinks: bool = False
 
 
 def _downscale(a: np.ndarray, width: int) -> np.ndarray:
@@ -581,13 +583,15 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
 
 
 def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
-                    blurs: list[bool], frame: int | None = None) -> dict:
+                    blurs: list[bool], frame: int | None = None,
+                    follow_symlinks: bool = False) -> dict:
     """On a Dask worker: one configuration group's output on a scene (read from ``folder``,
     shared storage, once per worker; at ``frame``, the frame's index in a sequence with
     motion), blurred or not as ``blurs`` asks, scored: blur -> (score, vs_limit, digest),
     None for an RGB output; {"error": message} when the method refuses the settings."""
-    scene = worker_scene((__name__, folder, crop_key(crop), name),
-                         lambda: load_scene(Path(folder), crop, name))
+    scene = worker_scene((__name__, folder, crop_key(crop), name, follow_symlinks),
+                         lambda: load_scene(Path(folder), crop, name,
+                                            follow_symlinks=follow_symlinks))
     try:
         raw = np.asarray(aolab.compute(method, scene.g, radius=scene.radius, threads=1,
                                        frame=frame, **compute_settings))
@@ -704,7 +708,9 @@ class Study:
         self._t0 = time.perf_counter()
         check_out(Path(opts.out))
         scenes_dir = opts.scenes_dir or find_scenes_dir()
-        folders = resolve_scenes(opts.scenes, scenes_dir, default_study=not opts.corpus)
+        follow = opts.follow_symlinks
+        folders = resolve_scenes(opts.scenes, scenes_dir, default_study=not opts.corpus,
+                                 follow_symlinks=follow)
         out, staging = Path(opts.out), staging_folder(opts.out)
         files.check_paths(reads=scene_files(folders),
                           made={"--out": [f / n for f in (out, staging) for n in OUTPUT_FILES]},
@@ -712,9 +718,10 @@ class Study:
         motion = {}   # sequence -> every frame after the first has motion vectors
         for folder in folders:  # every scene's errors before any work
             if frame_numbers(folder):
-                motion[folder] = check_sequence(folder, opts.crop)
+                motion[folder] = check_sequence(folder, opts.crop, follow_symlinks=follow)
             else:
-                load_cropped(folder, opts.crop)
+                load_cropped(folder, opts.crop, follow_symlinks=follow)
+        report_files.check_names_fit(Path(opts.out))
         # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
         # when named.
         methods = opts.methods if opts.methods else [
@@ -831,7 +838,7 @@ class Study:
         opts = self.opts
         if bar is not None:
             bar.set_description(f"{name or folder.name}: loading")
-        scene = load_scene(folder, opts.crop, name)
+        scene = load_scene(folder, opts.crop, name, follow_symlinks=opts.follow_symlinks)
         if sequence is not None:
             scene.sequence, scene.frame = sequence
             scene.outputs = {}
@@ -890,7 +897,8 @@ class Study:
             bar.set_description(f"{name or folder.name}: scoring on the cluster")
         futures = {(method, i): self.client.submit(
             config_accuracy, str(folder), self.opts.crop, name, method, compute_settings,
-            sorted({bool(s.blur) for s in settings}), frame, pure=False)
+            sorted({bool(s.blur) for s in settings}), frame, self.opts.follow_symlinks,
+            pure=False)
             for method, runs in plan.items() for i, (compute_settings, settings) in enumerate(runs)}
         wait_all(self.client, list(futures.values()), lambda: None)
         return {k: f.result() for k, f in futures.items()}

@@ -151,13 +151,16 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
 
 
 def compute_scenes(specs: list[str], *, thickness: list[float] | None = None, rays: int = RAYS,
-                   threads: int = 0, force: bool = False, scenes_dir: Path | None = None) -> None:
+                   threads: int = 0, force: bool = False, scenes_dir: Path | None = None,
+                   follow_symlinks: bool = False) -> None:
     """``aolab limits``: the limits of each scene of ``specs`` (names, folders; none: every
     scene of ``scenes_dir``, default find_scenes_dir()) at ``thickness`` (multiples of R,
-    default THICKNESS_R), each scene's limits folder held while it is written."""
+    default THICKNESS_R), each scene's limits folder held while it is written; a symbolic
+    link among a scene's files is refused unless ``follow_symlinks``."""
     check_paths(inputs={"--scenes-dir": scenes_dir})
     thickness = [parse_thickness(t) for t in thickness] if thickness else list(THICKNESS_R)
-    folders = resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir())
+    folders = resolve_scenes(specs, Path(scenes_dir) if scenes_dir else find_scenes_dir(),
+                             follow_symlinks=follow_symlinks)
     for folder in folders:   # before any work: a file named limits is no folder to write in
         files.check_output_folder(folder / LIMITS_DIR, "the limits folder of a scene")
     for folder in folders:

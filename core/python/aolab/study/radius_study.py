@@ -192,7 +192,8 @@ def plot(rows: list[dict], path: Path) -> None:
 OUTPUT_FILES = ("radius_study.json", "radius_study.md", "radius_study.svg")
 
 
-def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -> list:
+def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None,
+                follow_symlinks: bool = False) -> list:
     """(scene name, scale, reference.Plan) for every scene and scale; the passes are given
     (depth and normal, which all three methods read), so the plans do not depend on which
     methods are registered."""
@@ -201,7 +202,7 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None) -
         raise ValueError("no reference_scenes folder found: give --scenes-dir")
     plans = []
     for name in scenes:
-        spec = reference.resolve_scene(str(Path(scenes_dir) / name))
+        spec = reference.resolve_scene(str(Path(scenes_dir) / name), follow_symlinks)
         base = spec.manifest.get("radius")
         if base is None:
             raise ValueError(f"scene {spec.name!r} has no radius in its manifest")
@@ -216,7 +217,7 @@ def run_study(scenes: list[str] = DEFAULT_SCENES, *, scales=DEFAULT_SCALES,
               resolution: str = "x".join(map(str, DEFAULT_RESOLUTION)), spp: int = DEFAULT_SPP,
               threads: int = 0, warmup: int = 1, repeat: int = 5, cache: str | None = None,
               scenes_dir: str | None = None, out: str = "out/radius_study",
-              quiet: bool = False) -> int:
+              quiet: bool = False, follow_symlinks: bool = False) -> int:
     """``aolab radius-study``: the exit status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first
@@ -224,7 +225,7 @@ def run_study(scenes: list[str] = DEFAULT_SCENES, *, scales=DEFAULT_SCALES,
     reference.Delivery(cache=cache, out=out).check()
     size = reference.parse_resolution(resolution)
     plans = study_plans(list(scenes), list(scales), size, spp,
-                        Path(scenes_dir) if scenes_dir else None)
+                        Path(scenes_dir) if scenes_dir else None, follow_symlinks)
     files.check_paths(reads={"the scene": [plan.scene.path for _, _, plan in plans]},
                       made={"--out": [Path(out) / name for name in OUTPUT_FILES]})
     with files.output_lock(out, "aolab radius-study"):

@@ -561,11 +561,23 @@ def plotly_layout(height: int, xaxis: dict, x_title: str, yaxis: dict, y_title: 
             "font": {"family": "system-ui, sans-serif"}, "meta": {"column": column}}
 
 
+#: What json_for_html writes as JSON escapes: "<" and ">" (so that no "</script", "<!--" or
+#: "<script" of a user's string ends or changes the script element around it), "&", and the
+#: two line separators JavaScript source once refused.
+_JSON_IN_HTML = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026",
+                               "\u2028": "\\u2028", "\u2029": "\\u2029"})
+
+
+def json_for_html(value) -> str:
+    """``value`` as JSON that is inert inside an HTML element: the one encoder of every JSON
+    the page holds (the same value to JSON.parse, nothing an HTML parser acts on)."""
+    return json.dumps(value, separators=(",", ":"), allow_nan=False).translate(_JSON_IN_HTML)
+
+
 def _json_script(value, cls: str, **attrs) -> str:
-    """``value`` as JSON in an inert <script type="application/json"> ("</" escaped)."""
+    """``value`` as JSON in an inert <script type="application/json"> (json_for_html)."""
     extra = "".join(f' {k.replace("_", "-")}="{html.escape(v)}"' for k, v in attrs.items())
-    text = json.dumps(value, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
-    return f'<script type="application/json" class="{cls}"{extra}>{text}</script>'
+    return f'<script type="application/json" class="{cls}"{extra}>{json_for_html(value)}</script>'
 
 
 # ----------------------------------------------------------------------------------------

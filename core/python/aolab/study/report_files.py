@@ -58,8 +58,18 @@ def plotly_js() -> Path | None:
 
 def name_for(stem: str, suffix: str, data: bytes) -> str:
     """The file's name in the report's folder, from its content: ``report_files/<stem>-<hash>
-    <suffix>``."""
-    return f"{FOLDER}/{stem}-{hashlib.sha256(data).hexdigest()[:16]}{suffix}"
+    <suffix>``, the stem made a file name by files.file_name_for (a scene's and a
+    configuration's names are the user's: bounded, no ``/``, nothing hidden)."""
+    return (f"{FOLDER}/{files.file_name_for(stem)}-{hashlib.sha256(data).hexdigest()[:16]}"
+            f"{suffix}")
+
+
+def check_names_fit(out: Path) -> None:
+    """Before any work: the longest name the report gives a file (a stem of
+    files.MAX_NAME_CHARS, its hash and suffix) fits in a file name of the file system where
+    the output folder ``out`` will be, so that a study never ends in "File name too long"."""
+    longest = Path(name_for("x" * files.MAX_NAME_CHARS, ".min.js", b"")).name
+    files.check_name_fits(out, longest, "--out")
 
 
 def webp_bytes(image: np.ndarray, quality: int = IMAGE_QUALITY) -> bytes:
@@ -80,11 +90,11 @@ class Files:
         self._names: dict[bytes, str] = {}   # content -> its name
 
     def add(self, stem: str, suffix: str, data: bytes) -> str:
-        """Adds ``data`` and returns its name, ``report_files/<stem>-<hash><suffix>``; the
-        stem is made of letters, digits, ``_``, ``.`` and ``-`` only. Content added before
-        (two configurations with the same image) keeps its first name: one file."""
+        """Adds ``data`` and returns its name, ``report_files/<stem>-<hash><suffix>``
+        (name_for). Content added before (two configurations with the same image) keeps its
+        first name: one file."""
         if data not in self._names:
-            name = name_for(re.sub(r"[^A-Za-z0-9_.-]+", "_", stem), suffix, data)
+            name = name_for(stem, suffix, data)
             self.items[name] = data
             self._names[data] = name
         return self._names[data]

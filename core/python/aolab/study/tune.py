@@ -244,16 +244,16 @@ def make_scene(name: str, g, reference: np.ndarray, radius: float, *, family_nam
                      occluded_pixels(valid, reference), valid, one, folder, scale)
 
 
-def load_scene(folder: Path, crop) -> TuneScene:
+def load_scene(folder: Path, crop, follow_symlinks: bool = False) -> TuneScene:
     """A scene as ``aolab compare`` loads it (load_cropped), with its family; a crop's times
     stay the crop's."""
-    g, reference, radius, _ = load_cropped(folder, crop)
+    g, reference, radius, _ = load_cropped(folder, crop, follow_symlinks=follow_symlinks)
     return make_scene(folder.name, g, reference, radius, family_name=family(folder),
                       folder=Path(folder), time_scale=1.0 if crop is not None else None)
 
 
-def load_scenes(folders: list[Path], crop) -> list[TuneScene]:
-    return [load_scene(folder, crop) for folder in folders]
+def load_scenes(folders: list[Path], crop, follow_symlinks: bool = False) -> list[TuneScene]:
+    return [load_scene(folder, crop, follow_symlinks) for folder in folders]
 
 
 @dataclass
@@ -304,10 +304,12 @@ def output(method: str, settings: dict, blur: bool, sc: TuneScene, threads: int)
     return presets_mod.shared_blur(ao, sc.g, threads) if blur else np.asarray(ao)
 
 
-def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool) -> dict:
+def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool,
+                 follow_symlinks: bool = False) -> dict:
     """On a Dask worker: :func:`score` of one configuration on one scene. The worker reads
     the scene from ``folder`` (shared storage) once and keeps it."""
-    sc = worker_scene((__name__, folder, crop_key(crop)), lambda: load_scene(Path(folder), crop))
+    sc = worker_scene((__name__, folder, crop_key(crop), follow_symlinks),
+                      lambda: load_scene(Path(folder), crop, follow_symlinks))
     return score(output(method, settings, blur, sc, threads=1), sc)
 
 
@@ -371,6 +373,8 @@ class Options:
     scheduler: str | None = None
     #: How to meet a remote scheduler (TLS files, or consent to plain tcp on the network).
     security: ClusterSecurity | None = None
+    #: Read a scene's files through symbolic links (scenes.check_confined); refused without.
+    follow_symlinks: bool = False
 
 
 def default_methods() -> list[str]:
@@ -575,7 +579,8 @@ def _trials(opts, method, scenes, bar, deadline, study, space, done, client=None
                                                 opts.trials - counted(study)))
         batch = _ask(study, space, done, n)
         fresh = [a for a in batch if a.same is None]
-        remote = score_on_cluster(client, fresh, scenes, method, opts.crop) if client else {}
+        remote = score_on_cluster(client, fresh, scenes, method, opts.crop,
+                                  opts.follow_symlinks) if client else {}
         for a in batch:
             _finish(a, method, scenes, opts, study, done, remote.get(a.trial.number),
                     next_scene, default_all)
@@ -612,13 +617,14 @@ def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
 
 
 def score_on_cluster(client, batch: list[Asked], scenes: list[TuneScene], method: str,
-                     crop) -> dict:
+                     crop, follow_symlinks: bool = False) -> dict:
     """Trial number -> scene -> score (:func:`accuracy_job` on the workers, one task per trial
     and scene), or the ValueError of a configuration the method refused. A worker lost
     mid-task loses nothing: the scheduler gives its tasks to another worker. Ctrl-C cancels
     the tasks not yet done."""
     futures = {(a.trial.number, sc.name): client.submit(
-        accuracy_job, str(sc.folder), crop, method, a.settings, a.blur, pure=False)
+        accuracy_job, str(sc.folder), crop, method, a.settings, a.blur, follow_symlinks,
+        pure=False)
         for a in batch for sc in scenes}
     wait_all(client, list(futures.values()), _stop_if_asked)
     out: dict = {}
@@ -791,14 +797,15 @@ def run(opts: Options) -> dict:
     if opts.trials < 1:
         raise ValueError(f"--trials must be >= 1, got {opts.trials}")
     scenes_dir = opts.scenes_dir or find_scenes_dir()
-    folders = still_scenes(resolve_scenes(opts.scenes, scenes_dir))
+    folders = still_scenes(resolve_scenes(opts.scenes, scenes_dir,
+                                          follow_symlinks=opts.follow_symlinks))
     presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
     check_paths(reads=scene_files(folders),
                 made={"--out": [opts.out / DB_NAME], "--presets-file": presets_file})
     db = check_store(opts.out)
     check_presets_file(presets_file)
     deadline = None if opts.timeout is None else time.monotonic() + opts.timeout
-    scenes = load_scenes(folders, opts.crop)
+    scenes = load_scenes(folders, opts.crop, opts.follow_symlinks)
     meta = {"command": command_line(opts), "commit": git_commit(folders[0]),
             "date": _git_date(), "machine": machine_info(opts.timing.threads),
             "scenes": [s.name for s in scenes],

@@ -16,6 +16,10 @@
 - **Checksums**: :func:`write_checksums` records the SHA-256 and size of a folder's files in
   its ``SHA256SUMS`` (sha256sum's format); :func:`checksum_mismatch` says which file no longer
   matches, so that a changed or damaged file is never used as it was.
+- **Names from the user's strings**: :func:`file_name_for` is the one way a file name is made
+  from a scene, sequence or configuration name: bounded, safe, and distinct per name.
+- **Confined folders**: :func:`first_symlink` finds a symbolic link among a folder's files, so
+  that a caller refuses it before anything is read through it.
 
 Nothing here imports another ``aolab`` module but the compiled core, so every layer (the
 bridge inside Blender included) can use it.
@@ -29,6 +33,7 @@ import fcntl
 import hashlib
 import json
 import os
+import re
 import stat
 from pathlib import Path
 
@@ -39,6 +44,15 @@ LOCK_NAME = ".aolab.lock"
 #: The file :func:`write_checksums` writes into a folder: ``<sha256>  <name>`` per line, as
 #: ``sha256sum`` writes and ``sha256sum -c`` checks.
 CHECKSUMS_NAME = "SHA256SUMS"
+
+
+#: The longest name :func:`file_name_for` returns (the callers add at most some 40 characters
+#: of their own, well below the 255 bytes a file name may have).
+MAX_NAME_CHARS = 64
+#: The hex digits of the SHA-256 of the full name that :func:`file_name_for` appends to a name
+#: it had to shorten or change.
+NAME_HASH_CHARS = 10
+_UNSAFE_IN_NAME = re.compile(r"[^A-Za-z0-9_.-]+")
 
 
 class FolderInUse(OSError):
@@ -156,6 +170,22 @@ def check_output_folder(path, what: str) -> Path:
                          "folder")
     _check_writable_folder(existing, what, str(path))
     return p
+
+
+def check_name_fits(path, name: str, what: str) -> None:
+    """Checks, before any work, that a file named ``name`` can be made in the folder ``path``
+    (or where it will be made): the file system there takes names that long. A ValueError
+    naming ``what`` otherwise."""
+    existing = Path(path)
+    while not existing.is_dir() and existing != existing.parent:
+        existing = existing.parent
+    try:
+        most = os.pathconf(existing, "PC_NAME_MAX")
+    except (OSError, ValueError):   # no limit known: nothing to check
+        return
+    if len(name.encode("utf-8", "surrogatepass")) > most:
+        raise ValueError(f"{what} {str(path)!r}: its file system takes file names of at most "
+                         f"{most} bytes, and the output needs {name!r}")
 
 
 def _check_writable_folder(folder: Path, what: str, spec: str) -> None:
@@ -311,18 +341,56 @@ def write_checksums(folder, names: list[str]) -> None:
 
 def read_checksums(folder) -> dict[str, str] | None:
     """``folder``'s SHA256SUMS as {name: sha256}, or None when it has none. A line that is
-    not ``<64 hex digits>  <name>`` is a ValueError naming the file."""
+    not ``<64 hex digits>  <name>``, or whose name is not a plain file name of the folder
+    (plain_name), is a ValueError naming the file and the line."""
     path = Path(folder) / CHECKSUMS_NAME
     if not path.exists():
         return None
     out = {}
-    for line in read_text(path, "checksums").splitlines():
+    for number, line in enumerate(read_text(path, "checksums").splitlines(), 1):
         digest, sep, name = line.partition("  ")
-        if not sep or len(digest) != 64 or not all(c in "0123456789abcdef" for c in digest) \
-                or not name or "/" in name:
-            raise ValueError(f"{path}: not a SHA256SUMS line: {line!r}")
+        if not sep or len(digest) != 64 or not all(c in "0123456789abcdef" for c in digest):
+            raise ValueError(f"{path}: line {number}: not a SHA256SUMS line: {line!r}")
+        if not plain_name(name):
+            raise ValueError(f"{path}: line {number}: {name!r} is not the plain name of a file "
+                             "in this folder (no '/', '\\', '.' or '..', nothing hidden)")
         out[name] = digest
     return out
+
+
+def plain_name(name: str) -> bool:
+    """Whether ``name`` names a file of the folder itself: not empty, no ``/``, no ``\\``
+    (sha256sum escapes names with a newline or a backslash by a ``\\`` at the line's start),
+    not ``.`` or ``..``, not hidden (the lock file), no control character."""
+    return bool(name) and not name.startswith(".") and "/" not in name and "\\" not in name \
+        and all(c >= " " and c != "\x7f" for c in name)
+
+
+def file_name_for(name: str) -> str:
+    """The one file name made from a user's string ``name`` (a scene, sequence or
+    configuration name): ``name`` itself when it is at most MAX_NAME_CHARS of letters,
+    digits, ``_``, ``.`` and ``-`` and starts with neither ``.`` nor ``-``; otherwise a
+    readable prefix (each run of other characters made ``_``) and ``-`` and the first
+    NAME_HASH_CHARS hex digits of the SHA-256 of the whole name, so that two names never
+    share a file. Never longer than MAX_NAME_CHARS, never ``.``, ``..``, hidden or a path."""
+    name = str(name)
+    plain = _UNSAFE_IN_NAME.sub("_", name)
+    if plain == name and len(name) <= MAX_NAME_CHARS and name[:1] not in ("", ".", "-"):
+        return name
+    digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()
+    prefix = plain.lstrip("._-")[:MAX_NAME_CHARS - NAME_HASH_CHARS - 1] or "name"
+    return f"{prefix}-{digest[:NAME_HASH_CHARS]}"
+
+
+def first_symlink(folder) -> Path | None:
+    """The first symbolic link among ``folder``'s files and subfolders, at any depth (in
+    sorted order; a link is not followed), or None. ``folder`` itself may be a link."""
+    for top, dirs, names in os.walk(folder):
+        dirs.sort()
+        for name in sorted(dirs + names):
+            if os.path.islink(os.path.join(top, name)):
+                return Path(top) / name
+    return None
 
 
 def checksum_mismatch(folder, names: list[str]) -> str | None:

@@ -4,9 +4,22 @@ them kept as written."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from . import files
+
+#: What text() escapes with a backslash: what would end a table cell ("|"), start HTML, code,
+#: a link or emphasis, or escape the next character.
+_SPECIAL = re.compile(r"([\\`*\[\]<>|&])")
+_LINE_BREAKS = re.compile(r"[\r\n\u2028\u2029\x85\v\f]+")
+
+
+def text(value) -> str:
+    """A user's string (a scene's or a configuration's name) as inline Markdown that shows as
+    written: one line (line breaks become spaces, so a table row stays one row), and each of
+    \\ ` * [ ] < > | & escaped with a backslash."""
+    return _SPECIAL.sub(r"\\\1", _LINE_BREAKS.sub(" ", str(value)))
 
 
 def with_generated_block(path: Path, begin: str, end: str, body: str, *,
