@@ -16,6 +16,7 @@ import pytest
 import aolab
 from aolab.bridge.intrinsics import intrinsics
 from aolab.bridge.passes import parse_passes, required_passes
+from aolab.render import reference
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
@@ -326,12 +327,25 @@ def test_a_bridge_that_dies_before_its_handler_renders_nothing(tmp_path):
     shutil.copytree(package, broken / "aolab")
     (broken / "aolab" / "bridge" / "intrinsics.py").write_text("raise ImportError('half-copied')\n")
     cache = tmp_path / "cache"
-    env = dict(os.environ, PYTHONPATH=str(broken))
-    res = aolab_reference(str(TINY), "--spp", "1", "--cache", str(cache), env=env, check=False)
+    # The broken copy is imported by this command alone (first on its sys.path), not named in
+    # PYTHONPATH, which Blender 3.4 reads and 4.2+ ignores: so on both releases only
+    # $AOLAB_PACKAGE_PATH (package_path()) can bring it to Blender's Python.
+    res = subprocess.run(
+        [sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
+         "from aolab.cli import main; sys.exit(main(sys.argv[2:]))", str(broken), "reference",
+         "--quiet", str(TINY), "--spp", "1", "--cache", str(cache)],
+        capture_output=True, text=True, timeout=900)
     assert res.returncode != 0 and "tiny_scene" in res.stderr, res.stdout + res.stderr
     lines = res.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("aolab: ") and "half-copied" in lines[0]
     assert not cache.exists() or not any(cache.iterdir()), list(cache.iterdir())
+
+
+def test_blender_is_given_the_folder_that_holds_this_package():
+    """$AOLAB_PACKAGE_PATH, first on Blender's sys.path, holds aolab/ itself: the folder of
+    aolab/ (as it once was) would make `import aolab` in Blender find another build."""
+    held = Path(reference.package_path()) / "aolab" / "__init__.py"
+    assert held.resolve() == Path(aolab.__file__).resolve()
 
 
 @needs_blender

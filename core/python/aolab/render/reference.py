@@ -127,8 +127,10 @@ def recorded_source(path: Path) -> str:
 
 
 def package_path() -> str:
-    """The folder that holds this aolab package (put first on Blender's sys.path)."""
-    return str(Path(__file__).resolve().parents[1])
+    """The folder that holds this aolab package (put first on Blender's sys.path): the
+    parent of aolab/, two levels above this module (aolab/render/reference.py). Blender 4.2
+    and later ignore PYTHONPATH, so this is the only way their Python finds this build."""
+    return str(Path(__file__).resolve().parents[2])
 
 
 def default_cache() -> Path:
