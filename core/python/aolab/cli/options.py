@@ -55,6 +55,6 @@ def cluster_security(args):
     before any work starts (a ValueError naming the option)."""
     security = ClusterSecurity(ca_file=args.tls_ca_file, cert=args.tls_cert, key=args.tls_key,
                                insecure=args.insecure)
-    if args.scheduler:
-        check_scheduler(args.scheduler, security)
+    if args.scheduler is not None:   # "" too: refused, never taken for no scheduler
+        check_scheduler(args.scheduler, security, warn=False)   # connect() warns
     return security

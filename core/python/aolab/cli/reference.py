@@ -65,7 +65,7 @@ def run(args) -> int:
         resolution=args.resolution, camera=args.camera, gbuffer_samples=args.gbuffer_samples,
         peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames)
     with reference.holding(args.out, "aolab reference"):
-        if args.scheduler or args.workers > 1:
+        if args.scheduler is not None or args.workers > 1:
             return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers,
                                      security=security)
         return reference.run_plans(plans, to)
