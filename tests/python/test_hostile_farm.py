@@ -216,3 +216,16 @@ def test_good_files_reach_the_connection(pems, monkeypatch, capsys, tmp_path):
     line = refused_line(tls_argv(pems, tmp_path), capsys)
     assert made == [(NOWHERE, str(pems["key"]))]
     assert line.startswith(f"aolab: --scheduler {NOWHERE!r}: no scheduler answers there")
+
+
+@needs_openssl
+@pytest.mark.parametrize("scheduler, where", [
+    (None, "none is given"), ("tcp://127.0.0.1:9", "'tcp://127.0.0.1:9' is not one")])
+def test_a_tls_file_without_a_tls_scheduler_is_not_ignored(scheduler, where, pems,
+                                                           no_connection, capsys, tmp_path):
+    argv = ["reference", str(TINY), "--cache", str(tmp_path / "cache"), "--tls-cert",
+            str(pems["cert"])] + (["--scheduler", scheduler] if scheduler else [])
+    line = refused_line(argv, capsys)
+    assert line == (f"aolab: --tls-cert {str(pems['cert'])!r}: only a tls:// --scheduler uses "
+                    f"it, and {where}")
+    assert not (tmp_path / "cache").exists()
