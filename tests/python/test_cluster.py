@@ -132,7 +132,7 @@ def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
                         "1", "--cache", str(tmp_path), "--scheduler", "tcp://127.0.0.1:9"],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
-    assert "--scheduler tcp://127.0.0.1:9" in r.stderr and "Traceback" not in r.stderr
+    assert "--scheduler 'tcp://127.0.0.1:9'" in r.stderr and "Traceback" not in r.stderr
 
 
 def ctrl_c_while_rendering(args: list[str], cache: Path):

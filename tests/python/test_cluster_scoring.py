@@ -48,7 +48,7 @@ def test_a_scheduler_that_does_not_answer_is_one_line_naming_the_option(tmp_path
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(
-        "aolab: --scheduler tcp://127.0.0.1:9: no Dask scheduler answers there"), r.stderr
+        "aolab: --scheduler 'tcp://127.0.0.1:9': no Dask scheduler answers there"), r.stderr
 
 
 def workers_of(pid: int) -> list:

@@ -9,6 +9,7 @@ import shutil
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -16,7 +17,7 @@ import pytest
 from aolab.render import reference
 from aolab.util import files
 from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
-                                     scheme_and_host)
+                                     parse_scheduler)
 
 from test_bridge import TINY, needs_blender
 from test_cluster import (ANIMATION, FRAMES, blender_children_of, ctrl_c_while_rendering,
@@ -35,6 +36,9 @@ def aolab(*args, timeout=300):
 
 
 def test_addresses_are_read_as_dask_reads_them():
+    def scheme_and_host(address):
+        parsed = parse_scheduler(address)
+        return parsed.scheme, parsed.host
     assert scheme_and_host("tls://10.0.0.5:8786") == ("tls", "10.0.0.5")
     assert scheme_and_host("10.0.0.5:8786") == ("tcp", "10.0.0.5")
     assert scheme_and_host("TCP://[::1]:8786") == ("tcp", "::1")
@@ -56,7 +60,7 @@ def test_plain_tcp_beyond_this_machine_is_refused(command, tmp_path):
     r = aolab(*command, "--scheduler", "tcp://10.0.0.5:8786", "--out", str(tmp_path / "o"))
     lines = r.stderr.splitlines()
     assert r.returncode == 2 and len(lines) == 1, r.stderr
-    assert lines[0].startswith("aolab: --scheduler tcp://10.0.0.5:8786: refused")
+    assert lines[0].startswith("aolab: --scheduler 'tcp://10.0.0.5:8786': refused")
     assert "can run any code on every worker" in lines[0]
     assert "tls://" in lines[0] and "--insecure" in lines[0]
     assert not (tmp_path / "o").exists()
@@ -82,7 +86,8 @@ def test_tls_needs_its_three_files(tmp_path, monkeypatch):
     ca.write_text("x")
     with pytest.raises(ValueError, match="needs --tls-cert"):
         check_scheduler("tls://10.0.0.5:8786", ClusterSecurity(ca_file=str(ca)))
-    with pytest.raises(ValueError, match=f"--tls-key {tmp_path}/none.key: no such file"):
+    # all three named, each file is then read (test_hostile_farm.py has every case)
+    with pytest.raises(ValueError, match=f"--tls-ca-file '{ca}': holds no PEM certificate"):
         check_scheduler("tls://10.0.0.5:8786", ClusterSecurity(
             ca_file=str(ca), cert=str(ca), key=str(tmp_path / "none.key")))
     with pytest.raises(ValueError, match="must be tls://HOST:PORT .*not ws://"):
@@ -113,43 +118,101 @@ def make_cert(folder: Path, name: str, ca: tuple[Path, Path]) -> tuple[Path, Pat
     return cert, key
 
 
+#: Dask's comm timeouts for every process of the test farm (scheduler, workers, the jobs'
+#: clients, the aolab client): a loaded machine's TLS handshakes and first reads must not
+#: be what fails a test. Timeouts only, never a pace: the tests wait on events.
+FARM_CONFIG = {"DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "120s",
+               "DASK_DISTRIBUTED__COMM__TIMEOUTS__TCP": "120s"}
+#: How long the farm may take to come up on a loaded machine: a guard against a hang only.
+FARM_START_S = 300
+
+
+def farm_env() -> dict:
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path), **FARM_CONFIG)
+
+
+def farm_logs(folder: Path) -> str:
+    """The farm's own logs, for a failing assert's message."""
+    return "".join(f"\n--- {log.name}\n" + log.read_text(errors="replace")[-3000:]
+                   for log in sorted(folder.glob("*.log")))
+
+
+def scheduler_address(file: Path, scheduler: subprocess.Popen, logs: Path) -> str:
+    """The address in the scheduler's file once it is there whole: the scheduler writes it
+    with a plain write, so a reader can see it empty or cut (no JSON yet)."""
+    import json
+    deadline = time.monotonic() + FARM_START_S
+    while time.monotonic() < deadline:
+        assert scheduler.poll() is None, "the TLS scheduler exited" + farm_logs(logs)
+        try:
+            return json.loads(file.read_text())["address"]
+        except (OSError, ValueError, KeyError):
+            time.sleep(0.2)
+    pytest.fail("the TLS scheduler did not start" + farm_logs(logs))
+
+
+def wait_for_workers(address: str, node, ca, n: int, logs: Path) -> None:
+    """Returns once ``n`` workers are registered with the scheduler (asked over TLS with a
+    node's certificate): a job submitted then finds a worker, not a farm still starting."""
+    from distributed import Client
+    from distributed.security import Security
+    security = Security(tls_ca_file=str(ca[0]), tls_client_cert=str(node[0]),
+                        tls_client_key=str(node[1]), require_encryption=True)
+    with warnings.catch_warnings():   # Debian 12's tornado: make_current is deprecated
+        warnings.simplefilter("ignore", DeprecationWarning)
+        with Client(address, security=security, timeout=FARM_START_S) as client:
+            try:
+                client.wait_for_workers(n, timeout=FARM_START_S)
+            except TimeoutError:
+                pytest.fail(f"{n} workers did not join the TLS farm" + farm_logs(logs))
+
+
 @pytest.fixture
 def tls_farm(tmp_path):
-    """A TLS scheduler and two workers on 127.0.0.1, each with a certificate of one CA;
-    yields (address, the folder of the certificates, the CA)."""
+    """A TLS scheduler and two workers on 127.0.0.1, each with a certificate of one CA, both
+    workers registered; yields (address, the folder of the certificates, the CA). Their logs
+    go to tmp_path/*.log (farm_logs)."""
     certs = tmp_path / "certs"
     certs.mkdir()
     ca = make_ca(certs, "farm")
     node = make_cert(certs, "node", ca)
     tls = ["--tls-ca-file", str(ca[0]), "--tls-cert", str(node[0]), "--tls-key", str(node[1])]
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
     file = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen(["dask", "scheduler", "--protocol", "tls", "--host", "127.0.0.1",
-                               "--port", "0", "--no-dashboard", "--scheduler-file", str(file),
-                               *tls], env=env, stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL)]
+
+    def start(name: str, args: list[str]) -> subprocess.Popen:
+        with open(tmp_path / f"{name}.log", "wb") as log:
+            return subprocess.Popen(["dask", *args, *tls], env=farm_env(),
+                                    stdout=log, stderr=subprocess.STDOUT)
+    scheduler = start("scheduler", ["scheduler", "--protocol", "tls", "--host", "127.0.0.1",
+                                    "--port", "0", "--no-dashboard", "--scheduler-file",
+                                    str(file)])
+    workers = []
     try:
-        deadline = time.monotonic() + 60
-        while not file.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        assert file.exists(), "the TLS scheduler did not start"
-        for _ in range(2):
-            procs.append(subprocess.Popen(
-                ["dask", "worker", "--scheduler-file", str(file), "--nthreads", "1",
-                 "--no-dashboard", "--host", "127.0.0.1", *tls], env=env,
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        import json
-        address = json.loads(file.read_text())["address"]
+        address = scheduler_address(file, scheduler, tmp_path)
         assert address.startswith("tls://127.0.0.1:")
+        # by address: a worker reading the scheduler's file could see it cut too
+        workers = [start(f"worker{i}", ["worker", address, "--nthreads", "1",
+                                        "--no-dashboard", "--host", "127.0.0.1"])
+                   for i in range(2)]
+        wait_for_workers(address, node, ca, 2, tmp_path)
         yield address, certs, ca
     finally:
-        for p in reversed(procs):
-            p.terminate()
-        for p in procs:
-            try:
-                p.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                p.kill()
+        # the workers first, then the scheduler they report to
+        for group in (workers, [scheduler]):
+            for p in group:
+                p.terminate()
+            for p in group:
+                try:
+                    p.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+                    p.wait()
+
+
+def farm_aolab(*args, timeout=600):
+    """aolab with the farm's Dask configuration (FARM_CONFIG)."""
+    return subprocess.run([sys.executable, "-m", "aolab", *args], capture_output=True,
+                          text=True, timeout=timeout, env=farm_env())
 
 
 @needs_blender
@@ -158,24 +221,25 @@ def test_a_tls_farm_renders_for_its_clients_only(tls_farm, tmp_path):
     address, certs, ca = tls_farm
     client = make_cert(certs, "client", ca)
     cache = tmp_path / "cache"
-    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(cache),
-              "--scheduler", address, "--tls-ca-file", str(ca[0]), "--tls-cert",
-              str(client[0]), "--tls-key", str(client[1]), timeout=600)
-    assert r.returncode == 0, r.stderr[-2000:]
+    r = farm_aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(cache),
+                   "--scheduler", address, "--tls-ca-file", str(ca[0]), "--tls-cert",
+                   str(client[0]), "--tls-key", str(client[1]))
+    assert r.returncode == 0, r.stderr[-2000:] + farm_logs(tmp_path)
     assert "tiny_scene: rendered" in r.stdout and " on " in r.stdout   # on a worker
     assert [p for p in cache.iterdir() if (p / "reference.exr").is_file()]
     # A certificate of another CA: the farm does not accept it.
     other = make_cert(certs, "intruder", make_ca(certs, "other"))
-    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(tmp_path / "c2"),
-              "--scheduler", address, "--tls-ca-file", str(ca[0]), "--tls-cert",
-              str(other[0]), "--tls-key", str(other[1]), timeout=120)
+    r = farm_aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache",
+                   str(tmp_path / "c2"), "--scheduler", address, "--tls-ca-file", str(ca[0]),
+                   "--tls-cert", str(other[0]), "--tls-key", str(other[1]), timeout=120)
     lines = r.stderr.splitlines()
-    assert r.returncode == 2 and len(lines) == 1, r.stderr[-2000:]
+    assert r.returncode == 2 and len(lines) == 1, r.stderr[-2000:] + farm_logs(tmp_path)
     assert "did not accept this client's certificate" in lines[0]
     assert not (tmp_path / "c2").exists() or not any((tmp_path / "c2").iterdir())
     # Plain tcp to the TLS port: no connection either.
-    r = aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache", str(tmp_path / "c3"),
-              "--scheduler", address.replace("tls://", "tcp://"), timeout=120)
+    r = farm_aolab("reference", str(TINY), "--spp", "1", "--quiet", "--cache",
+                   str(tmp_path / "c3"), "--scheduler", address.replace("tls://", "tcp://"),
+                   timeout=120)
     assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr[-2000:]
 
 

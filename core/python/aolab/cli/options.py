@@ -5,7 +5,8 @@ aolab.util.arguments (the bridge's entry point inside Blender shares them)."""
 from __future__ import annotations
 
 from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option
-from ..util.dask_cluster import ClusterSecurity, check_scheduler
+from ..util.dask_cluster import (TLS_OPTIONS, ClusterSecurity, check_scheduler,
+                                 parse_scheduler)
 
 
 def add_follow_symlinks_option(q) -> None:
@@ -65,6 +66,13 @@ def cluster_security(args):
     before any work starts (a ValueError naming the option)."""
     security = ClusterSecurity(ca_file=args.tls_ca_file, cert=args.tls_cert, key=args.tls_key,
                                insecure=args.insecure)
-    if args.scheduler:
-        check_scheduler(args.scheduler, security)
+    if args.scheduler is not None:   # "" too: refused, never taken for no scheduler
+        check_scheduler(args.scheduler, security, warn=False)   # connect() warns
+    given = {o: v for o, v in zip(TLS_OPTIONS, (args.tls_ca_file, args.tls_cert, args.tls_key))
+             if v is not None}
+    if given and (args.scheduler is None or parse_scheduler(args.scheduler).scheme != "tls"):
+        option = next(iter(given))   # never silently ignored
+        where = "none is given" if args.scheduler is None else f"{args.scheduler!r} is not one"
+        raise ValueError(f"{option} {given[option]!r}: only a tls:// --scheduler uses it, "
+                         f"and {where}")
     return security

@@ -68,7 +68,7 @@ def run(args) -> int:
         follow_symlinks=args.follow_symlinks)
     to.check_plans(plans)
     with reference.holding(args.out, "aolab reference"):
-        if args.scheduler or args.workers > 1:
+        if args.scheduler is not None or args.workers > 1:
             return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers,
                                      security=security)
         return reference.run_plans(plans, to)

@@ -27,7 +27,8 @@ import time
 import uuid
 from pathlib import Path
 
-from ..util.dask_cluster import ClusterSecurity, client_security_of, connect, threads
+from ..util.dask_cluster import (ClusterSecurity, check_scheduler, client_security_of, connect,
+                                 threads)
 from . import reference
 
 #: How often a running job asks the cluster whether to stop (s): each ask is a round trip to
@@ -91,6 +92,8 @@ def run_plans(plans: list[reference.Plan], delivery: reference.Delivery, *,
     a window of them at a time (``window``); their files copied to ``delivery.out`` as they
     finish. The exit status."""
     from distributed import Event, as_completed
+    if scheduler is not None:   # a bad address or TLS file is refused before the cache is made
+        check_scheduler(scheduler, security, warn=False)   # connect() warns
     cache = delivery.cache_folder().resolve()
     cache.mkdir(parents=True, exist_ok=True)
     out = delivery.out

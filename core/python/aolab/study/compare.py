@@ -749,7 +749,7 @@ class Study:
         }
         threads = opts.threads
         bar = _progress(opts.progress, n_units)
-        if opts.scheduler or opts.workers > 1:
+        if opts.scheduler is not None or opts.workers > 1:
             self.client, self.cluster = connect(opts.scheduler, opts.workers, opts.security)
         try:
             for folder in folders:

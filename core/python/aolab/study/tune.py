@@ -827,7 +827,7 @@ def run(opts: Options) -> dict:
     from optuna.exceptions import StorageInternalError
     from sqlalchemy.exc import SQLAlchemyError
     client, cluster = (connect(opts.scheduler, opts.workers, opts.security)
-                       if opts.scheduler or opts.workers > 1 else (None, None))
+                       if opts.scheduler is not None or opts.workers > 1 else (None, None))
     try:
         for m in methods:
             try:
