@@ -341,6 +341,15 @@ def test_advise_run_refuses_nothing_to_score_too(gbuffers):
     refused(lambda: advise.run(g, ref, 1.0, name="blocks"), "the AO pass of blocks")
 
 
+def test_an_ao_pass_without_recorded_samples_is_not_called_a_0_spp_cycles_render():
+    """An analytic plane's closed-form AO pass has no samples in its sidecar: the advice says
+    what it scores against, not "Cycles 0 spp"."""
+    plane = aolab.analytic_scene("plane", 32, 18)
+    ref = advise.quick_reference.cycles(plane)
+    assert ref.samples == 0 and ref.label == "the G-buffer's AO pass (samples unknown)"
+    assert advise.quick_reference.label("cycles", 1024) == "Cycles 1024 spp"
+
+
 # --- D: the command line's floats, budget and limits folder ------------------------------
 
 @pytest.mark.parametrize("command", [["analytic", "plane", "{tmp}/a.exr"],

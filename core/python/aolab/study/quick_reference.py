@@ -92,7 +92,11 @@ class Reference:
 
 
 def label(kind: str, samples: int) -> str:
-    return f"quick (rtao {samples} rays)" if kind == QUICK else f"Cycles {samples} spp"
+    """What the scores are against; an AO pass whose sidecar records no samples (an analytic
+    scene's closed form, a G-buffer from elsewhere) is not called a 0-spp Cycles render."""
+    if kind == QUICK:
+        return f"quick (rtao {samples} rays)"
+    return f"Cycles {samples} spp" if samples > 0 else "the G-buffer's AO pass (samples unknown)"
 
 
 def _with_noise(g, kind: str, ao: np.ndarray, samples: int, **extra) -> Reference:
