@@ -190,11 +190,14 @@ needs_blender = pytest.mark.skipif(BLENDER is None, reason="Blender is not insta
 
 
 def sequence_folder(tmp_path: Path, script: str) -> Path:
-    """A sequence scene (manifest with "frames") built by tests/data/<script>."""
+    """A sequence scene (manifest with "frames") built by tests/data/<script>, copied into
+    the folder with the kit it runs (a scene's build script is a file of its folder)."""
     folder = tmp_path / "scenes" / Path(script).stem
     folder.mkdir(parents=True)
+    for name in (script, "motion_kit.py"):
+        shutil.copy(DATA / name, folder / name)
     (folder / "manifest.json").write_text(json.dumps(
-        {"name": folder.name, "build": str(DATA / script), "radius": 0.5,
+        {"name": folder.name, "build": script, "radius": 0.5,
          "resolution": [64, 48],
          "camera": "Camera", "frames": {"start": 1, "end": 3, "step": 1}}))
     return folder
