@@ -126,7 +126,7 @@ def test_a_sequence_whose_frames_lead_out_of_its_folder_is_refused(tmp_path, lin
 READERS = {"limits": ["--rays", "1"],
            "tune": ["--trials", "1", "--crop", "32x32", "--presets-file", "presets.json"],
            "reference": ["--cache", "cache"], "mesh": ["--cache", "cache"],
-           "rtao": ["--rays", "1"]}
+           "rtao": ["--rays", "1"], "advise": ["--cache", "cache"]}
 
 
 @pytest.mark.parametrize("command", sorted(READERS))
@@ -138,10 +138,17 @@ def test_each_command_that_reads_a_scene_refuses_a_symlinked_file(tmp_path, comm
     before = taken(tmp_path / "scenes", tmp_path / "elsewhere")
     out = tmp_path / "out"
     scene = ["--scenes", str(folder)] if command == "tune" else [str(folder)]
-    extra = [] if command == "limits" else ["--out", str(out)]
+    extra = [] if command in ("limits", "advise") else ["--out", str(out)]
     run = aolab_cmd(command, *scene, *READERS[command], *extra)
     assert_refused(run, folder / "reference.exr", target, before, out)
     assert not (tmp_path / "cache").exists()
+
+
+@pytest.mark.parametrize("command", sorted({*READERS, "compare", "radius-study"}))
+def test_each_command_the_refusal_sends_to_follow_symlinks_has_the_option(command):
+    """The refusal names --follow-symlinks: every command that gives it takes it."""
+    run = aolab_cmd(command, "--help")
+    assert run.returncode == 0 and "--follow-symlinks" in run.stdout, run.stdout
 
 
 def test_follow_symlinks_reads_the_link_and_says_so(tmp_path):

@@ -15,7 +15,7 @@ from ..util import files
 from ..util.arguments import int_option
 from ..util.files import check_paths
 from .common import RADIUS, gbuffer_files, mesh_files
-from .options import threads_option
+from .options import add_follow_symlinks_option, threads_option
 
 
 def add_parser(sub):
@@ -55,6 +55,7 @@ def add_parser(sub):
                    help="worker threads (0 = all cores)")
     a.add_argument("--cache", help="cache folder of the renders (default $AOLAB_CACHE or "
                    "~/.cache/aolab/references)")
+    add_follow_symlinks_option(a)
     a.add_argument("--json", help="also write every configuration's scores and the advice "
                    "to this JSON file (not SCENE's own files nor --plot: refused before any "
                    "work)")
@@ -82,7 +83,8 @@ def run(args) -> int:
     name, g, radius, ref = advise.load(args.scene, scale=args.scale, radius=args.radius,
                                        reference=args.reference, rays=args.rays, spp=args.spp,
                                        threads=args.threads, cache=args.cache,
-                                       progress=sys.stderr.isatty())
+                                       progress=sys.stderr.isatty(),
+                                       follow_symlinks=args.follow_symlinks)
     if ref.warning:
         print(f"aolab: warning: {' '.join(ref.warning.split())}", file=sys.stderr)
     bar = _Progress() if sys.stderr.isatty() else None

@@ -396,7 +396,7 @@ def _radius_of(g, where: str) -> float:
 def load(spec: str, *, scale: int | None = None, radius: float | None = None,
          reference: str = "auto", rays: int = quick_reference.QUICK_RAYS,
          spp: int = CYCLES_SPP, threads: int = 0, cache: Path | None = None,
-         progress: bool = False):
+         progress: bool = False, follow_symlinks: bool = False):
     """The scene ``aolab advise`` advises on: (name, G-buffer, R, Reference).
 
     A G-buffer ``.exr`` with its sidecar is used as it is, scored against its own AO pass
@@ -408,7 +408,9 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
     scored against the Cycles reference of the same content, size and R at ``spp`` samples
     when the cache holds one (the panel's Render Reference, or ``aolab reference
     --resolution WxH``), else the quick reference. ``reference`` "cycles" insists on
-    Cycles, "quick" on rtao. Problems are ValueErrors saying what to do."""
+    Cycles, "quick" on rtao. A scene folder with a symbolic link among its files is refused
+    unless ``follow_symlinks`` (scenes.check_confined). Problems are ValueErrors saying what
+    to do."""
     p = scene_spec(spec)
     if reference not in REFERENCE_CHOICES:
         raise ValueError(f"--reference must be one of {', '.join(REFERENCE_CHOICES)}, "
@@ -427,7 +429,8 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
     else:
         g, radius, name, cycles = _rendered(p, scale if scale is not None else DEFAULT_SCALE,
                                             radius, spp, cache, progress,
-                                            want=reference != "quick")
+                                            want=reference != "quick",
+                                            follow_symlinks=follow_symlinks)
         where = (f"no {spp}-spp Cycles reference of {name} at {g.width}x{g.height}, R = "
                  f"{radius:g} is cached: render one (aolab reference {spec} --resolution "
                  f"{g.width}x{g.height} --spp {spp}, or the panel's Render Reference)")
@@ -444,11 +447,11 @@ def load(spec: str, *, scale: int | None = None, radius: float | None = None,
 
 
 def _rendered(path: Path, scale: int, radius: float | None, spp: int, cache: Path | None,
-              progress: bool, want: bool):
+              progress: bool, want: bool, follow_symlinks: bool = False):
     """Blender's 1-sample G-buffer and triangles of a scene at ``scale`` % (cached), and the
     G-buffer of its cached Cycles reference at ``spp`` when ``want`` (else None)."""
     try:
-        scene = render.resolve_scene(str(path))
+        scene = render.resolve_scene(str(path), follow_symlinks)
         infos = [aolab.method_info(m) for m in aolab.methods()]
         passes = required_passes(infos, scene.manifest.get("effects", [])) + ["mesh"]
         plan = render.make_plan(scene, spp=1, radius=radius, passes=passes, scale=scale)
