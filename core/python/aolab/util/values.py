@@ -21,10 +21,10 @@ FLOAT32_MIN_NORMAL = float(np.finfo(np.float32).tiny)
 
 
 def shown(value) -> str:
-    """``value`` as the caller wrote it, on one short line: numbers as they print (1e+300,
-    2147483648), anything else by its repr."""
-    is_number = isinstance(value, numbers.Number) and not isinstance(value, (bool, np.bool_))
-    text = str(value) if is_number else repr(value)
+    """``value`` as the caller wrote it, on one short line: numbers and bools as they print
+    (1e+300, 2147483648, False: numpy 2's repr would say np.False_), anything else by its
+    repr."""
+    text = str(value) if isinstance(value, (numbers.Number, np.bool_)) else repr(value)
     text = text.replace("\n", " ")
     return text if len(text) <= 60 else text[:57] + "..."
 
