@@ -2,11 +2,11 @@
 
 A refactoring of the study (its runner, scorer, blur, regions, aggregation) must not move a
 single score. The study is test_compare's: room and grille cropped to 160x90, room with
-synthetic peers and limits and its mesh (so rtao runs). Every column of results.csv is kept but
-the times (``*_ms*`` columns, and the BVH build time in an rtao row's settings and note): a digest per row, so
-that a failure names the rows whose scores moved; and the report's plotted values, bars and
-check verdicts (not its times) as one more digest. Regenerate the stored digests only for a
-change that is meant to move scores, and say so in CHANGES.md:
+synthetic peers and limits and its mesh (so rtao runs). Every column of results.csv is kept
+but the times (``*_ms*`` columns, and the BVH build time in an rtao row's settings and note):
+a digest per row, so that a failure names the rows whose scores moved; and the report's
+plotted values, bars and check verdicts (not its times) as one more digest. Regenerate the
+stored digests only for a change that is meant to move scores, and say so in CHANGES.md:
 
     AOLAB_WRITE_DIGEST=1 pytest tests/python/test_score_digest.py
 """
@@ -16,7 +16,6 @@ import hashlib
 import json
 import os
 import re
-from pathlib import Path
 
 from aolab import cli
 from compare_support import CROP, ROOT, make_scenes, parse_report, read_csv
