@@ -17,7 +17,7 @@ import pytest
 import aolab
 from aolab.scenes import Crop, load_cropped
 from aolab.scoring import reference_noise
-from aolab.study import advise, pareto, quick_reference, tune
+from aolab.study import advise, budget, quick_reference, tune
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "reference_scenes"
@@ -193,7 +193,7 @@ def test_the_advice_is_the_guarded_best_within_the_budget(room_advice):
 def test_a_degenerate_output_never_wins(room_advice):
     """Flat grey at the occluded region's median reference, and all white (AO = 1), both
     instantly: with no guard the grey one is a valid choice within any budget, but on the whole
-    frame it is worse than drawing no occlusion, so the guard (pareto.whole_frame_ok) keeps
+    frame it is worse than drawing no occlusion, so the guard (budget.whole_frame_ok) keeps
     it out of every budget's advice and off the front; white is no better than itself on the
     occluded region, which the advice requires."""
     r = json.loads(json.dumps(room_advice))   # a copy
@@ -207,7 +207,7 @@ def test_a_degenerate_output_never_wins(room_advice):
                             "names": ["default"], "label": name, "settings": {},
                             "scenes": {"room": scores}})
     grey_trial = r["trials"][-2]
-    assert pareto.choose([grey_trial], ["room"], 16, pareto.Guard()) is grey_trial
+    assert budget.choose([grey_trial], ["room"], 16, budget.Guard()) is grey_trial
     for budget in advise.BUDGETS_MS:
         got = advise.choose(r, budget)
         named = [got["best"]] + got["as_good"] + got["others"]
@@ -338,4 +338,4 @@ def test_the_addon_offers_the_studys_budgets_and_rays():
     text = (ROOT / "blender_addon" / "aolab_blender" / "properties.py").read_text()
     assert f"else {advise.BUDGETS_MS}" in text
     assert f"else {quick_reference.QUICK_RAYS}" in text
-    assert math.isclose(pareto.hd_scale(320, 180), 16.0)
+    assert math.isclose(budget.hd_scale(320, 180), 16.0)

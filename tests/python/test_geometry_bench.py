@@ -1,4 +1,4 @@
-"""aolab bench-table's geometry tables (core/python/aolab/checks/geometry_bench.py): the radii
+"""aolab bench-table's geometry tables (core/python/aolab/benchmarks/geometry_bench.py): the radii
 on screen it asks for, the upsampled scenes, the tables and the targets they judge; timings
 themselves are never asserted."""
 
@@ -11,8 +11,8 @@ import pytest
 
 import aolab
 from aolab import scenes
-from aolab.checks import geometry_bench as gb
-from aolab.checks import mip_bench as mb
+from aolab.benchmarks import geometry_bench as gb
+from aolab.benchmarks import mip_bench as mb
 
 
 def test_median_projected_radius_on_a_plane():

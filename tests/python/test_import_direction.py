@@ -125,7 +125,7 @@ LAYERS = (
     ("aolab.scenes",),
     ("aolab.render",),
     ("aolab.study",),
-    ("aolab.checks",),
+    ("aolab.checks", "aolab.benchmarks"),
     ("aolab.addon",),
     ("aolab.cli", "aolab.__main__"),
 )

@@ -1,4 +1,4 @@
-"""aolab bench-table's blocks table (core/python/aolab/checks/kernel_bench.py): one row per
+"""aolab bench-table's blocks table (core/python/aolab/benchmarks/kernel_bench.py): one row per
 method with consistent columns, the shared blur's row, its options checked; timings themselves
 are never asserted."""
 
@@ -9,7 +9,7 @@ import sys
 import pytest
 
 import aolab
-from aolab.checks import kernel_bench
+from aolab.benchmarks import kernel_bench
 
 SMALL = (48, 27)
 

@@ -18,7 +18,7 @@ import aolab
 from aolab import scenes
 from aolab import cli
 from aolab import named_presets as presets
-from aolab.study import pareto
+from aolab.study import budget
 from aolab.study import compare, tune
 
 optuna = pytest.importorskip("optuna")
@@ -159,12 +159,12 @@ FAMILIES = {"A": "f", "B": "g", "C": "g"}
 
 
 def test_choice_within_a_budget_is_the_lowest_mean_error():
-    assert pareto.choose(TABLE, list("ABC"), 100)["number"] == 2
-    assert pareto.choose(TABLE, list("ABC"), 50)["number"] == 0
-    assert pareto.choose(TABLE, list("ABC"), 20) is None
-    assert pareto.choose(TABLE, list("ABC"), 1000)["number"] == 3
+    assert budget.choose(TABLE, list("ABC"), 100)["number"] == 2
+    assert budget.choose(TABLE, list("ABC"), 50)["number"] == 0
+    assert budget.choose(TABLE, list("ABC"), 20) is None
+    assert budget.choose(TABLE, list("ABC"), 1000)["number"] == 3
     tie = TABLE + [_trial(4, (40, 40, 40), (0.30, 0.30, 0.30))]   # same error, faster
-    assert pareto.choose(tie, list("ABC"), 50)["number"] == 4
+    assert budget.choose(tie, list("ABC"), 50)["number"] == 4
 
 
 def test_the_guard_excludes_a_choice_worse_than_ao_one_or_the_default_on_the_whole_frame():
@@ -173,32 +173,32 @@ def test_the_guard_excludes_a_choice_worse_than_ao_one_or_the_default_on_the_who
     worse = _trial(2, (50, 50, 50), (0.20, 0.20, 0.20), (0.06, 0.06, 0.06))   # > default
     fine = _trial(3, (50, 50, 50), (0.25, 0.25, 0.25), (0.05, 0.04, 0.05))
     rows = [default, darker, worse, fine]
-    guard = pareto.Guard(ao_one={"A": 0.08, "B": 0.08, "C": 0.08}, default=default)
-    assert pareto.choose(rows, list("ABC"), 100)["number"] == 1      # unguarded: the darker
-    assert pareto.choose(rows, list("ABC"), 100, guard)["number"] == 3
+    guard = budget.Guard(ao_one={"A": 0.08, "B": 0.08, "C": 0.08}, default=default)
+    assert budget.choose(rows, list("ABC"), 100)["number"] == 1      # unguarded: the darker
+    assert budget.choose(rows, list("ABC"), 100, guard)["number"] == 3
     # on A and B alone, the darker one is no worse than AO = 1
-    assert pareto.choose(rows, list("AB"), 100, guard)["number"] == 1
-    no_default = pareto.Guard(ao_one=guard.ao_one)
-    assert pareto.choose(rows, list("ABC"), 100, no_default)["number"] == 2
+    assert budget.choose(rows, list("AB"), 100, guard)["number"] == 1
+    no_default = budget.Guard(ao_one=guard.ao_one)
+    assert budget.choose(rows, list("ABC"), 100, no_default)["number"] == 2
 
 
 def test_degenerate_outputs_cannot_pass_the_whole_frame_guard():
     """All dark, all grey, or the reference darkened everywhere: each is worse than AO = 1
     on the whole frame of a real scene, so no budget can choose it."""
     (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("320x180"))
-    guard = pareto.Guard(ao_one={"room": sc.ao_one_mae})
+    guard = budget.Guard(ao_one={"room": sc.ao_one_mae})
     ref = sc.reference
 
     def row(ao):
         return {"number": 0, "scenes": {"room": {"ms": 1.0, **tune.score(ao, sc)}}}
     for bad in (np.zeros_like(ref), np.full_like(ref, 0.5), np.clip(ref - 0.2, 0, 1)):
-        assert not pareto.whole_frame_ok(row(bad.astype(np.float32)), ["room"], guard)
+        assert not budget.whole_frame_ok(row(bad.astype(np.float32)), ["room"], guard)
     for good in (np.ones_like(ref), ref):
-        assert pareto.whole_frame_ok(row(good.astype(np.float32)), ["room"], guard)
+        assert budget.whole_frame_ok(row(good.astype(np.float32)), ["room"], guard)
 
 
 def test_leave_one_family_out_chooses_on_the_other_families_only():
-    held = pareto.leave_one_family_out(TABLE, FAMILIES, 100)
+    held = budget.leave_one_family_out(TABLE, FAMILIES, 100)
     # family f (A) held out: on B, C trial 3 is best and fast (60 ms); on A it takes 300 ms.
     assert held["f"]["trial"] == 3 and held["f"]["mae"] == 0.05
     assert held["f"]["within_budget"] is False and held["f"]["scenes"]["A"]["ms"] == 300
@@ -206,7 +206,7 @@ def test_leave_one_family_out_chooses_on_the_other_families_only():
     # family g (B, C) held out: on A alone trial 3 takes 300 ms, so trial 1 (0.10) wins
     assert held["g"]["trial"] == 1 and held["g"]["mae"] == pytest.approx(0.40)
     assert set(held["g"]["scenes"]) == {"B", "C"}
-    summary = pareto.held_out_summary(held)
+    summary = budget.held_out_summary(held)
     assert summary["held_out_mean_mae"] == pytest.approx((0.05 + 0.40) / 2)
     assert summary["gap"] == pytest.approx((0.05 + 0.40) / 2 - (0.05 + 0.10) / 2)
     assert summary["held_out_folds"] == 2
@@ -217,26 +217,26 @@ def test_a_tuned_choice_that_loses_to_the_default_held_out_ships_the_default():
     balanced = _trial(2, (50, 50, 50), (0.15, 0.15, 0.15))
     trap = _trial(3, (50, 50, 50), (0.30, 0.05, 0.05))      # great on family g, bad on f
     trap2 = _trial(4, (50, 50, 50), (0.05, 0.30, 0.30))     # great on family f, bad on g
-    guard = pareto.Guard(default=default)
+    guard = budget.Guard(default=default)
     # A choice that holds on every family ships.
-    sel, unshipped = pareto.select([default, balanced], FAMILIES, (100,), guard)
+    sel, unshipped = budget.select([default, balanced], FAMILIES, (100,), guard)
     assert sel["tuned-100ms"]["trial"] == 2 and sel["tuned-100ms"]["ships"] == "tuned"
     assert sel["tuned-100ms"]["held_out_mean_mae"] == pytest.approx(0.15)
     assert sel["tuned-100ms"]["default_held_out_mean_mae"] == pytest.approx(0.20)
     assert not unshipped
     # trap wins on all scenes (0.133) but each fold picks the configuration that is bad on
     # the held-out family (0.30 there, the default 0.20): the default ships.
-    sel, unshipped = pareto.select([default, trap, trap2], FAMILIES, (100,), guard)
+    sel, unshipped = budget.select([default, trap, trap2], FAMILIES, (100,), guard)
     assert sel["tuned-100ms"]["tuned_trial"] == 3
     assert sel["tuned-100ms"]["trial"] == 9 and sel["tuned-100ms"]["ships"].startswith("default")
     assert sel["tuned-100ms"]["settings"] == default["settings"]
     # Within 45 ms only the default fits: it is the choice.
-    sel, _ = pareto.select([default, trap, trap2], FAMILIES, (45,), guard)
+    sel, _ = budget.select([default, trap, trap2], FAMILIES, (45,), guard)
     assert sel["tuned-45ms"]["trial"] == 9 and sel["tuned-45ms"]["ships"].startswith("default")
     # A default over the budget cannot stand in: nothing ships, and the reason is given.
     slow = _trial(9, (80, 80, 80), (0.20, 0.20, 0.20), preset="default")
-    sel, unshipped = pareto.select([slow, trap, trap2], FAMILIES, (60,),
-                                   pareto.Guard(default=slow))
+    sel, unshipped = budget.select([slow, trap, trap2], FAMILIES, (60,),
+                                   budget.Guard(default=slow))
     assert sel == {} and "lost to the default" in unshipped["tuned-60ms"]
 
 
@@ -256,17 +256,17 @@ def test_best_across_methods_is_chosen_on_the_other_families():
             "g": fold(8, {"T": (0.50, 130.0), "U": (0.40, 50.0)}, 0.12)}}}},
         "c": {"selection": {"tuned-50ms": {"held_out": {"f": fold(9, {"S": (0.0, 1.0)}, 0.0)}}}},
     }
-    best = pareto.best_across_methods(methods, 100)
+    best = budget.best_across_methods(methods, 100)
     assert best["S"] == {"method": "a", "trial": 1, "mae": 0.30, "ms": 40.0,
                          "within_budget": True, "train_mae": 0.10}   # not b's 0.01 on S
     assert best["T"]["method"] == "b" and best["T"]["within_budget"] is False
     assert best["U"]["method"] == "b" and best["U"]["mae"] == 0.40
-    assert pareto.best_across_methods(methods, 50)["S"]["method"] == "c"
-    assert pareto.best_across_methods({}, 100) == {}
+    assert budget.best_across_methods(methods, 50)["S"]["method"] == "c"
+    assert budget.best_across_methods({}, 100) == {}
     # A file from before families: one fold per scene
     old = {"a": {"selection": {"tuned-100ms": {"held_out": {
         "S": {"trial": 1, "mae": 0.2, "ms": 10.0, "train_mae": 0.1}, "T": None}}}}}
-    assert pareto.best_across_methods(old, 100) == {
+    assert budget.best_across_methods(old, 100) == {
         "S": {"method": "a", "trial": 1, "mae": 0.2, "ms": 10.0, "within_budget": True,
               "train_mae": 0.1}, "T": None}
 

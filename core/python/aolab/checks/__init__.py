@@ -1,4 +1,4 @@
-"""Checks of the study's inputs and of the kernels: ``rtao_check`` (the ray-traced peer
-against the references), ``bridge_check`` (the bridge's renders against Cycles) and
-``kernel_bench`` (each method's scalar code against its SIMD kernel, ``aolab bench-table``).
+"""Checks of the study's inputs against Cycles: ``rtao_check`` (the ray-traced peer against
+the references) and ``bridge_check`` (the bridge's renders against the committed references).
+The kernels' benchmarks are in ``aolab.benchmarks``.
 """

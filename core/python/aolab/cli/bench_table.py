@@ -1,10 +1,10 @@
 """``aolab bench-table``: every method's time on the reference scenes and against the radius
-on screen, and its scalar code against its SIMD kernel (aolab.checks.geometry_bench and
+on screen, and its scalar code against its SIMD kernel (aolab.benchmarks.geometry_bench and
 kernel_bench, docs/benchmarks.md)."""
 
 from __future__ import annotations
 
-from ..checks import geometry_bench, mip_bench
+from ..benchmarks import geometry_bench, mip_bench
 from ..util.arguments import MAX_RUNS, int_option, size_option
 
 

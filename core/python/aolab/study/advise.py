@@ -9,7 +9,7 @@ scored against the scene's reference (study.quick_reference: the Cycles one wher
 one, else the quick one) by its MAE on the occluded region and on the whole frame
 (tune.evaluate).
 
-Within a budget, pareto.choose picks each method's best configuration among those that pass
+Within a budget, budget.choose picks each method's best configuration among those that pass
 the whole-frame guard (no worse than AO = 1, nor than the method's own default: so that no
 flat grey image can win), the pick must beat AO = 1 on the occluded region (so that no
 white one can), and the advice is the best of these picks. Two scores against
@@ -37,7 +37,7 @@ from ..render import reference as render
 from ..scenes import find_scenes_dir
 from ..scoring import require_scoreable
 from ..util import files
-from . import pareto, quick_reference, tune
+from . import budget, quick_reference, tune
 from .report import pareto_front
 
 #: The budgets the panel offers and ``aolab advise`` answers by default: ms per 1280x720
@@ -108,7 +108,7 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     """Every configuration of :func:`configurations` on G-buffer ``g`` at R = ``radius``,
     timed and scored against ``reference``. ``on_step(i, n, config)`` is called before each
     (progress; it may raise to stop). Returns the advice's data, JSON-ready: the scene, the
-    reference's info, AO = 1's scores, the trials (pareto's form: "scenes" -> {name: scores})
+    reference's info, AO = 1's scores, the trials (budget's trial form: "scenes" -> {name: scores})
     and the configurations a method refused. A G-buffer with no geometry pixel, or a
     reference nowhere finite on geometry, is a ValueError before anything runs."""
     require_scoreable(g, reference.ao, name=name)
@@ -164,11 +164,11 @@ def _by_method(result: dict) -> dict:
     return out
 
 
-def _guard(result: dict, rows: list[dict]) -> pareto.Guard:
+def _guard(result: dict, rows: list[dict]) -> budget.Guard:
     """The whole-frame guard of one method's trials: AO = 1 on this scene, and the method's
     default (the trial its "default" preset names)."""
     default = next((t for t in rows if presets_mod.DEFAULT_PRESET in t["names"]), None)
-    return pareto.Guard(ao_one={result["scene"]: result["ao_one"]["all_mae"]}, default=default)
+    return budget.Guard(ao_one={result["scene"]: result["ao_one"]["all_mae"]}, default=default)
 
 
 def _draws_occlusion(result: dict, trial: dict) -> bool:
@@ -193,7 +193,7 @@ def admissible(result: dict) -> list[dict]:
     scenes = [result["scene"]]
     return [t for rows in _by_method(result).values() for t in rows
             if _draws_occlusion(result, t)
-            and pareto.whole_frame_ok(t, scenes, _guard(result, rows))]
+            and budget.whole_frame_ok(t, scenes, _guard(result, rows))]
 
 
 def front(result: dict) -> list[dict]:
@@ -208,7 +208,7 @@ def front(result: dict) -> list[dict]:
 
 def choose(result: dict, budget_ms: float) -> dict:
     """The advice within ``budget_ms`` (per 1280x720 frame): ``best``, each method's pick
-    (pareto.choose with its guard; it must also beat AO = 1 on the occluded region) with the
+    (budget.choose with its guard; it must also beat AO = 1 on the occluded region) with the
     lowest occluded MAE (ties: the faster); ``as_good``, the other methods' picks whose MAE
     may read high by as much as they lie above it (:func:`reads_high`): this reference
     cannot tell that they are worse; ``others``,
@@ -217,7 +217,7 @@ def choose(result: dict, budget_ms: float) -> dict:
     scenes = [result["scene"]]
     picks = []
     for rows in _by_method(result).values():
-        t = pareto.choose(rows, scenes, budget_ms, _guard(result, rows))
+        t = budget.choose(rows, scenes, budget_ms, _guard(result, rows))
         if t is not None and _draws_occlusion(result, t):
             picks.append(t)
     picks.sort(key=lambda t: (_scores(result, t)["mae"], _scores(result, t)["ms"], t["number"]))

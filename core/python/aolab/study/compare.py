@@ -48,7 +48,7 @@ from ..util import files
 from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files, stats
-from .pareto import hd_scale
+from .budget import hd_scale
 from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
 from .temporal import DISOCCLUDED, Accumulation, accumulation_scores
 from .timing import time_fields, timed
@@ -853,7 +853,7 @@ class Study:
             "limits": [p.name for p in scene.peers if p.kind == LIMIT_KIND],
             "title": manifest(folder).get("title", scene.name),
             "family": manifest(folder).get("family"),
-            # ALL's times are per 1280x720 frame; a crop's stay the crop's (pareto.hd_scale)
+            # ALL's times are per 1280x720 frame; a crop's stay the crop's (budget.hd_scale)
             "time_scale": 1.0 if opts.crop else hd_scale(scene.g.width, scene.g.height),
         }
         images = _Images(opts.budget_ms, scene, opts.image_width, encoded=shown)

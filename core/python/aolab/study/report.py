@@ -31,7 +31,7 @@ from .. import catalog
 from ..regions import REGIONS
 from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB
 from ..util import files
-from . import pareto, report_files, stats
+from . import budget, report_files, stats
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
@@ -1316,13 +1316,13 @@ def paired_table(entries: list[dict], budget_ms: float) -> str:
 
 def eevee_check(results: dict, budget_ms: float = EEVEE_CHECK_BUDGET_MS) -> list[dict]:
     """Per scene: the screen-space limit's, EEVEE's and the best tuned configuration's (within
-    ``budget_ms``, held out across methods: pareto.best_across_methods) occluded MAE, and the
+    ``budget_ms``, held out across methods: budget.best_across_methods) occluded MAE, and the
     verdict — "pass" where the limit is below EEVEE and the tuned configuration is too,
     "fail" where it is not, "limit" where even the limit is not below EEVEE (no screen-space
     method can be expected to beat it there), "unknown" where a number is missing."""
     tuned = results.get("tuned") or {}
-    best = pareto.best_across_methods(tuned.get("methods", {}), budget_ms) if tuned else {}
-    larger = (pareto.best_across_methods(tuned.get("methods", {}), LARGEST_TUNED_BUDGET_MS)
+    best = budget.best_across_methods(tuned.get("methods", {}), budget_ms) if tuned else {}
+    larger = (budget.best_across_methods(tuned.get("methods", {}), LARGEST_TUNED_BUDGET_MS)
               if tuned else {})
     out = []
     for name in results["meta"].get("scenes", []):

@@ -12,11 +12,11 @@ on every still scene at the scene's R, timed as ``aolab compare`` times (``--war
 run, median of ``--repeat``; the blur timed apart and added; scaled to a 1280x720 frame) and
 scored by its MAE on the occluded region (reference AO < 0.9, aolab.regions) and on the whole
 frame. Its two objectives are the means over the scenes of the occluded MAE and of the time;
-the whole-frame MAE is a constraint (pareto.Guard). Trials are stored in SQLite (DIR/tune.db,
+the whole-frame MAE is a constraint (budget.Guard). Trials are stored in SQLite (DIR/tune.db,
 one Optuna study per method): Ctrl-C keeps every finished trial and the same command resumes.
 With a cluster the trials' accuracy is computed on its workers and their times here.
 
-For each budget B of BUDGETS_MS, ``pareto.select`` makes the preset ``tuned-<B>ms``: the
+For each budget B of BUDGETS_MS, ``budget.select`` makes the preset ``tuned-<B>ms``: the
 guarded trial with the lowest mean occluded MAE within B over all scenes, its leave-one-
 family-out score and generalisation gap, and the method's default in its place where the
 tuned choice loses to the default on held-out families.
@@ -52,9 +52,9 @@ from ..util import dask_cluster, files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
 from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
-from . import pareto
+from . import budget
 
-#: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: pareto.hd_scale).
+#: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: budget.hd_scale).
 BUDGETS_MS = (50, 100, 200, 500)
 # 60 trials per method: the TPE sampler's 10 random start-up trials, the presets, then ~45
 # guided ones. The whole default run (seven methods) then fits about an hour on 2 cores
@@ -225,7 +225,7 @@ class TuneScene:
     occluded: np.ndarray
     valid: np.ndarray
     #: The whole-frame MAE of AO = 1, the output that draws no occlusion: no tuned preset
-    #: may be worse on any scene (pareto.Guard).
+    #: may be worse on any scene (budget.Guard).
     ao_one_mae: float
     folder: Path = None
     #: Measured ms -> ms per 1280x720 frame (1 for a crop, whose times stay the crop's).
@@ -236,10 +236,10 @@ def make_scene(name: str, g, reference: np.ndarray, radius: float, *, family_nam
                folder: Path | None = None, time_scale: float | None = None) -> TuneScene:
     """A scene to evaluate configurations on, from a G-buffer and the reference it is scored
     against: the scored pixels, the occluded region of aolab.regions and AO = 1's
-    whole-frame MAE. ``time_scale`` defaults to the 1280x720 frame's (pareto.hd_scale)."""
+    whole-frame MAE. ``time_scale`` defaults to the 1280x720 frame's (budget.hd_scale)."""
     valid = scored_mask(g, reference)
     one = float(np.mean(np.abs(1.0 - reference[valid].astype(np.float64))))
-    scale = pareto.hd_scale(g.width, g.height) if time_scale is None else time_scale
+    scale = budget.hd_scale(g.width, g.height) if time_scale is None else time_scale
     return TuneScene(name, family_name, g, radius, reference,
                      occluded_pixels(valid, reference), valid, one, folder, scale)
 
@@ -453,18 +453,18 @@ def _key(settings: dict, blur: bool) -> str:
 
 
 def table(study) -> list[dict]:
-    """The complete trials as dicts for pareto.select."""
+    """The complete trials as dicts for budget.select."""
     from optuna.trial import TrialState
     return [{"number": t.number, "settings": t.user_attrs["settings"],
              "preset": t.user_attrs.get("preset"), "scenes": t.user_attrs["scenes"]}
             for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))]
 
 
-def guard(rows: list[dict], scenes: list[TuneScene]) -> pareto.Guard:
+def guard(rows: list[dict], scenes: list[TuneScene]) -> budget.Guard:
     """What a choice must not be worse than on the whole frame: AO = 1 on each scene, and the
     method's default trial (the enqueued preset "default") on the mean."""
-    default = next((t for t in rows if t.get("preset") == pareto.DEFAULT_PRESET), None)
-    return pareto.Guard(ao_one={s.name: s.ao_one_mae for s in scenes}, default=default)
+    default = next((t for t in rows if t.get("preset") == budget.DEFAULT_PRESET), None)
+    return budget.Guard(ao_one={s.name: s.ao_one_mae for s in scenes}, default=default)
 
 
 def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadline,
@@ -487,7 +487,7 @@ def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadlin
         raise
     rows = table(study)
     families = {s.name: s.family for s in scenes}
-    selection, unshipped = pareto.select(rows, families, BUDGETS_MS, guard(rows, scenes))
+    selection, unshipped = budget.select(rows, families, BUDGETS_MS, guard(rows, scenes))
     return {"study": study, "space": space, "done": counted(study) >= opts.trials,
             "selection": selection, "unshipped": unshipped}
 
@@ -604,7 +604,7 @@ def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
             raise remote
         per_scene = evaluate(method, a.settings, a.blur, scenes, opts.timing,
                              on_scene=next_scene, accuracy=remote)
-        if a.trial.user_attrs.get("preset") == pareto.DEFAULT_PRESET:
+        if a.trial.user_attrs.get("preset") == budget.DEFAULT_PRESET:
             default_all[0] = float(np.mean([r["all_mae"] for r in per_scene.values()]))
         a.trial.set_user_attr("scenes", per_scene)
         a.trial.set_user_attr("constraints", constraints(per_scene, scenes, default_all[0]))
