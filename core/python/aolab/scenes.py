@@ -5,6 +5,7 @@ checks and the add-on's jobs, which all read scenes."""
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
@@ -341,6 +342,9 @@ def parse_crop(text: str | None) -> Crop | None:
 
 @dataclass
 class Scene:
+    """A scene as the studies run it: its G-buffer, reference, R and regions, the peers and
+    screen-space limits beside it, and what the studies add (a frame's sequence, the kept
+    outputs, the family and the time scale)."""
     name: str
     folder: Path
     g: object
@@ -358,6 +362,27 @@ class Scene:
     #: A frame's scored images by (kind, method, label), kept for the flicker against the
     #: next frame; None for a still scene, whose images are not kept.
     outputs: dict | None = None
+    #: The scene's family (manifest.json's "family"; "" without): tune holds one out at a time.
+    family: str = ""
+    #: Measured ms -> ms per 1280x720 frame, the budgets' unit (1 for a crop, whose times stay
+    #: the crop's); set by the study's runner (study.runner.hd_scale).
+    time_scale: float = 1.0
+
+    @property
+    def valid(self) -> np.ndarray:
+        """The scored pixels (the region "all")."""
+        return self.regions["all"]
+
+    @property
+    def occluded(self) -> np.ndarray:
+        """The occluded region (reference AO < 0.9, aolab.regions)."""
+        return self.regions["occluded"]
+
+    @functools.cached_property
+    def ao_one_mae(self) -> float:
+        """The whole-frame MAE of AO = 1, the output that draws no occlusion: no tuned preset
+        or advice may be worse on any scene (study.budget.Guard)."""
+        return float(np.mean(np.abs(1.0 - self.reference[self.valid].astype(np.float64))))
 
 
 def load_cropped(folder: Path, crop: Crop | None = None, name: str | None = None, *,

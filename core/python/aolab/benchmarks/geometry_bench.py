@@ -4,7 +4,7 @@ against the AO radius in pixels, with the median and the worst over scenes
 
 What is timed is what a user gets from ``aolab.compute(method, g, preset="medium")``: the
 SIMD kernel on 2 threads with the preset's settings and its shared blur, wall clock, the
-median of ``repeat`` runs after one warm-up (``kernel_bench.median_ms``).
+median of ``repeat`` runs after one warm-up (``study.runner.median_ms``).
 
 - **The target scenes** are the committed still scenes at 1280×720 (the size the targets
   are stated at). Each is timed at its own R and at the R whose median projected radius is
@@ -35,6 +35,7 @@ import numpy as np
 import aolab
 
 from .. import scenes
+from ..study.runner import median_ms
 from ..util import files
 from . import kernel_bench
 
@@ -102,7 +103,7 @@ def preset_run(method: str, g, radius: float):
 
 
 def time_preset(method: str, g, radius: float, repeat: int) -> float:
-    return kernel_bench.median_ms(preset_run(method, g, radius), repeat)
+    return median_ms(preset_run(method, g, radius), repeat)
 
 
 def scene_times(methods: list[str], frames: list[Frame], repeat: int, progress=print
@@ -133,8 +134,8 @@ def hbao_speedups(frames: list[Frame], repeat: int) -> list[dict]:
             def run(kernel, threads, r=r):
                 return aolab.compute("hbao", frame.g, radius=r, threads=threads,
                                      kernel=kernel, **settings)
-            scalar = kernel_bench.median_ms(lambda: run("scalar", 1), 2, warmup=False)
-            simd = kernel_bench.median_ms(lambda: run("simd", THREADS), repeat)
+            scalar = median_ms(lambda: run("scalar", 1), 2, warmup=0)
+            simd = median_ms(lambda: run("simd", THREADS), repeat)
             out.append({"scene": frame.name, "radius_px": key, "scalar_ms": scalar,
                         "simd_ms": simd, "speedup": scalar / simd})
     return out
@@ -195,7 +196,7 @@ def alternated_ms(runs: list, repeat: int) -> list[float]:
     ms = [[] for _ in runs]
     for _ in range(repeat):
         for run, out in zip(runs, ms):
-            out.append(kernel_bench.median_ms(run, 1, warmup=False))
+            out.append(median_ms(run, 1, warmup=0))
     return [statistics.median(m) for m in ms]
 
 

@@ -31,10 +31,8 @@ import json
 import os
 import platform
 import shutil
-import statistics
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import aolab
@@ -42,6 +40,7 @@ import aolab
 from .. import catalog
 from .. import named_presets as presets_module
 from ..util import files
+from ..study.runner import median_ms
 from ..util.provenance import git_commit
 
 #: The benchmarks' scene and radius (docs/benchmarks.md; tests/bench/bench_scene.h).
@@ -67,20 +66,9 @@ def samples_per_pixel(method: str, settings: dict) -> float | None:
     return entry.samples_per_pixel(full)
 
 
-def median_ms(run, repeat: int, warmup: bool = True) -> float:
-    """The median wall-clock ms of ``repeat`` calls of ``run``, after one untimed call unless
-    not ``warmup``."""
-    if warmup:
-        run()   # first-touch page faults, caches, the dispatch table
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times) * 1000.0
-
-
-def _time(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> float:
+def compute_ms(method, g, settings, *, threads, kernel, repeat, radius=RADIUS) -> float:
+    """The median ms of ``method`` on ``g`` with ``kernel`` (runner.median_ms: one warm-up
+    for first-touch page faults, caches and the dispatch table, then ``repeat`` timed)."""
     return median_ms(lambda: aolab.compute(method, g, radius=radius, threads=threads,
                                            kernel=kernel, **settings), repeat)
 
@@ -151,10 +139,10 @@ def table(methods=None, *, preset: str | None = None, repeat: int = 5, scaling: 
     for method in methods:
         settings = configuration(method, chosen[method])
         has_simd = aolab.method_info(method)["simd_kernel"]
-        scalar = _time(method, g, settings, threads=1, kernel="scalar",
-                       repeat=max(1, min(repeat, 3)))
-        simd1 = _time(method, g, settings, threads=1, kernel="simd", repeat=repeat)
-        simd2 = _time(method, g, settings, threads=2, kernel="simd", repeat=repeat)
+        scalar = compute_ms(method, g, settings, threads=1, kernel="scalar",
+                            repeat=max(1, min(repeat, 3)))
+        simd1 = compute_ms(method, g, settings, threads=1, kernel="simd", repeat=repeat)
+        simd2 = compute_ms(method, g, settings, threads=2, kernel="simd", repeat=repeat)
         spp = samples_per_pixel(method, settings)
         row = {"method": method, "preset": chosen[method], "settings": settings, "size": list(size),
                "simd_kernel": has_simd, "scalar_ms": scalar, "simd_1t_ms": simd1,
@@ -162,21 +150,22 @@ def table(methods=None, *, preset: str | None = None, repeat: int = 5, scaling: 
                "mpx_per_s": pixels / simd2 / 1000.0,
                "msamples_per_s": None if spp is None else pixels * spp / simd2 / 1000.0}
         if scaling:
-            big = _time(method, large, settings, threads=2, kernel="simd",
-                        repeat=max(1, min(repeat, 3)))
+            big = compute_ms(method, large, settings, threads=2, kernel="simd",
+                             repeat=max(1, min(repeat, 3)))
             row["large_ms"] = big
             row["large_ratio"] = big / simd2
             # R / 3 projects to as many pixels at 3840×2160 as R at 1280×720: the same work
             # and neighbourhood per pixel, so this ratio isolates the pixel count.
             scale = LARGE_SIZE[0] / size[0]
-            same = _time(method, large, settings, threads=2, kernel="simd",
-                         repeat=max(1, min(repeat, 3)), radius=RADIUS / scale)
+            same = compute_ms(method, large, settings, threads=2, kernel="simd",
+                              repeat=max(1, min(repeat, 3)), radius=RADIUS / scale)
             row["large_same_px_ms"] = same
             row["large_same_px_ratio"] = same / simd2
             row["large_peak_mb"] = peak_memory_mb(method, settings)
         if radii:
-            row["radius_ms"] = {str(k): _time(method, g, settings, threads=2, kernel="simd",
-                                              repeat=max(1, min(repeat, 3)), radius=RADIUS * k)
+            row["radius_ms"] = {str(k): compute_ms(method, g, settings, threads=2,
+                                                   kernel="simd", repeat=max(1, min(repeat, 3)),
+                                                   radius=RADIUS * k)
                                 for k in RADIUS_SCALES}
             row["radius_ratio"] = row["radius_ms"][str(RADIUS_SCALES[-1])] / simd2
         rows.append(row)

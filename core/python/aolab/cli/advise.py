@@ -10,7 +10,7 @@ from pathlib import Path
 import aolab
 
 from ..study import advise, quick_reference
-from ..study.compare import json_safe
+from ..study.results import json_safe
 from ..util import files
 from ..util.arguments import int_option
 from ..util.files import check_paths

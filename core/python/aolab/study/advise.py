@@ -2,12 +2,12 @@
 within a time budget (docs/comparison.md, "Advise: which method for this scene").
 
 Every method but the oracles runs each of its named presets — default, the study's presets
-and the tuned ones (aolab.presets) — once per distinct configuration on the scene's G-buffer,
-timed as ``aolab tune`` times (a warm-up, the median of the repeats, the shared blur timed
-apart and added, scaled to a 1280x720 frame: the budgets' unit, as for the tuned presets) and
-scored against the scene's reference (study.quick_reference: the Cycles one where there is
-one, else the quick one) by its MAE on the occluded region and on the whole frame
-(tune.evaluate).
+and the tuned ones (aolab.presets) — once per distinct configuration on the scene's
+G-buffer, timed and scored by the study's runner as ``aolab tune``'s trials are (a warm-up,
+the median of the repeats, the shared blur timed apart and added, scaled to a 1280x720
+frame: the budgets' unit, as for the tuned presets) and scored against the scene's reference
+(study.quick_reference: the Cycles one where there is one, else the quick one) by its MAE on
+the occluded region and on the whole frame (runner.evaluate).
 
 Within a budget, budget.choose picks each method's best configuration among those that pass
 the whole-frame guard (no worse than AO = 1, nor than the method's own default: so that no
@@ -38,6 +38,7 @@ from ..scenes import find_scenes_dir
 from ..scoring import require_scoreable
 from ..util import files
 from . import budget, quick_reference, tune
+from .runner import Timing, evaluate, make_scene, trial_scores
 from .report import pareto_front
 
 #: The budgets the panel offers and ``aolab advise`` answers by default: ms per 1280x720
@@ -113,25 +114,25 @@ def run(g, reference: quick_reference.Reference, radius: float, *, name: str,
     reference nowhere finite on geometry, is a ValueError before anything runs."""
     require_scoreable(g, reference.ao, name=name)
     t0 = time.perf_counter()
-    scene = tune.make_scene(name, g, reference.ao, radius)
+    scene = make_scene(name, g, reference.ao, radius)
     chosen = list(methods) if methods else tune.default_methods()
     configs, notes = configurations(chosen)
     # A first run slower than SINGLE_RUN_FACTOR x the largest budget is past every budget.
     single_ms = max(SINGLE_RUN_FACTOR * max(budgets) / scene.time_scale, SINGLE_RUN_FLOOR_MS)
-    timing = tune.Timing(warmup=warmup, repeat=repeat, threads=threads, max_ms=single_ms)
+    timing = Timing(warmup=warmup, repeat=repeat, threads=threads, max_ms=single_ms)
 
     def scorer(ao, sc) -> dict:
-        """tune.score, and how high the two MAEs may read against this reference
+        """runner.trial_scores, and how high the two MAEs may read against this reference
         (Reference.inflation; None against the Cycles one)."""
-        return {**tune.score(ao, sc), "inflation": reference.inflation(ao, sc.occluded),
+        return {**trial_scores(ao, sc), "inflation": reference.inflation(ao, sc.occluded),
                 "all_inflation": reference.inflation(ao, sc.valid)}
     trials, refused = [], []
     for i, c in enumerate(configs):
         if on_step is not None:
             on_step(i, len(configs), c)
         try:
-            scores = tune.evaluate(c["method"], c["settings"], c["blur"], [scene], timing,
-                                   scorer=scorer)
+            scores = evaluate(c["method"], c["settings"], c["blur"], [scene], timing,
+                              scorer=scorer)
         except (ValueError, RuntimeError) as e:
             refused.append({"method": c["method"], "names": c["names"], "error": str(e)})
             continue
@@ -187,19 +188,19 @@ def reads_high(result: dict, trial: dict) -> float | None:
     return own if own is not None else result["reference"]["noise_occluded"]
 
 
-def admissible(result: dict) -> list[dict]:
-    """The trials that pass their method's whole-frame guard and draw occlusion better than
-    AO = 1 on the occluded region."""
+def contenders(result: dict) -> list[dict]:
+    """The trials that pass their method's whole-frame guard (budget.admits) and draw
+    occlusion better than AO = 1 on the occluded region."""
     scenes = [result["scene"]]
     return [t for rows in _by_method(result).values() for t in rows
             if _draws_occlusion(result, t)
-            and budget.whole_frame_ok(t, scenes, _guard(result, rows))]
+            and budget.admits(_guard(result, rows), t, scenes)]
 
 
 def front(result: dict) -> list[dict]:
     """The admissible trials no other admissible one beats in both time and occluded MAE,
     fastest first."""
-    pts = admissible(result)
+    pts = contenders(result)
     keys = pareto_front([(_scores(result, t)["ms"], _scores(result, t)["mae"], t["number"])
                          for t in pts], lower_is_better=True)
     by_number = {t["number"]: t for t in pts}
@@ -230,7 +231,7 @@ def choose(result: dict, budget_ms: float) -> dict:
             close = high is not None and _scores(result, t)["mae"] - best <= high
             out["as_good" if close else "others"].append(t)
         return out
-    pool = admissible(result) or result["trials"]
+    pool = contenders(result) or result["trials"]
     if pool:
         out["fastest"] = min(pool, key=lambda t: (_scores(result, t)["ms"], t["number"]))
     if not result["pixels"]["occluded"]:

@@ -6,7 +6,7 @@ A trial is a dict with "number", "settings", optionally "preset" (the named pres
 started as) and "scenes": scene -> {"ms", "mae", "all_mae"}: the time (at 1280x720), the
 MAE on the occluded region and the MAE on the whole frame. A :class:`Guard` holds what a
 choice must not be worse than on the whole frame: AO = 1 on every scene, and the method's
-own default on the mean.
+own default on the mean. Budgets and times are per 1280x720 frame (runner.hd_scale).
 """
 
 from __future__ import annotations
@@ -17,18 +17,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..named_presets import TUNED_PREFIX
+from .runner import whole_frame_ok
 
 #: The named preset a tuned preset must beat on held-out families.
 DEFAULT_PRESET = "default"
-#: Budgets and mean times are per frame of this many pixels (1280x720): a scene's time is
-#: scaled by HD_PIXELS / its pixels, since every method's work grows with the pixel count, so
-#: that the corpus's 640x360 scenes and the 1280x720 ones weigh alike.
-HD_PIXELS = 1280 * 720
-
-
-def hd_scale(width: int, height: int) -> float:
-    """The factor from a width x height frame's time to a 1280x720 frame's."""
-    return HD_PIXELS / (width * height)
 
 
 @dataclass
@@ -45,18 +37,14 @@ def mean(trial: dict, scenes: list[str], key: str) -> float:
     return float(np.mean([trial["scenes"][s][key] for s in scenes]))
 
 
-def whole_frame_ok(trial: dict, scenes: list[str], guard: Guard) -> bool:
-    """No worse than AO = 1 on the whole frame of any of ``scenes``, and no worse than the
-    method's default on their mean whole-frame MAE."""
-    for s in scenes:
-        limit = guard.ao_one.get(s)
-        got = trial["scenes"][s].get("all_mae", math.nan)
-        if limit is not None and not got <= limit:
-            return False
+def admits(guard: Guard, trial: dict, scenes: list[str]) -> bool:
+    """Whether ``trial`` passes ``guard`` on ``scenes`` (runner.whole_frame_ok): no worse than
+    AO = 1 on the whole frame of any of them, and no worse than the method's default on their
+    mean whole-frame MAE."""
     d = guard.default
-    if d is None or d is trial or not all(s in d["scenes"] for s in scenes):
-        return True
-    return mean(trial, scenes, "all_mae") <= mean(d, scenes, "all_mae") + 1e-12
+    bounded = d is not None and d is not trial and all(s in d["scenes"] for s in scenes)
+    return whole_frame_ok({s: trial["scenes"][s].get("all_mae") for s in scenes}, guard.ao_one,
+                          mean(d, scenes, "all_mae") if bounded else None)
 
 
 def choose(table: list[dict], scenes: list[str], budget_ms: float,
@@ -71,7 +59,7 @@ def choose(table: list[dict], scenes: list[str], budget_ms: float,
         if not all(s in t["scenes"] for s in scenes):
             continue
         ms, mae = mean(t, scenes, "ms"), mean(t, scenes, "mae")
-        if ms > budget_ms or not math.isfinite(mae) or not whole_frame_ok(t, scenes, guard):
+        if ms > budget_ms or not math.isfinite(mae) or not admits(guard, t, scenes):
             continue
         key = (mae, ms, t["number"])
         if best_key is None or key < best_key:
@@ -140,7 +128,7 @@ def decide(pick: dict, summary: dict, guard: Guard, scenes: list[str],
     if default_held is None or held < default_held or d is None:
         return pick, "tuned"
     if (mean(d, scenes, "ms") <= budget_ms
-            and whole_frame_ok(d, scenes, Guard(ao_one=guard.ao_one))):
+            and admits(Guard(ao_one=guard.ao_one), d, scenes)):
         return d, "default: the tuned choice lost to it on held-out families"
     return None, ("the tuned choice lost to the default on held-out families, and the "
                   "default does not fit the budget or is worse than AO = 1 on a scene")

@@ -17,10 +17,6 @@ Ctrl-C keeps what is done in DIR.partial/ and leaves the results of an earlier c
 DIR untouched (docs/conventions.md, "Output folders").
 """
 
-from __future__ import annotations
-
-import csv
-import io
 import json
 import math
 import os
@@ -41,405 +37,20 @@ from ..raytracing import RTAO_LADDER
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
 from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
-                      frame_scene_name, load_cropped, load_scene, manifest, noise_floor_peer,
+                      frame_scene_name, load_cropped, manifest, noise_floor_peer,
                       resolve_scenes, scene_files)
-from ..scoring import check_same_bits, digest, signed_error_rgb
+from ..scoring import signed_error_rgb
 from ..util import files
-from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
+from ..util.dask_cluster import ClusterSecurity, connect, wait_all
 from ..util.provenance import git_commit, machine_info
-from . import report, report_files, stats
-from .budget import hd_scale
+from . import report, report_files
+from .output import OUTPUT_FILES, check_out, publish, staging_folder
 from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
-from .temporal import DISOCCLUDED, Accumulation, accumulation_scores
-from .timing import time_fields, timed
-
-#: Metrics per region, in column order.
-METRICS = ("mae", "rmse", "psnr", "bias", "ssim", "mae_cal", "count")
-#: The SSIM window's radius (docs/metrics.md): the mean is taken this far from the edge.
-SSIM_CROP = 5
-AGGREGATE_SCENE = "ALL"
-BASELINE = "baseline_one"
-#: The kind of the rows of the committed screen-space limits (aolab limits).
-LIMIT_KIND = "limit"
-
-#: results.csv columns before the per-region metrics.
-BASE_COLUMNS = ("key", "scene", "sequence", "frame", "frame_index", "kind", "method", "label",
-                "preset", "accumulated", "settings", "threads",
-                "width", "height", "radius", "method_ms", "method_ms_min", "method_ms_max",
-                "method_ms_stdev", "blur_ms", "blur_ms_min", "blur_ms_max", "accumulate_ms",
-                "accumulate_ms_min", "accumulate_ms_max", "total_ms", "runs",
-                "n_scenes", "calib_a", "calib_b", "occluded_mae_vs_baseline",
-                "occluded_mae_vs_limit", "occluded_mae_definition", "flicker",
-                "disoccluded_mae", "disoccluded_count", "converged_mae", "flag", "note")
-
-
-def columns() -> list[str]:
-    """Every column of results.csv, in order."""
-    return list(BASE_COLUMNS) + [f"{r}_{m}" for r in REGIONS for m in METRICS]
-
-
-def row_key(scene: str, method: str, label: str) -> str:
-    return f"{scene}/{method}/{label}"
-
-
-# ----------------------------------------------------------------------------------------
-# Scoring
-
-
-def _stats(d: np.ndarray) -> dict:
-    n = d.size
-    if n == 0:
-        return {"mae": math.nan, "rmse": math.nan, "psnr": math.nan, "bias": math.nan}
-    mse = float(np.mean(d * d))
-    return {"mae": float(np.mean(np.abs(d))), "rmse": math.sqrt(mse),
-            "psnr": 10 * math.log10(1 / mse) if mse > 0 else math.inf,
-            "bias": float(np.mean(d))}
-
-
-#: Iterations and residual floor of the least-absolute-deviations fit, and the most pixels
-#: it is fitted on (every k-th scored pixel in row-major order beyond that).
-CALIBRATION_ITERATIONS = 30
-CALIBRATION_EPS = 1e-6
-CALIBRATION_MAX_PIXELS = 200_000
-
-
-def _lad_fit(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
-    a, b = 1.0, 0.0
-    residual = np.abs(y - x)
-    best = (float(np.mean(residual)), a, b)
-    for _ in range(CALIBRATION_ITERATIONS):
-        # the weights from the residuals the MAE of (a, b) was measured on: one pass fewer
-        w = 1.0 / np.maximum(residual, CALIBRATION_EPS)
-        wx = w * x
-        sw, sx, sy = w.sum(), wx.sum(), (w * y).sum()
-        sxx, sxy = (wx * x).sum(), (wx * y).sum()
-        det = sw * sxx - sx * sx
-        if det <= 0:
-            break
-        a, b = (sw * sxy - sx * sy) / det, (sxx * sy - sx * sxy) / det
-        residual = np.abs(y - a * x - b)
-        mae = float(np.mean(residual))
-        if mae < best[0] - 1e-7:
-            best = (mae, a, b)
-        else:
-            best = min(best, (mae, a, b))
-            break
-    return best[1], best[2]
-
-
-def calibration(ao: np.ndarray, reference: np.ndarray, mask: np.ndarray) -> tuple[float, float]:
-    """The affine map a·ao + b with the least mean absolute deviation from ``reference`` over
-    ``mask``: the best affine fit for the MAE (a least-squares fit can raise the MAE when most
-    pixels are white and a few errors are large).
-
-    Iteratively reweighted least squares (weights 1/max(|residual|, CALIBRATION_EPS)), a
-    majorise-minimise scheme, started from the identity (a = 1, b = 0) and fitted on at most
-    CALIBRATION_MAX_PIXELS evenly strided scored pixels; the fit is kept only if it lowers
-    the MAE over all of ``mask``, so the calibrated MAE is at most the raw MAE. A constant
-    ``ao`` gives a = 0 and b = the median of the reference."""
-    x = ao[mask].astype(np.float64)
-    y = reference[mask].astype(np.float64)
-    if x.size == 0:
-        return math.nan, math.nan
-    if float(np.ptp(x)) <= 1e-12:
-        return 0.0, float(np.median(y))
-    k = max(1, math.ceil(x.size / CALIBRATION_MAX_PIXELS))
-    a, b = _lad_fit(x[::k], y[::k])
-    if np.mean(np.abs(y - a * x - b)) >= np.mean(np.abs(y - x)):
-        return 1.0, 0.0
-    return float(a), float(b)
-
-
-def score(ao: np.ndarray, scene: Scene) -> dict:
-    """Metrics of ``ao`` against the scene's reference on every region, and the calibration.
-
-    Returns {"regions": {region: {mae, rmse, psnr, bias, ssim, mae_cal, count}},
-    "calib_a": a, "calib_b": b, "occluded_definition": the occluded MAE minus the occluded
-    MAE after the affine map fitted on the occluded region (None when it is empty)}. SSIM of
-    a region is the mean of the whole-frame SSIM map (unscored pixels set to 1 in both
-    images, as aolab.metrics does) over the region's pixels
-    at least SSIM_CROP px from the edge, so that a region's score does not depend on what
-    lies outside it; on "all" it equals aolab.metrics' SSIM. The calibration a, b is fitted
-    once on all scored pixels and applied on every region.
-    """
-    valid = scene.regions["all"]
-    ref = scene.reference
-    a_img = np.where(valid, ao, 1.0).astype(np.float32)
-    r_img = np.where(valid, ref, 1.0).astype(np.float32)
-    smap = aolab._core.ssim_map(a_img, r_img)
-    interior = np.zeros(valid.shape, bool)
-    h, w = valid.shape
-    if h > 2 * SSIM_CROP and w > 2 * SSIM_CROP:
-        interior[SSIM_CROP:h - SSIM_CROP, SSIM_CROP:w - SSIM_CROP] = True
-    ca, cb = calibration(ao, ref, valid)
-    d_all = ao.astype(np.float64) - ref
-    d_cal = (ca * ao.astype(np.float64) + cb) - ref
-    # The error split's "definition": what an affine map fitted on the occluded region itself
-    # removes there (the whole-frame fit above is ruled by the many white pixels).
-    occ = scene.regions["occluded"]
-    definition = None
-    if occ.any():
-        oa, ob = calibration(ao, ref, occ)
-        definition = float(np.mean(np.abs(d_all[occ])) -
-                           np.mean(np.abs(oa * ao[occ].astype(np.float64) + ob - ref[occ])))
-    out = {}
-    for region in REGIONS:
-        m = scene.regions[region]
-        stats = _stats(d_all[m])
-        stats["mae_cal"] = float(np.mean(np.abs(d_cal[m]))) if m.any() else math.nan
-        inner = m & interior
-        pick = inner if inner.any() else m
-        stats["ssim"] = float(np.mean(smap[pick], dtype=np.float64)) if pick.any() else math.nan
-        stats["count"] = int(m.sum())
-        out[region] = stats
-    return {"regions": out, "calib_a": ca, "calib_b": cb, "occluded_definition": definition}
-
-
-def vs_limit(ao: np.ndarray, scene: Scene) -> float | None:
-    """The MAE between ``ao`` and the scene's screen-space limit on the occluded region: the
-    error of a method's approximation and sampling, apart from what any screen-space method
-    loses (the limit against the reference) — docs/comparison.md, "The error split"."""
-    m = scene.regions["occluded"]
-    if scene.limit is None or not m.any():
-        return None
-    return float(np.mean(np.abs(ao[m].astype(np.float64) - scene.limit.ao[m])))
-
-
-# ----------------------------------------------------------------------------------------
-# Temporal stability (docs/comparison.md, "Temporal stability")
-
-
-def flicker(ao_prev: np.ndarray, ao: np.ndarray, ref_prev: np.ndarray, ref: np.ndarray,
-            valid_prev: np.ndarray, valid: np.ndarray) -> float | None:
-    """The flicker of a pair of consecutive frames: the mean over the pixels scored in both of
-    |(AO_t - AO_t-1) - (Ref_t - Ref_t-1)|, the change of a method's image that the reference's
-    change does not explain; None when no pixel is scored in both."""
-    both = np.asarray(valid_prev, bool) & np.asarray(valid, bool)
-    if not both.any():
-        return None
-    change = ao[both].astype(np.float64) - ao_prev[both]
-    wanted = ref[both].astype(np.float64) - ref_prev[both]
-    return float(np.mean(np.abs(change - wanted)))
-
-
-def flicker_floor(ref_prev: np.ndarray, ref: np.ndarray, valid_prev: np.ndarray,
-                  valid: np.ndarray, samples: int) -> float | None:
-    """The flicker the reference's own Monte Carlo noise gives a noise-free method, estimated
-    from the two frames themselves: each pixel's AO is a mean of ``samples`` binary rays
-    (occluded or not), of variance v(1 - v)/N; the noises of two frames are independent, so
-    their difference has variance s^2 = v_t(1 - v_t)/N + v_t-1(1 - v_t-1)/N and, taken as
-    normal, a mean absolute value s·sqrt(2/pi). The mean of that over the pixels scored in both
-    frames; None when ``samples`` is unknown (< 1) or no pixel is scored in both. Cycles'
-    stratified samples are less noisy than independent rays, so this is an upper estimate."""
-    both = np.asarray(valid_prev, bool) & np.asarray(valid, bool)
-    if samples < 1 or not both.any():
-        return None
-    a = np.clip(ref_prev[both].astype(np.float64), 0.0, 1.0)
-    b = np.clip(ref[both].astype(np.float64), 0.0, 1.0)
-    s = np.sqrt((a * (1 - a) + b * (1 - b)) / samples)
-    return float(np.mean(s) * math.sqrt(2 / math.pi))
-
-
-def _samples(scene: Scene) -> int:
-    """The reference's samples per pixel from its sidecar (0 when unknown)."""
-    try:
-        return int((scene.g.sidecar or {}).get("samples") or 0)
-    except (TypeError, ValueError):
-        return 0
-
-
-# ----------------------------------------------------------------------------------------
-# Rows
-
-
-def _row(scene: Scene | str, kind: str, method: str, label: str, **extra) -> dict:
-    name = scene if isinstance(scene, str) else scene.name
-    row = {"key": row_key(name, method, label), "scene": name, "kind": kind,
-           "method": method, "label": label, "note": ""}
-    if not isinstance(scene, str):
-        row.update(width=scene.g.width, height=scene.g.height, radius=scene.radius)
-        if scene.sequence is not None:
-            row.update(sequence=scene.sequence, frame=scene.frame)
-    row.update(extra)
-    return row
-
-
-def _add_scores(row: dict, scored: dict) -> None:
-    row["calib_a"], row["calib_b"] = scored["calib_a"], scored["calib_b"]
-    row["occluded_mae_definition"] = scored.get("occluded_definition")
-    row["metrics"] = {region: dict(m) for region, m in scored["regions"].items()}
-
-
-def _score_row(scene: Scene, row: dict, ao: np.ndarray, scored: dict | None = None) -> None:
-    """Scores ``row`` (``scored``: its scores when already computed) and, on a frame of a
-    sequence, keeps ``ao`` for the flicker against the next frame; on a frame of a sequence
-    with motion, also its MAE on the frame's disoccluded region."""
-    _add_scores(row, scored if scored is not None else score(ao, scene))
-    region = scene.regions.get(DISOCCLUDED)
-    if region is not None:
-        row["disoccluded_count"] = int(region.sum())
-        error = np.abs(ao[region].astype(np.float64) - scene.reference[region])
-        row["disoccluded_mae"] = float(np.mean(error)) if region.any() else None
-    if scene.outputs is not None:
-        scene.outputs[(row["kind"], row["method"], row["label"])] = ao
-
-
-def flag_rows(rows: list[dict]) -> None:
-    """Sets occluded_mae_vs_baseline and the flag of each row against its scene's baseline."""
-    base = {r["scene"]: r for r in rows if r["kind"] == "baseline" and "metrics" in r}
-    for r in rows:
-        b = base.get(r["scene"])
-        if b is None or "metrics" not in r or r["kind"] == "baseline":
-            continue
-        mine, theirs = r["metrics"]["occluded"]["mae"], b["metrics"]["occluded"]["mae"]
-        if not (math.isfinite(mine) and math.isfinite(theirs)) or theirs <= 0:
-            continue
-        ratio = mine / theirs
-        r["occluded_mae_vs_baseline"] = ratio
-        r["flag"] = "weak" if ratio > WEAK_FRACTION else ""
-
-
-#: Time columns: ALL's are means of each scene's time scaled to a 1280x720 frame.
-TIME_COLUMNS = ("method_ms", "method_ms_min", "method_ms_max", "method_ms_stdev", "blur_ms",
-                "blur_ms_min", "blur_ms_max", "accumulate_ms", "accumulate_ms_min",
-                "accumulate_ms_max", "total_ms")
-
-
-def aggregate(rows: list[dict], scene_names: list[str], name: str = AGGREGATE_SCENE,
-              unit: str = "scene", time_scale: dict | None = None) -> list[dict]:
-    """Rows of scene ``name`` ("ALL", or a sequence over its frames, ``unit`` "frame"): per
-    (kind, method, label), the mean over the scenes that have it of every metric and time
-    (counts summed), each time first scaled by ``time_scale[scene]`` (default 1), and the
-    95 % bootstrap intervals over the scenes of the whole-frame and occluded MAE and of the
-    total time ("intervals"). Only complete scenes take part."""
-    time_scale = time_scale or {}
-    groups: dict[tuple, list[dict]] = {}
-    for r in rows:
-        if r["scene"] in scene_names and "metrics" in r:
-            groups.setdefault((r["kind"], r["method"], r["label"]), []).append(r)
-    out = []
-    for (kind, method, label), rs in groups.items():
-        agg = _row(name, kind, method, label, n_scenes=len(rs),
-                   preset=rs[0].get("preset", ""), settings=rs[0].get("settings", {}),
-                   threads=rs[0].get("threads"),
-                   note=f"mean over {len(rs)} {unit}(s): {', '.join(r['scene'] for r in rs)}")
-        if "accumulated" in rs[0]:
-            agg["accumulated"] = rs[0]["accumulated"]
-        for col in TIME_COLUMNS + ("calib_a", "calib_b", "occluded_mae_vs_limit",
-                                   "occluded_mae_definition", "flicker"):
-            vals = [r[col] * (time_scale.get(r["scene"], 1.0) if col in TIME_COLUMNS else 1.0)
-                    for r in rs if r.get(col) is not None]
-            # against the limit: over the scenes that have one (as the split's limit line);
-            # the flicker: over the frame pairs (a sequence's first frame has none) or over
-            # the sequences
-            if vals and (len(vals) == len(rs) or col in ("occluded_mae_vs_limit", "flicker")):
-                agg[col] = float(np.mean(vals))
-        metrics = {}
-        for region in REGIONS:
-            metrics[region] = {}
-            for m in METRICS:
-                vals = [r["metrics"][region][m] for r in rs]
-                if m == "count":
-                    metrics[region][m] = int(sum(vals))
-                else:
-                    finite = [v for v in vals if v is not None and math.isfinite(v)]
-                    metrics[region][m] = float(np.mean(finite)) if finite else math.nan
-        agg["metrics"] = metrics
-        agg["intervals"] = intervals(rs, time_scale)
-        out.append(agg)
-    flag_rows(out)
-    return out
-
-
-def intervals(rs: list[dict], time_scale: dict) -> dict:
-    """95 % bootstrap intervals over the rows' scenes of the mean whole-frame and occluded MAE
-    and total time (stats.bootstrap_interval; None with one scene)."""
-    def ci(values):
-        got = stats.bootstrap_interval(values)
-        return list(got) if got is not None else None
-    return {"all_mae": ci([r["metrics"]["all"]["mae"] for r in rs]),
-            "occluded_mae": ci([r["metrics"]["occluded"]["mae"] for r in rs]),
-            "total_ms": ci([r["total_ms"] * time_scale.get(r["scene"], 1.0) for r in rs
-                            if r.get("total_ms") is not None])}
-
-
-def flat(row: dict) -> dict:
-    """A row as the flat dict of results.csv (settings as JSON, metrics as columns)."""
-    out = {c: row.get(c) for c in BASE_COLUMNS}
-    out["settings"] = json.dumps(row.get("settings", {}), sort_keys=True)
-    for region in REGIONS:
-        for m in METRICS:
-            out[f"{region}_{m}"] = row.get("metrics", {}).get(region, {}).get(m)
-    return out
-
-
-def _csv_value(v):
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return repr(v)
-    return v
-
-
-def json_safe(v):
-    """``v`` for a strict JSON file: NaN as null, infinities as "inf" / "-inf", numpy
-    scalars as Python numbers, through dicts, lists and tuples."""
-    if isinstance(v, float) and not math.isfinite(v):
-        return None if math.isnan(v) else ("inf" if v > 0 else "-inf")
-    if isinstance(v, dict):
-        return {k: json_safe(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [json_safe(x) for x in v]
-    if isinstance(v, np.generic):
-        return json_safe(v.item())
-    return v
-
-
-#: The files a study writes, in the order publish() moves them (results.json, which says
-#: whether the study is complete, last).
-OUTPUT_FILES = ("results.csv", "report.html", "results.json")
-#: The suffix of the staging folder beside the output folder (staging_folder).
-STAGING_SUFFIX = ".partial"
-
-
-def staging_folder(out: Path) -> Path:
-    """``<out>.partial``, beside the output folder: the study writes its files there while it
-    runs (after every scene) and moves them into ``out`` only when it is complete, so an
-    interrupted or failed run leaves the complete results of an earlier run in ``out``
-    untouched and its own partial results in the staging folder."""
-    out = Path(out)
-    if out.name in ("", ".", ".."):    # name it by its absolute path
-        out = Path(os.path.abspath(out))
-    return out.with_name(out.name + STAGING_SUFFIX)
-
-
-def check_out(out: Path) -> None:
-    """A ValueError unless ``out`` and its staging folder can be folders: neither, nor any
-    folder above them, is an existing file (or anything else that is not a folder)."""
-    out = Path(out)
-    if out.resolve() == Path(out.resolve().anchor):
-        raise ValueError(f"--out must be a folder below the file-system root (the study "
-                         f"stages its files beside it), got {str(out)!r}")
-    for path, what in ((out, "the output folder"), (staging_folder(out), "its staging folder")):
-        for p in [path, *path.parents]:
-            if p.exists() and not p.is_dir():
-                raise ValueError(f"--out must be a folder, got {str(out)!r}: {what} "
-                                 f"{str(path)!r} cannot be made because {str(p)!r} is an "
-                                 "existing file, not a folder")
-
-
-def write_results(out: Path, results: dict) -> None:
-    """results.csv and results.json, each written to a temporary file and renamed."""
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=columns(), lineterminator="\n")
-    writer.writeheader()
-    for row in results["rows"]:
-        writer.writerow({k: _csv_value(v) for k, v in flat(row).items()})
-    # Together: a full disk never leaves a new results.csv beside the last run's JSON.
-    files.write_together([(out / "results.csv", buf.getvalue().encode()),
-                          (out / "results.json", json.dumps(json_safe(results),
-                                                            indent=1).encode())])
-
+from .results import (BASELINE, LIMIT_KIND, aggregate, flag_rows, flicker, flicker_floor,
+                      make_row, reference_samples, score_row, tuned_results, write_results)
+from .runner import (Timing, load_scene, progress, run_configuration, score, score_outputs,
+                     score_remotely, still_scenes, time_fields, timed, vs_limit)
+from .temporal import Accumulation, accumulation_scores
 
 # ----------------------------------------------------------------------------------------
 # The study
@@ -582,36 +193,6 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
             "entries": entries, "size": [reference.shape[1], reference.shape[0]]}
 
 
-def config_accuracy(folder: str, crop, name: str | None, method: str, compute_settings: dict,
-                    blurs: list[bool], frame: int | None = None,
-                    follow_symlinks: bool = False) -> dict:
-    """On a Dask worker: one configuration group's output on a scene (read from ``folder``,
-    shared storage, once per worker; at ``frame``, the frame's index in a sequence with
-    motion), blurred or not as ``blurs`` asks, scored: blur -> (score, vs_limit, digest),
-    None for an RGB output; {"error": message} when the method refuses the settings."""
-    scene = worker_scene((__name__, folder, crop_key(crop), name, follow_symlinks),
-                         lambda: load_scene(Path(folder), crop, name,
-                                            follow_symlinks=follow_symlinks))
-    try:
-        raw = np.asarray(aolab.compute(method, scene.g, radius=scene.radius, threads=1,
-                                       frame=frame, **compute_settings))
-    except (ValueError, RuntimeError) as e:
-        return {"error": str(e)}
-    out = {}
-    for blur in blurs:
-        ao = presets_mod.shared_blur(raw, scene.g, threads=1) if blur and raw.ndim == 2 else raw
-        out[blur] = None if ao.ndim != 2 else (score(ao, scene), vs_limit(ao, scene), digest(ao))
-    return out
-
-
-def from_cluster(remote: dict, blur: bool, ao: np.ndarray, scene: str, method: str) -> tuple:
-    """The cluster's (score, vs_limit) of the output timed here, which must have the same
-    bits as the worker's."""
-    scored, limit, theirs = remote[blur]
-    check_same_bits(theirs, digest(ao), method, scene)
-    return scored, limit
-
-
 def rtao_not_run_reason(e: BaseException) -> str:
     """Why rtao did not run on a scene, as results.json keeps it: a missing mesh said without
     its path (the run's command line says where; the results name no folder of the machine),
@@ -655,8 +236,8 @@ class Study:
         # ALL is the mean over the still scenes: a sequence's frames have their own size (the
         # committed one 320x180), so their times would pull the means of the stills' 1280x720
         # times down; sequences have their own rows and section (temporal stability).
-        stills = [n for n in self.complete_scenes
-                  if not self.scene_info.get(n, {}).get("sequence")]
+        complete = set(self.complete_scenes)
+        stills = [n for n in still_scenes(self.scene_info) if n in complete]
         scale = {n: self.scene_info[n].get("time_scale", 1.0) for n in stills}
         agg = aggregate(rows, stills, time_scale=scale) if stills else []
         meta = dict(self.meta)
@@ -684,24 +265,8 @@ class Study:
         return results
 
     def publish(self) -> None:
-        """Moves the complete study's files from the staging folder into the output folder,
-        each with an atomic rename: first the report's images and scripts (report_files/,
-        named by their content, beside the earlier report's), then results.csv, report.html
-        and results.json (which says whether the study is complete) last; then removes the
-        files of report_files/ that the new report.html does not name, and the staging
-        folder. Interrupted anywhere, the output folder's report.html finds all its files.
-        Other files in the output folder are left alone."""
-        out, staging = Path(self.opts.out), self.staging
-        out.mkdir(parents=True, exist_ok=True)
-        report_files.move_in(staging, out)
-        for name in OUTPUT_FILES:
-            if (staging / name).exists():   # (a publish that was interrupted moved some)
-                os.replace(staging / name, out / name)
-        report_files.prune(out / "report.html")
-        try:
-            staging.rmdir()
-        except OSError:  # someone put something else there: leave it
-            pass
+        """Moves the complete study's files into the output folder (output.publish)."""
+        publish(Path(self.opts.out))
 
     def run(self) -> dict:
         opts = self.opts
@@ -748,7 +313,7 @@ class Study:
                                for m in methods},
         }
         threads = opts.threads
-        bar = _progress(opts.progress, n_units)
+        bar = progress(opts.progress, n_units, "run")
         if opts.scheduler is not None or opts.workers > 1:
             self.client, self.cluster = connect(opts.scheduler, opts.workers, opts.security)
         try:
@@ -794,7 +359,7 @@ class Study:
         self.scene_info[name] = {
             "folder": str(folder), "sequence": True, "frames": frames, "frame_scenes": names,
             "width": first["width"], "height": first["height"], "radius": first["radius"],
-            "title": manifest(folder).get("title", name), "samples": _samples(previous),
+            "title": manifest(folder).get("title", name), "samples": reference_samples(previous),
             "flicker_floor": {
                 "value": float(np.mean(floor)), "pairs": floors, "estimated": True,
                 "source": "upper estimate from the reference's own values: binomial noise "
@@ -826,7 +391,7 @@ class Study:
                                        previous.reference, scene.reference, valid_prev, valid)
         previous.outputs = None     # only the frame before is needed: free its images
         return flicker_floor(previous.reference, scene.reference, valid_prev, valid,
-                             min(_samples(previous), _samples(scene)))
+                             min(reference_samples(previous), reference_samples(scene)))
 
     def _run_scene(self, folder: Path, plan: dict, threads: int, bar, name: str | None = None,
                    sequence: tuple[str, int] | None = None, shown: bool = True,
@@ -853,14 +418,14 @@ class Study:
             "limits": [p.name for p in scene.peers if p.kind == LIMIT_KIND],
             "title": manifest(folder).get("title", scene.name),
             "family": manifest(folder).get("family"),
-            # ALL's times are per 1280x720 frame; a crop's stay the crop's (budget.hd_scale)
-            "time_scale": 1.0 if opts.crop else hd_scale(scene.g.width, scene.g.height),
+            # ALL's times are per 1280x720 frame; a crop's stay the crop's (runner.hd_scale)
+            "time_scale": scene.time_scale,
         }
         images = _Images(opts.budget_ms, scene, opts.image_width, encoded=shown)
         # The baseline, AO = 1 everywhere: no occlusion at all, no time.
-        base = _row(scene, "baseline", BASELINE, "AO=1", preset="", settings={},
-                    note="no occlusion at all (AO = 1 everywhere)")
-        _score_row(scene, base, np.ones_like(scene.reference))
+        base = make_row(scene, "baseline", BASELINE, "AO=1", preset="", settings={},
+                        note="no occlusion at all (AO = 1 everywhere)")
+        score_row(scene, base, np.ones_like(scene.reference))
         self.rows.append(base)
         self._peers(scene)
         if bar is not None:
@@ -890,110 +455,94 @@ class Study:
 
     def _score_on_cluster(self, folder: Path, name: str | None, plan: dict, bar,
                           frame: int | None = None) -> dict:
-        """(method, index in its runs) -> config_accuracy's result for each configuration of
-        the scene, computed on the cluster before any is timed here: the workers are idle
-        while this machine times (a local cluster shares its cores)."""
+        """(method, index in its runs) -> runner.score_remotely's result for each
+        configuration of the scene, computed on the cluster before any is timed here: the
+        workers are idle while this machine times (a local cluster shares its cores)."""
         if bar is not None:
             bar.set_description(f"{name or folder.name}: scoring on the cluster")
         futures = {(method, i): self.client.submit(
-            config_accuracy, str(folder), self.opts.crop, name, method, compute_settings,
-            sorted({bool(s.blur) for s in settings}), frame, self.opts.follow_symlinks,
+            score_remotely, str(folder), self.opts.crop, name, method, compute_settings,
+            sorted({bool(s.blur) for s in settings}), score, frame, self.opts.follow_symlinks,
             pure=False)
             for method, runs in plan.items() for i, (compute_settings, settings) in enumerate(runs)}
         wait_all(self.client, list(futures.values()), lambda: None)
         return {k: f.result() for k, f in futures.items()}
 
+    def _config_row(self, scene, method, s, threads, temporal, accumulated=False, **fields):
+        """The row of configuration ``s`` of ``method`` (its accumulated one if
+        ``accumulated``) on ``scene``."""
+        extra = {} if temporal is None else {"accumulated": accumulated,
+                                             "frame_index": temporal.index}
+        label = s.label + (ACCUMULATED_SUFFIX if accumulated else "")
+        return make_row(scene, "method", method, label, preset=s.preset or "",
+                        settings=s.recorded_settings(), threads=threads, **extra, **fields)
+
     def _run_config(self, scene, method, compute_settings, settings, threads, images,
                     remote: dict | None = None, temporal: Accumulation | None = None):
-        """One group of configurations (the same compute settings, blurred or not): timed
-        here, scored here or, with ``remote`` (config_accuracy's result), on the cluster. With
-        ``temporal`` (a frame of a sequence with motion) the method runs at frame=k, and each
-        configuration also gets its accumulated row (_accumulated_rows)."""
+        """One group of configurations (the same compute settings, blurred or not): run by
+        the runner, timed here, scored here or, with ``remote`` (runner.score_remotely's
+        result), on the cluster. With ``temporal`` (a frame of a sequence with motion) the
+        method runs at frame=k, and each configuration also gets its accumulated row
+        (_accumulated_rows)."""
         opts = self.opts
-        g = scene.g
-        frame = temporal.index if temporal is not None else None
-        extra = {} if temporal is None else {"accumulated": False, "frame_index": frame}
+        timing = Timing(opts.warmup, opts.repeat, threads, opts.max_ms)
         try:
             if remote is not None and "error" in remote:
                 raise ValueError(remote["error"])
-            raw, times = timed(lambda: aolab.compute(method, g, radius=scene.radius,
-                                                     threads=threads, frame=frame,
-                                                     **compute_settings),
-                               opts.warmup, opts.repeat, opts.max_ms)
+            run = run_configuration(method, compute_settings, scene, timing,
+                                    frame=temporal.index if temporal is not None else None)
         except (ValueError, RuntimeError) as e:
-            for s in settings:
-                self.rows.append(_row(scene, "method", method, s.label, preset=s.preset or "",
-                                      settings=s.recorded_settings(), threads=threads,
-                                      note=f"error: {e}", **extra))
-            if temporal is not None:
-                for s in settings:
-                    self.rows.append(_row(scene, "method", method, s.label + ACCUMULATED_SUFFIX,
-                                          preset=s.preset or "", settings=s.recorded_settings(),
-                                          threads=threads, note=f"error: {e}",
-                                          **dict(extra, accumulated=True)))
+            for accumulated in (False, True) if temporal is not None else (False,):
+                self.rows.extend(self._config_row(scene, method, s, threads, temporal,
+                                                  accumulated, note=f"error: {e}")
+                                 for s in settings)
             return
-        raw = np.asarray(raw)
         # Configurations of the group with the same blur switch give the same image: it is
         # blurred, timed and scored once and its numbers are shared.
-        done: dict[bool, tuple] = {}
+        score_outputs(run, scene, timing, [bool(s.blur) for s in settings], remote=remote)
         for s in settings:
-            row = _row(scene, "method", method, s.label, preset=s.preset or "",
-                       settings=s.recorded_settings(), threads=threads, runs=len(times),
-                       **extra, **time_fields("method", times))
-            blur = bool(s.blur and raw.ndim == 2)
-            if blur not in done:
-                ao, blur_times = raw, []
-                if blur:
-                    ao, blur_times = timed(lambda: presets_mod.shared_blur(raw, g, threads),
-                                           opts.warmup, opts.repeat)
-                scored = (None if ao.ndim != 2 else
-                          from_cluster(remote, blur, ao, scene.name, method) if remote else
-                          (score(ao, scene), vs_limit(ao, scene)))
-                done[blur] = (ao, blur_times, scored)
-            ao, blur_times, scored = done[blur]
-            row.update(time_fields("blur", blur_times))
+            out = run.output(s.blur)
+            row = self._config_row(scene, method, s, threads, temporal, runs=len(run.times),
+                                   **time_fields("method", run.times),
+                                   **time_fields("blur", out.blur_times))
             row["total_ms"] = row["method_ms"] + (row.get("blur_ms") or 0.0)
-            if scored is None:
-                row["note"] = (f"output has shape {ao.shape} (RGB, e.g. colour bleeding): timed, "
-                               "not scored against the grey AO reference")
+            if out.scores is None:
+                row["note"] = (f"output has shape {out.ao.shape} (RGB, e.g. colour bleeding): "
+                               "timed, not scored against the grey AO reference")
             else:
-                _score_row(scene, row, ao, scored[0])
-                row["occluded_mae_vs_limit"] = scored[1]
-                images.offer(row, ao)
+                score_row(scene, row, out.ao, out.scores)
+                row["occluded_mae_vs_limit"] = vs_limit(out.ao, scene)
+                images.offer(row, out.ao)
             self.rows.append(row)
         if temporal is not None:
-            self._accumulated_rows(scene, method, compute_settings, settings, threads, temporal,
-                                   done, times)
+            self._accumulated_rows(scene, compute_settings, settings, threads, temporal, run)
 
-    def _accumulated_rows(self, scene, method, compute_settings, settings, threads,
-                          temporal: Accumulation, done: dict, times: list[float]) -> None:
-        """Each configuration of a group accumulated: its output of this frame (``done``:
-        blur -> (output, blur times, scores)) blended into the history of that output, scored
-        like any output; its time the method's and the blur's, as its single-frame row's,
-        plus the step's (Accumulation.begin_frame). An RGB output is not accumulated."""
+    def _accumulated_rows(self, scene, compute_settings, settings, threads,
+                          temporal: Accumulation, run) -> None:
+        """Each configuration of a group accumulated: its output of this frame (``run``'s)
+        blended into the history of that output, scored like any output; its time the
+        method's and the blur's, as its single-frame row's, plus the step's
+        (Accumulation.begin_frame). An RGB output is not accumulated."""
         accumulated: dict[bool, tuple] = {}
         for s in settings:
-            blur = bool(s.blur)
-            if blur not in done:   # (an RGB output has only the unblurred entry)
-                blur = False
-            ao, blur_times, scored = done[blur]
-            row = _row(scene, "method", method, s.label + ACCUMULATED_SUFFIX,
-                       preset=s.preset or "", settings=s.recorded_settings(), threads=threads,
-                       runs=len(times), accumulated=True, frame_index=temporal.index,
-                       **time_fields("method", times), **time_fields("blur", blur_times),
-                       **time_fields("accumulate", temporal.times))
+            blur, out = run.blurred(s.blur), run.output(s.blur)
+            row = self._config_row(scene, run.method, s, threads, temporal, True,
+                                   runs=len(run.times), **time_fields("method", run.times),
+                                   **time_fields("blur", out.blur_times),
+                                   **time_fields("accumulate", temporal.times))
             row["total_ms"] = (row["method_ms"] + (row.get("blur_ms") or 0.0)
                                + row["accumulate_ms"])
-            if scored is None:
+            if out.scores is None:
                 row["note"] = "RGB output: not accumulated (the step takes 1-channel AO)"
                 self.rows.append(row)
                 continue
             if blur not in accumulated:
-                key = (method, json.dumps(compute_settings, sort_keys=True, default=str), blur)
-                out = temporal.step(key, ao, scene.g, threads)
-                accumulated[blur] = (out, score(out, scene), vs_limit(out, scene))
+                key = (run.method, json.dumps(compute_settings, sort_keys=True, default=str),
+                       blur)
+                step = temporal.step(key, out.ao, scene.g, threads)
+                accumulated[blur] = (step, score(step, scene), vs_limit(step, scene))
             out, got, limit = accumulated[blur]
-            _score_row(scene, row, out, got)
+            score_row(scene, row, out, got)
             row["occluded_mae_vs_limit"] = limit
             self.rows.append(row)
 
@@ -1034,13 +583,14 @@ class Study:
                 ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
                                                      rays=rays, threads=threads),
                                   self.opts.warmup, self.opts.repeat, self.opts.max_ms)
-            row = _row(scene, "rtao", "rtao", f"{rays} ray{'s' if rays != 1 else ''}", preset="",
-                       settings={"rays": rays, **info}, threads=threads, runs=len(times),
-                       note=f"Embree BVH of {rays_scene.triangles} triangles built in "
-                            f"{build_ms:.1f} ms, apart (not in the time)",
-                       **time_fields("method", times))
+            row = make_row(scene, "rtao", "rtao", f"{rays} ray{'s' if rays != 1 else ''}",
+                           preset="", settings={"rays": rays, **info}, threads=threads,
+                           runs=len(times),
+                           note=f"Embree BVH of {rays_scene.triangles} triangles built in "
+                                f"{build_ms:.1f} ms, apart (not in the time)",
+                           **time_fields("method", times))
             row["total_ms"] = row["method_ms"]
-            _score_row(scene, row, ao)
+            score_row(scene, row, ao)
             row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
             images.offer(row, ao)
             self.rows.append(row)
@@ -1053,10 +603,10 @@ class Study:
             ms = p.render_time_s * 1000 if p.render_time_s is not None else None
             settings = {k: v for k, v in p.entry.items()
                         if k not in ("name", "kind", "file", "render_time_s", "note")}
-            row = _row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
-                       settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
-                       note=p.entry.get("note", ""))
-            _score_row(scene, row, p.ao)
+            row = make_row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
+                           settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
+                           note=p.entry.get("note", ""))
+            score_row(scene, row, p.ao)
             self.rows.append(row)
             mine.append((p, row))
         limits = [(p, r) for p, r in mine if p.kind == LIMIT_KIND
@@ -1087,38 +637,6 @@ class Study:
                                   for reg in REGIONS}}
         if factor == 1.0:
             info["noise_floor"]["all_ssim"] = r["metrics"]["all"]["ssim"]
-
-
-def tuned_results() -> dict | None:
-    """What the report shows of the tuned presets (aolab.presets' file): each method's entry
-    without its search-space description, and where they came from; None without any."""
-    path = presets_mod.tuned_file()
-    try:
-        data = json.loads(files.read_text(path, "tuned presets"))
-    except (OSError, ValueError):
-        return None
-    methods = {m: {k: v for k, v in e.items() if k != "search_space"}
-               for m, e in data.get("methods", {}).items()}
-    if not methods:
-        return None
-    runs: dict = {}     # one run writes each method's entry as it finishes: group them
-    for e in methods.values():
-        runs.setdefault((e.get("command", "?"), e.get("commit", "?")), []).append(
-            e.get("date", "?"))
-    source = "; ".join(f"`{c}` at commit {k}, "
-                       + (min(d) if min(d) == max(d) else f"{min(d)} to {max(d)}")
-                       for (c, k), d in sorted(runs.items()))
-    return {"file": path.name, "source": source, "methods": methods}
-
-
-def _progress(enabled: bool, total: int):
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, unit="run", dynamic_ncols=True, file=sys.stderr)
 
 
 def run_study(opts: Options) -> int:

@@ -37,11 +37,10 @@ import numpy as np
 import aolab
 
 from ..render import reference
-from ..scenes import find_scenes_dir, load_scene, median_projected_radius
+from ..scenes import find_scenes_dir, median_projected_radius
 from ..util import files
 from ..util.provenance import machine_info
-from .compare import score
-from .timing import timed
+from .runner import Timing, load_scene, run_configuration, score
 
 #: The radii, as multiples of each scene's own R: the paper's tables span a factor 4 to 8.
 DEFAULT_SCALES = (0.5, 1.0, 2.0, 4.0)
@@ -110,26 +109,27 @@ def configurations(scale: float, radius_px: float) -> list[dict]:
 
 def run_case(scene_name: str, folder: Path, scale: float, threads: int, warmup: int,
              repeat: int) -> list[dict]:
+    """Each configuration on one scene at one scale: its scored variant (with its filter)
+    scored, its timed one (without) timed by the runner."""
     scene = load_scene(folder)
     radius_px = median_projected_radius(scene.g, scene.radius)
+    timing = Timing(warmup, repeat, threads)
     rows = []
     for c in configurations(scale, radius_px):
-        values = {"radius": scene.radius, **c["settings"]}
+        def settings(extra):
+            return {**c["settings"], "blur": extra.get("blur", False),
+                    **{k: v for k, v in extra.items() if k != "blur"}}
 
-        def call(extra):
-            blur = extra.get("blur", False)
-            own = {k: v for k, v in extra.items() if k != "blur"}
-            return aolab.compute(c["method"], scene.g, threads=threads, blur=blur,
-                                 **values, **own)
-
-        ao = np.asarray(call(c["scored"]), np.float32)
+        ao = np.asarray(aolab.compute(c["method"], scene.g, radius=scene.radius,
+                                      threads=threads, **settings(c["scored"])), np.float32)
         scored = score(ao, scene)["regions"]
-        _, times = timed(lambda: call(c["timed"]), warmup, repeat)
+        run = run_configuration(c["method"], settings(c["timed"]), scene, timing)
         rows.append({"scene": scene_name, "scale": scale, "radius": scene.radius,
                      "radius_px": radius_px, "method": c["method"], "label": c["label"],
                      "config": c["note"],
-                     "samples": c["samples"], "settings": values,
-                     "median_ms": statistics.median(times),
+                     "samples": c["samples"], "settings": {"radius": scene.radius,
+                                                           **c["settings"]},
+                     "median_ms": statistics.median(run.times),
                      "mae": scored["all"]["mae"], "ssim": scored["all"]["ssim"],
                      "occluded_mae": scored["occluded"]["mae"]})
     return rows

@@ -32,6 +32,7 @@ from ..regions import REGIONS
 from ..scoring import DARKER_RGB, ERROR_SCALE, LIGHTER_RGB
 from ..util import files
 from . import budget, report_files, stats
+from .runner import still_scenes, whole_frame_ok
 
 #: A configuration is flagged "weak" when its MAE on the occluded region exceeds this fraction
 #: of the "AO = 1" baseline's there (it removes less than a quarter of the baseline's error).
@@ -1199,35 +1200,16 @@ def split_chart(plot_id: str, parts: list[dict]) -> str:
 
 #: The paired comparisons cover this many of the best configurations.
 PAIRED_TOP = 8
-
-
-def still_scenes(results: dict) -> list[str]:
-    """The still scenes of a run, those its ALL rows are means over: neither a sequence nor
-    a frame of one (a sequence's frames are scored as scenes of their own, but they are one
-    camera path, not independent scenes, and would outweigh the others in a test)."""
-    scenes = results.get("scenes", {})
-    frames = {f for info in scenes.values() if (info or {}).get("sequence")
-              for f in info.get("frame_scenes", [])}
-    return [n for n, info in scenes.items()
-            if not (info or {}).get("sequence") and n not in frames]
+#: AO = 1's rows, the whole-frame guard's bound.
+BASELINE_ROW = {"kind": "baseline", "method": "baseline_one", "label": "AO=1"}
 
 
 def per_scene(results: dict, row: dict, column: str = "occluded_mae") -> dict:
     """Scene -> the value of ``column`` of ``row``'s configuration on each still scene."""
-    stills = set(still_scenes(results))
+    stills = set(still_scenes(results.get("scenes", {})))
     return {r["scene"]: metric(r, column) for r in results["rows"]
             if r["scene"] in stills
             and (r["kind"], r["method"], r["label"]) == (row["kind"], row["method"], row["label"])}
-
-
-def admissible(results: dict, row: dict) -> bool:
-    """No worse than AO = 1 on the whole frame of any still scene (the tuning's guard, so that
-    darkening everything cannot win a ranking by the occluded error)."""
-    base = per_scene(results, {"kind": "baseline", "method": "baseline_one", "label": "AO=1"},
-                     "all_mae")
-    mine = per_scene(results, row, "all_mae")
-    return bool(mine) and all(v is not None and base.get(s) is not None and v <= base[s]
-                              for s, v in mine.items())
 
 
 def paired_comparisons(results: dict, budget_ms: float) -> list[dict]:
@@ -1241,7 +1223,11 @@ def paired_comparisons(results: dict, budget_ms: float) -> list[dict]:
         t, e = number(r.get("total_ms")), metric(r, "occluded_mae")
         if r["scene"] != "ALL" or r["kind"] != "method" or t is None or e is None or t > budget_ms:
             continue
-        if not admissible(results, r):
+        # the whole-frame guard against AO = 1 on every still scene the row has
+        base = per_scene(results, BASELINE_ROW, "all_mae")
+        mine = per_scene(results, r, "all_mae")
+        if not whole_frame_ok(mine, {s: math.nan if base.get(s) is None else base[s]
+                                     for s in mine}):
             continue
         if r["method"] not in best or e < metric(best[r["method"]], "occluded_mae"):
             best[r["method"]] = r
@@ -1266,7 +1252,7 @@ def worse_than_nothing(results: dict, label: str = "default") -> list[dict]:
     has a higher whole-frame MAE than AO = 1, the output that draws no occlusion: where the
     paper's own settings do worse than doing nothing. Methods with no such scene are left
     out."""
-    stills = set(still_scenes(results))
+    stills = set(still_scenes(results.get("scenes", {})))
     base = {r["scene"]: metric(r, "all_mae") for r in results["rows"] if r["kind"] == "baseline"}
     out: dict = {}
     for r in results["rows"]:
@@ -1856,7 +1842,7 @@ def study_sections(results: dict, agg: list[dict]) -> str:
                  f'signed-rank test; a difference with p ≥ {stats.ALPHA:g} is not told apart '
                  'from the scatter between scenes (docs/comparison.md).</p>')
     parts.append(paired_table(paired_comparisons(results, budget), budget))
-    stills = still_scenes(results)
+    stills = still_scenes(results.get("scenes", {}))
     parts.append('<h2 id="worse-than-nothing">Defaults worse than no occlusion</h2><p class='
                  '"note">Where a method at its paper\'s defaults has a higher whole-frame MAE '
                  'than AO ≡ 1 — drawing no occlusion at all would be closer to the reference '

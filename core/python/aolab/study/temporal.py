@@ -11,7 +11,7 @@ import numpy as np
 import aolab
 
 from ..scenes import Scene
-from .timing import timed
+from .runner import timed
 
 #: The disoccluded region of a frame: scored pixels whose history, after the step, holds
 #: fewer frames than this (rejected in this frame or in the DISOCCLUDED_BELOW - 1 before).

@@ -8,13 +8,15 @@ on the whole frame, chosen on the corpus and validated leaving one family out
                [--workers N | --scheduler ADDRESS]
 
 One trial = one configuration of one method (its searched settings and the shared blur), run
-on every still scene at the scene's R, timed as ``aolab compare`` times (``--warmup`` untimed
-run, median of ``--repeat``; the blur timed apart and added; scaled to a 1280x720 frame) and
-scored by its MAE on the occluded region (reference AO < 0.9, aolab.regions) and on the whole
-frame. Its two objectives are the means over the scenes of the occluded MAE and of the time;
-the whole-frame MAE is a constraint (budget.Guard). Trials are stored in SQLite (DIR/tune.db,
-one Optuna study per method): Ctrl-C keeps every finished trial and the same command resumes.
-With a cluster the trials' accuracy is computed on its workers and their times here.
+on every still scene at the scene's R, timed and scored by the study's runner, which runs
+``aolab compare``'s configurations too (runner.evaluate: ``--warmup`` untimed run, median of
+``--repeat``; the blur timed apart and added; scaled to a 1280x720 frame), by its MAE on the
+occluded region (reference AO < 0.9, aolab.regions) and on the whole frame. Its two
+objectives are the means over the scenes of the occluded MAE and of the time; the
+whole-frame MAE is a constraint (budget.Guard). Trials are stored in SQLite (DIR/tune.db,
+one Optuna study per method): Ctrl-C keeps every finished trial and the same command
+resumes. With a cluster the trials' accuracy is computed on its workers and their times
+here.
 
 For each budget B of BUDGETS_MS, ``budget.select`` makes the preset ``tuned-<B>ms``: the
 guarded trial with the lowest mean occluded MAE within B over all scenes, its leave-one-
@@ -25,11 +27,9 @@ tuned choice loses to the default on held-out families.
 from __future__ import annotations
 
 import json
-import math
 import os
 import shlex
 import signal
-import statistics
 import sys
 import threading
 import time
@@ -43,18 +43,16 @@ import aolab
 from .. import catalog
 from .. import named_presets as presets_mod
 from ..catalog.kinds import SHARED_BOUNDS, Param, choice_bound, float_bound, int_bound
-from ..regions import occluded_pixels
-from ..scenes import (family, find_scenes_dir, frame_numbers, load_cropped, resolve_scenes,
-                      scene_files)
-from ..scoring import check_same_bits, digest, scored_mask
+from ..scenes import Scene, family, find_scenes_dir, frame_numbers, resolve_scenes, scene_files
 from ..settings import described
 from ..util import dask_cluster, files
 from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
-from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, worker_scene
+from ..util.dask_cluster import ClusterSecurity, connect, wait_all
 from . import budget
+from .runner import Timing, evaluate, load_scene, progress, score_remotely, trial_scores
 
-#: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: budget.hd_scale).
+#: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: runner.hd_scale).
 BUDGETS_MS = (50, 100, 200, 500)
 # 60 trials per method: the TPE sampler's 10 random start-up trials, the presets, then ~45
 # guided ones. The whole default run (seven methods) then fits about an hour on 2 cores
@@ -215,138 +213,14 @@ def preset_params(space: Space, values: dict) -> dict | None:
 # Evaluating one configuration
 
 
-@dataclass
-class TuneScene:
-    name: str
-    family: str
-    g: object
-    radius: float
-    reference: np.ndarray
-    occluded: np.ndarray
-    valid: np.ndarray
-    #: The whole-frame MAE of AO = 1, the output that draws no occlusion: no tuned preset
-    #: may be worse on any scene (budget.Guard).
-    ao_one_mae: float
-    folder: Path = None
-    #: Measured ms -> ms per 1280x720 frame (1 for a crop, whose times stay the crop's).
-    time_scale: float = 1.0
-
-
-def make_scene(name: str, g, reference: np.ndarray, radius: float, *, family_name: str = "",
-               folder: Path | None = None, time_scale: float | None = None) -> TuneScene:
-    """A scene to evaluate configurations on, from a G-buffer and the reference it is scored
-    against: the scored pixels, the occluded region of aolab.regions and AO = 1's
-    whole-frame MAE. ``time_scale`` defaults to the 1280x720 frame's (budget.hd_scale)."""
-    valid = scored_mask(g, reference)
-    one = float(np.mean(np.abs(1.0 - reference[valid].astype(np.float64))))
-    scale = budget.hd_scale(g.width, g.height) if time_scale is None else time_scale
-    return TuneScene(name, family_name, g, radius, reference,
-                     occluded_pixels(valid, reference), valid, one, folder, scale)
-
-
-def load_scene(folder: Path, crop, follow_symlinks: bool = False) -> TuneScene:
-    """A scene as ``aolab compare`` loads it (load_cropped), with its family; a crop's times
-    stay the crop's."""
-    g, reference, radius, _ = load_cropped(folder, crop, follow_symlinks=follow_symlinks)
-    return make_scene(folder.name, g, reference, radius, family_name=family(folder),
-                      folder=Path(folder), time_scale=1.0 if crop is not None else None)
-
-
-def load_scenes(folders: list[Path], crop, follow_symlinks: bool = False) -> list[TuneScene]:
-    return [load_scene(folder, crop, follow_symlinks) for folder in folders]
-
-
-@dataclass
-class Timing:
-    warmup: int = 1
-    repeat: int = 3
-    threads: int = 0
-    max_ms: float = DEFAULT_MAX_MS
-
-
-def _time(fn, timing: Timing, single: bool):
-    """(first output, times in ms, single): the first run is the warm-up (or the first timed
-    run without one); over ``max_ms`` it is the only run."""
-    t0 = time.perf_counter()
-    out = fn()
-    first = (time.perf_counter() - t0) * 1000.0
-    if single or first > timing.max_ms:
-        return out, [first], True
-    times = [] if timing.warmup >= 1 else [first]
-    for i in range(max(0, timing.warmup - 1) + timing.repeat - len(times)):
-        t0 = time.perf_counter()
-        fn()
-        if i >= max(0, timing.warmup - 1):
-            times.append((time.perf_counter() - t0) * 1000.0)
-    return out, times, False
-
-
-def grey(method: str, ao) -> np.ndarray:
-    ao = np.asarray(ao)
-    if ao.ndim != 2:
-        raise ValueError(f"{method} returned an image of shape {ao.shape}, not grey AO")
-    return ao
-
-
-def score(ao: np.ndarray, sc: TuneScene) -> dict:
-    """The accuracy of one output: occluded-region MAE and bias, whole-frame MAE, and the
-    digest of the output's bits (the same configuration gives the same bits anywhere)."""
-    d = ao.astype(np.float64) - sc.reference
-    occ = d[sc.occluded]
-    return {"mae": float(np.mean(np.abs(occ))) if occ.size else math.nan,
-            "bias": float(np.mean(occ)) if occ.size else math.nan,
-            "all_mae": float(np.mean(np.abs(d[sc.valid]))), "digest": digest(ao)}
-
-
-def output(method: str, settings: dict, blur: bool, sc: TuneScene, threads: int) -> np.ndarray:
-    """One configuration's AO on one scene, blurred by the shared blur if ``blur``."""
-    ao = grey(method, aolab.compute(method, sc.g, radius=sc.radius, threads=threads, **settings))
-    return presets_mod.shared_blur(ao, sc.g, threads) if blur else np.asarray(ao)
-
-
-def accuracy_job(folder: str, crop, method: str, settings: dict, blur: bool,
-                 follow_symlinks: bool = False) -> dict:
-    """On a Dask worker: :func:`score` of one configuration on one scene. The worker reads
-    the scene from ``folder`` (shared storage) once and keeps it."""
-    sc = worker_scene((__name__, folder, crop_key(crop), follow_symlinks),
-                      lambda: load_scene(Path(folder), crop, follow_symlinks))
-    return score(output(method, settings, blur, sc, threads=1), sc)
-
-
-def evaluate(method: str, settings: dict, blur: bool, scenes: list[TuneScene],
-             timing: Timing, on_scene=None, accuracy: dict | None = None,
-             scorer=score) -> dict:
-    """Per scene: the median method and blur times, their sum ``measured_ms``, that time
-    scaled to a 1280x720 frame (``ms``: the budgets' unit, so that scenes of every size
-    weigh alike; a crop's time is left as it is), and the scores of :func:`score`.
-    ``accuracy`` (scene -> score), when given, holds scores computed elsewhere (Dask
-    workers): the timed runs' output must have the same digest. A configuration whose
-    first run exceeds ``timing.max_ms`` is timed by that single run (it is past every
-    budget), on every scene. ``scorer(ao, scene)`` scores an output (default :func:`score`;
-    aolab advise adds its own scores to it)."""
-    out, single = {}, False
-    for sc in scenes:
-        if on_scene is not None:
-            on_scene(sc.name)
-
-        def run(sc=sc):
-            return grey(method, aolab.compute(method, sc.g, radius=sc.radius,
-                                              threads=timing.threads, **settings))
-        ao, times, single = _time(run, timing, single)
-        row = {"method_ms": statistics.median(times), "blur_ms": 0.0}
-        if blur:
-            ao, btimes, _ = _time(lambda: presets_mod.shared_blur(ao, sc.g, timing.threads),
-                                  timing, single)
-            row["blur_ms"] = statistics.median(btimes)
-        row["measured_ms"] = row["method_ms"] + row["blur_ms"]
-        row["ms"] = row["measured_ms"] * sc.time_scale
-        mine = scorer(np.asarray(ao), sc)
-        theirs = accuracy.get(sc.name) if accuracy is not None else None
-        if theirs is not None:
-            check_same_bits(theirs["digest"], mine["digest"], method, sc.name)
-        row.update(mine)
-        row["runs"] = len(times)
-        out[sc.name] = row
+def load_scenes(folders: list[Path], crop, follow_symlinks: bool = False) -> list[Scene]:
+    """The scenes of a run as ``aolab compare`` loads them (runner.load_scene), each with its
+    family; a crop's times stay the crop's."""
+    out = []
+    for folder in folders:
+        scene = load_scene(folder, crop, follow_symlinks=follow_symlinks)
+        scene.family = family(folder)
+        out.append(scene)
     return out
 
 
@@ -366,7 +240,7 @@ class Options:
     crop: object = None
     scenes_dir: Path | None = None
     presets_file: Path | None = None
-    timing: Timing = field(default_factory=Timing)
+    timing: Timing = field(default_factory=lambda: Timing(max_ms=DEFAULT_MAX_MS))
     progress: bool = True
     #: Score trials on a Dask cluster: a local one of this many workers, or the scheduler's.
     workers: int = 1
@@ -395,7 +269,7 @@ def _sampler(name: str, seed: int):
     return optuna.samplers.TPESampler(seed=seed, constraints_func=trial_constraints)
 
 
-def _protocol(opts: Options, scenes: list[TuneScene]) -> dict:
+def _protocol(opts: Options, scenes: list[Scene]) -> dict:
     """What makes two trials comparable: a study keeps to one protocol."""
     return {"scenes": [s.name for s in scenes], "families": [s.family for s in scenes],
             "time": "ms per 1280x720 frame", "objective": "occluded MAE, whole frame guarded",
@@ -404,7 +278,7 @@ def _protocol(opts: Options, scenes: list[TuneScene]) -> dict:
             "threads": opts.timing.threads, "max_ms": opts.timing.max_ms}
 
 
-def open_study(opts: Options, method: str, scenes: list[TuneScene]):
+def open_study(opts: Options, method: str, scenes: list[Scene]):
     """The method's study in opts.out/tune.db, created or loaded (its protocol must match);
     trials left RUNNING by a killed run are marked FAIL."""
     import optuna
@@ -460,14 +334,14 @@ def table(study) -> list[dict]:
             for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))]
 
 
-def guard(rows: list[dict], scenes: list[TuneScene]) -> budget.Guard:
+def guard(rows: list[dict], scenes: list[Scene]) -> budget.Guard:
     """What a choice must not be worse than on the whole frame: AO = 1 on each scene, and the
     method's default trial (the enqueued preset "default") on the mean."""
     default = next((t for t in rows if t.get("preset") == budget.DEFAULT_PRESET), None)
     return budget.Guard(ao_one={s.name: s.ao_one_mae for s in scenes}, default=default)
 
 
-def run_method(opts: Options, method: str, scenes: list[TuneScene], bar, deadline,
+def run_method(opts: Options, method: str, scenes: list[Scene], bar, deadline,
                client=None) -> dict:
     """Trials of ``method`` until the study has opts.trials of them (or the deadline); the
     selection from every complete trial of the study."""
@@ -529,7 +403,7 @@ class Asked:
     same: object = None
 
 
-def constraints(per_scene: dict, scenes: list[TuneScene], default_all_mae: float | None):
+def constraints(per_scene: dict, scenes: list[Scene], default_all_mae: float | None):
     """The sampler's constraints (feasible when <= 0): the largest excess of the whole-frame
     MAE over AO = 1's on any scene, and the excess of the mean whole-frame MAE over the
     default's (0 until the default is scored)."""
@@ -603,7 +477,7 @@ def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
         if isinstance(remote, Exception):
             raise remote
         per_scene = evaluate(method, a.settings, a.blur, scenes, opts.timing,
-                             on_scene=next_scene, accuracy=remote)
+                             on_scene=next_scene, remote=remote)
         if a.trial.user_attrs.get("preset") == budget.DEFAULT_PRESET:
             default_all[0] = float(np.mean([r["all_mae"] for r in per_scene.values()]))
         a.trial.set_user_attr("scenes", per_scene)
@@ -616,26 +490,26 @@ def _finish(a: Asked, method, scenes, opts, study, done, remote, next_scene,
         study.tell(a.trial, state=_fail())
 
 
-def score_on_cluster(client, batch: list[Asked], scenes: list[TuneScene], method: str,
+def score_on_cluster(client, batch: list[Asked], scenes: list[Scene], method: str,
                      crop, follow_symlinks: bool = False) -> dict:
-    """Trial number -> scene -> score (:func:`accuracy_job` on the workers, one task per trial
-    and scene), or the ValueError of a configuration the method refused. A worker lost
-    mid-task loses nothing: the scheduler gives its tasks to another worker. Ctrl-C cancels
-    the tasks not yet done."""
+    """Trial number -> scene -> runner.score_remotely's result (one task per trial and
+    scene), or the ValueError of a configuration the method refused. A worker lost mid-task
+    loses nothing: the scheduler gives its tasks to another worker. Ctrl-C cancels the tasks
+    not yet done."""
     futures = {(a.trial.number, sc.name): client.submit(
-        accuracy_job, str(sc.folder), crop, method, a.settings, a.blur, follow_symlinks,
-        pure=False)
+        score_remotely, str(sc.folder), crop, None, method, a.settings, [a.blur],
+        trial_scores, None, follow_symlinks, pure=False)
         for a in batch for sc in scenes}
     wait_all(client, list(futures.values()), _stop_if_asked)
     out: dict = {}
     for (number, scene), f in futures.items():
-        if f.status == "error":
-            e = f.exception()
-            if not isinstance(e, ValueError):
-                raise e
-            out[number] = e
+        got = f.result()
+        if "error" in got:
+            if not got["refused"]:
+                raise RuntimeError(got["error"])
+            out[number] = ValueError(got["error"])
         elif not isinstance(out.get(number), Exception):
-            out.setdefault(number, {})[scene] = f.result()
+            out.setdefault(number, {})[scene] = got
     return out
 
 
@@ -670,7 +544,7 @@ def command_line(opts: Options) -> str:
     return " ".join(shlex.quote(p) for p in parts)
 
 
-def method_entry(opts: Options, result: dict, scenes: list[TuneScene], meta: dict) -> dict:
+def method_entry(opts: Options, result: dict, scenes: list[Scene], meta: dict) -> dict:
     """The tuned-presets JSON entry of one method."""
     study, space, sel = result["study"], result["space"], result["selection"]
     from optuna.trial import TrialState
@@ -774,7 +648,7 @@ def default_presets_file(folders: list[Path], scenes_dir: Path | None, opts: Opt
     quick look never replaces the committed presets."""
     if scenes_dir is not None and opts.crop is None:
         checkout = Path(scenes_dir).resolve().parent
-        every = [f.resolve() for f in still_scenes(resolve_scenes([], scenes_dir))]
+        every = [f.resolve() for f in tuning_folders([], scenes_dir)]
         if [f.resolve() for f in folders] == every and \
                 (checkout / PACKAGE_PRESETS).parent.is_dir():
             return checkout / PACKAGE_PRESETS
@@ -797,8 +671,7 @@ def run(opts: Options) -> dict:
     if opts.trials < 1:
         raise ValueError(f"--trials must be >= 1, got {opts.trials}")
     scenes_dir = opts.scenes_dir or find_scenes_dir()
-    folders = still_scenes(resolve_scenes(opts.scenes, scenes_dir,
-                                          follow_symlinks=opts.follow_symlinks))
+    folders = tuning_folders(opts.scenes, scenes_dir, opts.follow_symlinks)
     presets_file = opts.presets_file or default_presets_file(folders, scenes_dir, opts)
     check_paths(reads=scene_files(folders),
                 made={"--out": [opts.out / DB_NAME], "--presets-file": presets_file})
@@ -822,7 +695,7 @@ def run(opts: Options) -> dict:
                       f"per scene; a configuration whose first run exceeds "
                       f"{opts.timing.max_ms:g} ms is timed by that run alone",
             "sampler": opts.sampler, "seed": opts.seed, "budgets_ms": list(BUDGETS_MS)}
-    bar = _progress(opts.progress, opts, methods)
+    bar = progress(opts.progress, opts.trials * len(methods), "trial")
     results = {}
     from optuna.exceptions import StorageInternalError
     from sqlalchemy.exc import SQLAlchemyError
@@ -853,20 +726,11 @@ def run(opts: Options) -> dict:
     return {"results": results, "presets_file": presets_file}
 
 
-def still_scenes(folders: list[Path]) -> list[Path]:
-    """The still scenes (a sequence's frames are the temporal study's, not tuning's)."""
-    return [f for f in folders if frame_numbers(f) is None]
-
-
-def _progress(enabled: bool, opts: Options, methods: list[str]):
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=opts.trials * len(methods), unit="trial", dynamic_ncols=True,
-                file=sys.stderr)
+def tuning_folders(scenes: list[str], scenes_dir, follow_symlinks: bool = False) -> list[Path]:
+    """The scene folders tune runs on (scenes.resolve_scenes): the still ones (a sequence's
+    frames are the temporal study's, not tuning's)."""
+    return [f for f in resolve_scenes(scenes, scenes_dir, follow_symlinks=follow_symlinks)
+            if frame_numbers(f) is None]
 
 
 def run_command(opts: Options) -> int:
