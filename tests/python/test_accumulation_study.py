@@ -15,7 +15,8 @@ import pytest
 
 import aolab
 from aolab import cli, scenes
-from aolab.study import compare, results_doc, temporal
+from aolab.scoring import digest
+from aolab.study import results_doc, runner, temporal
 from aolab.study import report as report_mod
 from browser import Browser, chromium, poll
 from compare_support import SCENES, link_scene, make_sequence, parse_report, read_csv
@@ -250,7 +251,7 @@ def test_stills_and_sequences_without_motion_are_unchanged(pan, tmp_path):
     scene = scenes.load_scene(SCENES / "room", scenes.parse_crop("160x90"))
     by_key = {r["key"]: r for r in room}
     ao = aolab.compute("hbao", scene.g, radius=scene.radius)
-    assert by_key["room/hbao/default"]["metrics"] == compare.score(ao, scene)["regions"]
+    assert by_key["room/hbao/default"]["metrics"] == runner.score(ao, scene)["regions"]
     make_sequence(tmp_path / "scenes", "still_pan")     # no motion vectors
     assert run(tmp_path / "scenes", tmp_path / "out", "--methods", "lsao") == 0
     rows = json.loads((tmp_path / "out" / "results.json").read_text())["rows"]
@@ -260,12 +261,12 @@ def test_stills_and_sequences_without_motion_are_unchanged(pan, tmp_path):
 
 
 def test_a_worker_scores_the_frame_the_study_times(pan):
-    """The cluster's config_accuracy runs the frame's seed too: the same bits as here."""
+    """The cluster's runner.score_remotely runs the frame's seed too: the same bits as here."""
     folder = scenes.frame_folder(pan["folder"], 3)
-    got = compare.config_accuracy(str(folder), None, "mpan@0003", "hbao", {}, [False], frame=2)
+    got = runner.score_remotely(str(folder), None, "mpan@0003", "hbao", {}, [False], frame=2)
     g = aolab.load_gbuffer(folder / "reference.exr")
-    assert got[False][2] == compare.digest(aolab.compute("hbao", g, radius=0.5, frame=2))
-    assert got[False][2] != compare.digest(aolab.compute("hbao", g, radius=0.5))
+    assert got[False]["digest"] == digest(aolab.compute("hbao", g, radius=0.5, frame=2))
+    assert got[False]["digest"] != digest(aolab.compute("hbao", g, radius=0.5))
 
 
 def test_the_report_plots_the_error_against_the_frame_one_frame_and_accumulated(pan):

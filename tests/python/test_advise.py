@@ -17,7 +17,7 @@ import pytest
 import aolab
 from aolab.scenes import Crop, load_cropped
 from aolab.scoring import reference_noise
-from aolab.study import advise, budget, quick_reference, tune
+from aolab.study import advise, budget, quick_reference, runner, tune
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "reference_scenes"
@@ -112,16 +112,17 @@ def test_scores_against_the_quick_reference_lie_within_the_stated_noise(both_ref
     name, g, radius, cycles, quick = both_references
     assert quick.label == "quick (rtao 64 rays)" and cycles.label == "Cycles 1024 spp"
     assert 0 < cycles.noise < quick.noise < 0.05, (cycles.noise, quick.noise)
-    on_cycles = tune.make_scene(name, g, cycles.ao, radius)
-    on_quick = tune.make_scene(name, g, quick.ao, radius)
+    on_cycles = runner.make_scene(name, g, cycles.ao, radius)
+    on_quick = runner.make_scene(name, g, quick.ao, radius)
     checked = []
     for method in tune.default_methods():
         for preset in ("default", "medium"):
             if preset not in aolab.presets(method):
                 continue
             values, blur = aolab.named_presets.preset_values(method, preset)
-            ao = tune.output(method, values, blur, on_cycles, threads=0)
-            a, b = tune.score(ao, on_quick), tune.score(ao, on_cycles)
+            run = runner.run_configuration(method, values, on_cycles, runner.Timing(0, 1))
+            ao = runner.score_outputs(run, on_cycles, runner.Timing(0, 1), [blur]).output(blur).ao
+            a, b = runner.trial_scores(ao, on_quick), runner.trial_scores(ao, on_cycles)
             own = quick.inflation(ao, on_quick.valid)
             assert a["all_mae"] - b["all_mae"] <= own, (method, preset, a, b, own)
             for key, n_quick, n_cycles in (("all_mae", quick.noise, cycles.noise),
@@ -165,25 +166,25 @@ def test_the_advice_is_the_guarded_best_within_the_budget(room_advice):
     r = room_advice
     assert r["trials"] and not r["refused"], r["refused"]
     assert {t["method"] for t in r["trials"]} == set(tune.default_methods())
-    ok = {t["number"] for t in advise.admissible(r)}
+    ok = {t["number"] for t in advise.contenders(r)}
     noise = r["reference"]["noise_occluded"]
-    for budget in advise.BUDGETS_MS + (1000.0,):
-        got = advise.choose(r, budget)
+    for budget_ms in advise.BUDGETS_MS + (1000.0,):
+        got = advise.choose(r, budget_ms)
         fits = [t for t in r["trials"] if t["number"] in ok and
-                t["scenes"]["room"]["ms"] <= budget]
+                t["scenes"]["room"]["ms"] <= budget_ms]
         if not fits:
-            assert got["best"] is None and got["why"], budget
+            assert got["best"] is None and got["why"], budget_ms
             continue
         best = got["best"]
-        assert best["number"] in ok and best["scenes"]["room"]["ms"] <= budget
+        assert best["number"] in ok and best["scenes"]["room"]["ms"] <= budget_ms
         assert best["scenes"]["room"]["mae"] == min(t["scenes"]["room"]["mae"] for t in fits)
         for t in got["as_good"]:   # against Cycles: within the reference's noise
             assert advise.reads_high(r, t) == noise
             assert t["scenes"]["room"]["mae"] - best["scenes"]["room"]["mae"] <= noise
         for t in got["others"]:
             assert t["scenes"]["room"]["mae"] - best["scenes"]["room"]["mae"] > noise
-        lines = advise.advice_lines(r, budget)
-        assert best["label"] in lines[0] and f"within {budget:g} ms" in lines[0]
+        lines = advise.advice_lines(r, budget_ms)
+        assert best["label"] in lines[0] and f"within {budget_ms:g} ms" in lines[0]
     front = advise.front(r)
     assert front and all(a["scenes"]["room"]["ms"] <= b["scenes"]["room"]["ms"] and
                          a["scenes"]["room"]["mae"] > b["scenes"]["room"]["mae"]
@@ -193,23 +194,23 @@ def test_the_advice_is_the_guarded_best_within_the_budget(room_advice):
 def test_a_degenerate_output_never_wins(room_advice):
     """Flat grey at the occluded region's median reference, and all white (AO = 1), both
     instantly: with no guard the grey one is a valid choice within any budget, but on the whole
-    frame it is worse than drawing no occlusion, so the guard (budget.whole_frame_ok) keeps
+    frame it is worse than drawing no occlusion, so the guard (runner.whole_frame_ok) keeps
     it out of every budget's advice and off the front; white is no better than itself on the
     occluded region, which the advice requires."""
     r = json.loads(json.dumps(room_advice))   # a copy
     g, reference, radius, _ = load_cropped(SCENES / "room", Crop(320, 180))
-    sc = tune.make_scene("room", g, reference, radius)
+    sc = runner.make_scene("room", g, reference, radius)
     grey = np.full(reference.shape, float(np.median(reference[sc.occluded])), np.float32)
     for number, (name, ao) in enumerate((("grey", grey), ("white", np.ones_like(grey))),
                                         start=len(r["trials"])):
-        scores = {**tune.score(ao, sc), "ms": 0.01, "measured_ms": 0.01}
+        scores = {**runner.trial_scores(ao, sc), "ms": 0.01, "measured_ms": 0.01}
         r["trials"].append({"number": number, "method": name, "preset": "default",
                             "names": ["default"], "label": name, "settings": {},
                             "scenes": {"room": scores}})
     grey_trial = r["trials"][-2]
     assert budget.choose([grey_trial], ["room"], 16, budget.Guard()) is grey_trial
-    for budget in advise.BUDGETS_MS:
-        got = advise.choose(r, budget)
+    for budget_ms in advise.BUDGETS_MS:
+        got = advise.choose(r, budget_ms)
         named = [got["best"]] + got["as_good"] + got["others"]
         assert not any(t is not None and t["method"] in ("grey", "white") for t in named)
     assert not any(t["method"] in ("grey", "white") for t in advise.front(r))
@@ -338,4 +339,4 @@ def test_the_addon_offers_the_studys_budgets_and_rays():
     text = (ROOT / "blender_addon" / "aolab_blender" / "properties.py").read_text()
     assert f"else {advise.BUDGETS_MS}" in text
     assert f"else {quick_reference.QUICK_RAYS}" in text
-    assert math.isclose(budget.hd_scale(320, 180), 16.0)
+    assert math.isclose(runner.hd_scale(320, 180), 16.0)

@@ -17,7 +17,8 @@ from aolab import scenes
 from aolab import cli, regions
 from aolab import named_presets as presets
 from aolab.catalog.kinds import MethodEntry
-from aolab.study import compare, report_files, results_doc, timing
+from aolab.study import compare, report_files, results_doc, runner
+from aolab.study import results as results_mod
 from aolab.study import report as report_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
@@ -176,10 +177,10 @@ def test_the_definition_part_is_what_an_affine_fit_on_the_occluded_region_remove
     ref = room.reference.astype(np.float64)
     # a method that computes 0.5·reference + 0.4 has the right shape and a wrong definition
     distorted = np.where(room.regions["all"], 0.5 * ref + 0.4, 1.0).astype(np.float32)
-    got = compare.score(distorted, room)["occluded_definition"]
+    got = runner.score(distorted, room)["occluded_definition"]
     raw = np.mean(np.abs(distorted[occluded] - ref[occluded]))
     assert got == pytest.approx(raw, abs=2e-3)        # nearly all of its error
-    assert compare.score(room.reference, room)["occluded_definition"] == pytest.approx(0.0)
+    assert runner.score(room.reference, room)["occluded_definition"] == pytest.approx(0.0)
 
 
 def test_the_check_against_eevee_states_each_verdict():
@@ -341,7 +342,7 @@ def room():
 
 def test_whole_frame_scores_equal_aolab_metrics(room):
     ao = aolab.compute("hbao", room.g, radius=room.radius, directions=4, steps=4)
-    s = compare.score(ao, room)["regions"]["all"]
+    s = runner.score(ao, room)["regions"]["all"]
     m = aolab.metrics(ao, room.reference, room.regions["all"])
     for k in ("mae", "rmse", "psnr", "bias", "ssim"):
         # SSIM: the same map, averaged in another order (float32 map, double sums)
@@ -352,14 +353,14 @@ def test_whole_frame_scores_equal_aolab_metrics(room):
 def test_calibration_removes_an_affine_distortion_and_never_raises_the_mae(room):
     valid = room.regions["all"]
     distorted = (0.5 * room.reference + 0.4).astype(np.float32)
-    out = compare.score(distorted, room)
+    out = runner.score(distorted, room)
     assert out["calib_a"] == pytest.approx(2.0, rel=1e-3)
     assert out["calib_b"] == pytest.approx(-0.8, abs=1e-3)
     assert out["regions"]["all"]["mae_cal"] < 1e-4 < out["regions"]["all"]["mae"]
     ao = aolab.compute("lsao", room.g, radius=room.radius)
-    s = compare.score(ao, room)["regions"]
+    s = runner.score(ao, room)["regions"]
     assert s["all"]["mae_cal"] <= s["all"]["mae"]
-    a, b = compare.calibration(np.full_like(ao, 0.7), room.reference, valid)
+    a, b = runner.calibration(np.full_like(ao, 0.7), room.reference, valid)
     assert a == 0 and b == pytest.approx(np.median(room.reference[valid]))
 
 
@@ -480,8 +481,8 @@ def test_rgb_outputs_and_errors_are_recorded_not_scored(room, monkeypatch):
     monkeypatch.setattr(aolab, "compute", bad)
     study._run_config(room, "hbao", {"directions": 0}, [cfg], 1, images)
     assert study.rows[-1]["note"].startswith("error: directions")
-    flat = compare.flat(study.rows[-1])
-    assert flat["all_mae"] is None and list(flat) == compare.columns()
+    flat = results_mod.flat(study.rows[-1])
+    assert flat["all_mae"] is None and list(flat) == results_mod.columns()
 
 
 # ---------------------------------------------------------------------------------------
@@ -564,7 +565,7 @@ def test_choice_settings_are_named_in_presets_sweeps_and_results():
                     assert value in choices[name], (method, s.label, name, value)
                     named += 1
             row = {"settings": s.recorded_settings()}
-            assert json.loads(compare.flat(row)["settings"]) == s.recorded_settings()
+            assert json.loads(results_mod.flat(row)["settings"]) == s.recorded_settings()
     assert named > 0
 
 
@@ -636,10 +637,10 @@ def test_a_slow_first_run_is_the_only_timed_run():
         time.sleep(0.02)
         return len(calls)
 
-    out, times = timing.timed(slow, warmup=1, repeat=3, max_ms=5.0)
+    out, times = runner.timed(slow, warmup=1, repeat=3, max_ms=5.0)
     assert (out, len(calls), len(times)) == (1, 1, 1) and times[0] >= 20.0
     calls.clear()
-    out, times = timing.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
+    out, times = runner.timed(slow, warmup=1, repeat=3)   # no cap: warm-up + 3 timed
     assert (out, len(calls), len(times)) == (1, 4, 3)
 
 
@@ -658,8 +659,14 @@ def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real
     entries = report_mod.paired_comparisons(results, results["meta"]["budget_ms"])
     assert entries[0]["vs_above"] is None and all(e["vs_first"] for e in entries[1:])
     assert [e["mae"] for e in entries] == sorted(e["mae"] for e in entries)
-    ranked = {(r["method"], r["label"]): r for r in agg}
-    assert all(report_mod.admissible(results, ranked[(e["method"], e["label"])]) for e in entries)
+    stills = runner.still_scenes(results["scenes"])
+    base = {r["scene"]: r["metrics"]["all"]["mae"] for r in results["rows"]
+            if r["kind"] == "baseline" and r["scene"] in stills}
+    for e in entries:   # each passes the whole-frame guard against AO = 1 on every scene
+        mine = {r["scene"]: r["metrics"]["all"]["mae"] for r in results["rows"]
+                if r["scene"] in stills and r["kind"] == "method"
+                and (r["method"], r["label"]) == (e["method"], e["label"])}
+        assert runner.whole_frame_ok(mine, base)
     for e in entries[1:]:   # two scenes: the smallest exact p-value is 0.5, never "real"
         assert e["vs_above"]["n"] == 2 and not e["vs_above"]["real"]
     worse = report_mod.worse_than_nothing(results)
@@ -685,6 +692,6 @@ def test_tests_over_scenes_count_stills_not_a_sequence_s_frames():
         rows += [row(s, "baseline", "baseline_one", "AO=1", 0.05, 0.3),
                  row(s, "method", "hbao", "default", 0.06, 0.2)]
     results = {"scenes": scenes, "rows": rows}
-    assert report_mod.still_scenes(results) == ["a", "b"]
+    assert runner.still_scenes(results["scenes"]) == ["a", "b"]
     assert set(report_mod.per_scene(results, rows[1])) == {"a", "b"}
     assert [s["scene"] for s in report_mod.worse_than_nothing(results)[0]["scenes"]] == ["a", "b"]

@@ -13,7 +13,7 @@ import pytest
 
 import aolab
 from aolab import cli
-from aolab.study import compare, report_files
+from aolab.study import compare, output, report_files
 from aolab.render import reference
 
 FILES = ["report.html", "report_files", "results.csv", "results.json"]
@@ -153,9 +153,9 @@ def test_a_new_report_never_leaves_the_one_in_place_without_its_files(tmp_path, 
 
 
 def test_the_staging_folder_sits_beside_the_output_folder():
-    assert compare.staging_folder(Path("out/compare")) == Path("out/compare.partial")
-    assert compare.staging_folder(Path("/tmp/x/")) == Path("/tmp/x.partial")
-    assert compare.staging_folder(Path(".")).name == Path.cwd().name + ".partial"
+    assert output.staging_folder(Path("out/compare")) == Path("out/compare.partial")
+    assert output.staging_folder(Path("/tmp/x/")) == Path("/tmp/x.partial")
+    assert output.staging_folder(Path(".")).name == Path.cwd().name + ".partial"
 
 
 @pytest.mark.parametrize("where", ["file", "file/sub", "file/sub/deeper", "staging"])
@@ -169,7 +169,7 @@ def test_out_under_an_existing_file_is_refused_before_any_work(tmp_path, capsys,
     assert err.startswith(f"aolab: --out must be a folder, got {str(out)!r}")
     assert "is an existing file, not a folder" in err
     with pytest.raises(ValueError, match="--out must be a folder"):
-        compare.check_out(out)
+        output.check_out(out)
     assert (tmp_path / "file").read_text() == "not a folder"
 
 

@@ -14,7 +14,8 @@ import pytest
 import aolab
 from aolab import scenes
 from aolab import cli
-from aolab.study import compare, results_doc
+from aolab.study import results_doc
+from aolab.study import results as results_mod
 from aolab.study import report as report_mod
 from compare_support import (ROOT, SEQUENCE_FRAMES, make_sequence, parse_report, read_csv)
 
@@ -49,12 +50,12 @@ def test_the_flicker_is_the_formula_on_a_hand_made_pair():
     valid0 = np.array([[True, True], [True, False]])
     valid1 = np.array([[True, True], [False, True]])
     # pixels scored in both: (0, 0) and (0, 1): |0.2 - 0.1| and |0.2 - 0|
-    assert compare.flicker(ao0, ao1, ref0, ref1, valid0, valid1) == pytest.approx(0.15)
+    assert results_mod.flicker(ao0, ao1, ref0, ref1, valid0, valid1) == pytest.approx(0.15)
     # the reference against itself, and any constant bias of it, does not flicker
-    assert compare.flicker(ref0, ref1, ref0, ref1, valid0, valid1) == 0
-    assert compare.flicker(ref0 - 0.1, ref1 - 0.1, ref0, ref1, valid0, valid1) == \
+    assert results_mod.flicker(ref0, ref1, ref0, ref1, valid0, valid1) == 0
+    assert results_mod.flicker(ref0 - 0.1, ref1 - 0.1, ref0, ref1, valid0, valid1) == \
         pytest.approx(0, abs=1e-15)
-    assert compare.flicker(ao0, ao1, ref0, ref1, valid0, ~valid0) is None
+    assert results_mod.flicker(ao0, ao1, ref0, ref1, valid0, ~valid0) is None
 
 
 def test_the_flicker_floor_is_the_binomial_noise_of_two_frames():
@@ -62,8 +63,8 @@ def test_the_flicker_floor_is_the_binomial_noise_of_two_frames():
     valid = np.ones((2, 2), bool)
     n = 1024
     expected = math.sqrt((0.25 + 0.09) / n) * math.sqrt(2 / math.pi)
-    assert compare.flicker_floor(ref0, ref1, valid, valid, n) == pytest.approx(expected)
-    assert compare.flicker_floor(ref0, ref1, valid, valid, 0) is None
+    assert results_mod.flicker_floor(ref0, ref1, valid, valid, n) == pytest.approx(expected)
+    assert results_mod.flicker_floor(ref0, ref1, valid, valid, 0) is None
     # two independent renders of noise with that variance: the same mean |difference|
     rng = np.random.default_rng(3)
     a = 0.5 + rng.normal(size=200_000) * math.sqrt(0.25 / n)
@@ -116,10 +117,10 @@ def test_flicker_is_set_for_every_row_and_is_the_formula(study):
         args = (p.reference, g.reference, p.valid_mask(), g.valid_mask())
         ones = np.ones_like(g.reference)
         assert float(by_key[f"{name}/baseline_one/AO=1"]["flicker"]) == \
-            pytest.approx(compare.flicker(ones, ones, *args))
+            pytest.approx(results_mod.flicker(ones, ones, *args))
         hbao = [aolab.compute("hbao", x, radius=0.5) for x in (p, g)]
         assert float(by_key[f"{name}/hbao/default"]["flicker"]) == \
-            pytest.approx(compare.flicker(*hbao, *args), rel=1e-9)
+            pytest.approx(results_mod.flicker(*hbao, *args), rel=1e-9)
     floor = study["json"]["scenes"]["pan"]["flicker_floor"]
     assert len(floor["pairs"]) == len(FRAMES) - 1 and floor["estimated"] is True
     assert floor["value"] == pytest.approx(np.mean(floor["pairs"]))

@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from aolab.study import compare, stats
+from aolab.study import results as results_mod
+from aolab.study import stats
 
 
 def test_one_scene_has_no_interval_and_constant_scores_a_point():
@@ -72,7 +73,7 @@ def test_paired_alternating_differences_are_noise():
 
 
 def _row(scene, ms, all_mae, occ):
-    metrics = {region: {m: 0.0 for m in compare.METRICS} for region in compare.REGIONS}
+    metrics = {region: {m: 0.0 for m in results_mod.METRICS} for region in results_mod.REGIONS}
     metrics["all"]["mae"], metrics["occluded"]["mae"] = all_mae, occ
     return {"scene": scene, "kind": "method", "method": "m", "label": "default",
             "metrics": metrics, "total_ms": ms, "method_ms": ms, "blur_ms": 0.0}
@@ -82,12 +83,12 @@ def test_all_scenes_times_are_per_1280x720_frame_with_intervals():
     rows = [_row("big", 40.0, 0.05, 0.10), _row("small", 10.0, 0.07, 0.20),
             _row("small2", 12.0, 0.06, 0.15)]
     scale = {"big": 1.0, "small": 4.0, "small2": 4.0}     # 640x360 is a quarter of 1280x720
-    (agg,) = compare.aggregate(rows, ["big", "small", "small2"], time_scale=scale)
+    (agg,) = results_mod.aggregate(rows, ["big", "small", "small2"], time_scale=scale)
     assert agg["total_ms"] == pytest.approx((40.0 + 40.0 + 48.0) / 3)
     assert agg["method_ms"] == pytest.approx((40.0 + 40.0 + 48.0) / 3)
     iv = agg["intervals"]
     assert iv["occluded_mae"][0] <= agg["metrics"]["occluded"]["mae"] <= iv["occluded_mae"][1]
     assert iv["total_ms"] == [pytest.approx(40.0), pytest.approx(48.0)] or \
         40.0 <= iv["total_ms"][0] <= iv["total_ms"][1] <= 48.0
-    (alone,) = compare.aggregate(rows[:1], ["big"])
+    (alone,) = results_mod.aggregate(rows[:1], ["big"])
     assert alone["intervals"]["all_mae"] is None    # one scene: no spread to show

@@ -19,7 +19,7 @@ from aolab import scenes
 from aolab import cli
 from aolab import named_presets as presets
 from aolab.study import budget
-from aolab.study import compare, tune
+from aolab.study import runner, tune
 
 optuna = pytest.importorskip("optuna")
 
@@ -111,25 +111,40 @@ def test_presets_enter_as_trials_inside_the_bounds():
 
 
 def test_timing_counts_warmup_and_repeat():
+    """tune times with the runner, as compare does: warm-up runs, then the timed ones; a
+    configuration over the cap is timed by its first run, and so on every later scene."""
     calls = []
-    for warmup, repeat, runs, timed in ((1, 3, 4, 3), (0, 1, 1, 1), (0, 3, 3, 3), (2, 2, 4, 2)):
+    (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("32x18"))
+
+    def counted(*args, **kw):
+        calls.append(1)
+        return np.ones((18, 32), np.float32)
+    original = aolab.compute
+    aolab.compute = counted
+    try:
+        for warmup, repeat, runs, timed in ((1, 3, 4, 3), (0, 1, 1, 1), (0, 3, 3, 3),
+                                            (2, 2, 4, 2)):
+            calls.clear()
+            run = runner.run_configuration("hbao", {}, sc, runner.Timing(warmup, repeat))
+            assert (len(calls), len(run.times), run.single) == (runs, timed, False)
         calls.clear()
-        _, times, single = tune._time(lambda: calls.append(1), tune.Timing(warmup, repeat),
-                                      False)
-        assert (len(calls), len(times), single) == (runs, timed, False)
-    calls.clear()
-    slow = tune.Timing(1, 3, max_ms=-1.0)      # every run is "over the cap": one run only
-    _, times, single = tune._time(lambda: calls.append(1), slow, False)
-    assert (len(calls), len(times), single) == (1, 1, True)
+        slow = runner.Timing(1, 3, max_ms=-1.0)      # every run is "over the cap": one run only
+        run = runner.run_configuration("hbao", {}, sc, slow)
+        assert (len(calls), len(run.times), run.single) == (1, 1, True)
+        calls.clear()
+        run = runner.run_configuration("hbao", {}, sc, runner.Timing(1, 3), single=True)
+        assert (len(calls), len(run.times), run.single) == (1, 1, True)
+    finally:
+        aolab.compute = original
 
 
 def test_occluded_mae_is_the_studys():
     crop = scenes.parse_crop("160x90")
     (sc,) = tune.load_scenes([SCENES / "room"], crop)
-    got = tune.evaluate("vao", {"samples": 4}, True, [sc], tune.Timing(0, 1))["room"]
+    got = runner.evaluate("vao", {"samples": 4}, True, [sc], runner.Timing(0, 1))["room"]
     full = scenes.load_scene(SCENES / "room", crop)
     ao = aolab.compute("vao", full.g, radius=full.radius, samples=4, blur=True)
-    want = compare.score(ao, full)["regions"]
+    want = runner.score(ao, full)["regions"]
     assert got["mae"] == pytest.approx(want["occluded"]["mae"], abs=1e-12)
     assert got["bias"] == pytest.approx(want["occluded"]["bias"], abs=1e-12)
     assert got["all_mae"] == pytest.approx(want["all"]["mae"], abs=1e-12)
@@ -190,11 +205,11 @@ def test_degenerate_outputs_cannot_pass_the_whole_frame_guard():
     ref = sc.reference
 
     def row(ao):
-        return {"number": 0, "scenes": {"room": {"ms": 1.0, **tune.score(ao, sc)}}}
+        return {"number": 0, "scenes": {"room": {"ms": 1.0, **runner.trial_scores(ao, sc)}}}
     for bad in (np.zeros_like(ref), np.full_like(ref, 0.5), np.clip(ref - 0.2, 0, 1)):
-        assert not budget.whole_frame_ok(row(bad.astype(np.float32)), ["room"], guard)
+        assert not budget.admits(guard, row(bad.astype(np.float32)), ["room"])
     for good in (np.ones_like(ref), ref):
-        assert budget.whole_frame_ok(row(good.astype(np.float32)), ["room"], guard)
+        assert budget.admits(guard, row(good.astype(np.float32)), ["room"])
 
 
 def test_leave_one_family_out_chooses_on_the_other_families_only():
@@ -380,7 +395,7 @@ def test_timeout_keeps_the_study_and_writes_no_presets(tmp_path, capsys):
 
 def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     """A run on a crop or on some scenes writes beside its trials, never into the package."""
-    every = tune.still_scenes(scenes.resolve_scenes([], SCENES))   # tuning's scenes
+    every = tune.tuning_folders([], SCENES)   # tuning's scenes
     opts = tune.Options(out=tmp_path)
     assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
