@@ -5,9 +5,9 @@ from __future__ import annotations
 import os
 import platform
 import statistics
-import time
 
 import aolab
+from aolab.study.runner import timed
 
 from .common import input_options, key_values, load_input
 from .options import add_timing_options
@@ -25,17 +25,13 @@ def add_parser(sub):
 def run(args) -> int:
     settings = key_values(args.set, args.method)
     g, radius = load_input(args.input, args.radius, args.width, args.height)
-    for _ in range(args.warmup):
-        aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
-    times = []
-    for _ in range(args.repeat):
-        t0 = time.perf_counter()
-        aolab.compute(args.method, g, radius=radius, threads=args.threads, **settings)
-        times.append(time.perf_counter() - t0)
+    # timed as aolab compare times: one timing function for every command
+    _, times = timed(lambda: aolab.compute(args.method, g, radius=radius, threads=args.threads,
+                                           **settings), args.warmup, args.repeat)
     med = statistics.median(times)
     spread = (max(times) - min(times)) if len(times) > 1 else 0.0
     cpu = platform.processor() or platform.machine()
     print(f"{args.method} on {args.input} {g.width}x{g.height}, radius {radius:g}, "
           f"threads {args.threads or os.cpu_count()}, {cpu}: "
-          f"median {med * 1000:.1f} ms over {args.repeat} runs (spread {spread * 1000:.1f} ms)")
+          f"median {med:.1f} ms over {args.repeat} runs (spread {spread:.1f} ms)")
     return 0
