@@ -1,6 +1,8 @@
 """The comparison study: ``compare`` (every method against the reference on every scene,
-timed and scored), ``report`` (report.html) with ``report_files`` (its folder of images and
-scripts, and report.js), ``results_doc`` (docs/results.md), ``tune``
+timed and scored), ``findings`` (what its results say, as data), ``charts`` (their plots),
+two views of the same findings: ``report`` (report.html, its tables in ``report_tables``) with
+``report_files`` (its folder of images and scripts, and report.js) and ``results_doc``
+(docs/results.md and its per-scene and per-sequence pages), ``tune``
 (the tuned presets), ``pareto`` (the fronts of error against time that report and tune
 share), ``limits`` (the screen-space limit of each scene) and ``radius_study``.
 

@@ -38,7 +38,7 @@ from ..scenes import find_scenes_dir
 from ..scoring import require_scoreable
 from ..util import files
 from . import pareto, quick_reference, tune
-from .report import pareto_front
+from .findings import pareto_front
 
 #: The budgets the panel offers and ``aolab advise`` answers by default: ms per 1280x720
 #: frame (60, 30 and 10 frames a second).

@@ -49,7 +49,7 @@ from ..util.dask_cluster import ClusterSecurity, connect, crop_key, wait_all, wo
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files, stats
 from .pareto import hd_scale
-from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
+from .findings import ACCUMULATED_SUFFIX, WEAK_FRACTION
 from .temporal import DISOCCLUDED, Accumulation, accumulation_scores
 from .timing import time_fields, timed
 
