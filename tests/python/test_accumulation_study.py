@@ -288,10 +288,10 @@ def test_the_report_plots_the_error_against_the_frame_one_frame_and_accumulated(
 
 
 def test_without_plotly_js_the_frames_plot_is_static(pan, tmp_path, monkeypatch):
-    from aolab.study import report_files
+    from aolab.study import report, report_files
     results = json.loads((pan["out"] / "results.json").read_text())
     monkeypatch.setattr(report_files, "plotly_js", lambda: None)
-    findings.write_report(tmp_path / "report.html", results, {})
+    report.write_report(tmp_path / "report.html", results, {})
     html = (tmp_path / "report.html").read_text(encoding="utf-8")
     svg = html[html.index('id="plot-mpan-frames"'):]
     svg = svg[:svg.index("</svg>")]

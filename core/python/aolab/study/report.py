@@ -1,6 +1,8 @@
 """report.html of ``aolab compare``, with its files in report_files/ beside it
 (report_files.py: images as WebP, plotly.js, report.js; nothing from the network, so the folder
-works copied anywhere and from a file:// URL).
+works copied anywhere and from a file:// URL). The page is one view of findings.py's findings
+(docs/results.md, by results_doc.py, is the other); its plots are charts.py's and its tables
+report_tables.py's.
 
 The accuracy-against-time plots are plotly.js figures, each held as JSON in the page (a
 <script type="application/json" class="figure" data-plot="ID"> beside its <div class="plot"
@@ -8,9 +10,9 @@ id="ID">) and drawn by report.js: one trace per method and per peer series, hove
 configuration, a legend that hides and shows methods, a click that opens the point's AO image
 and error map. Every plotted point's customdata is the key of its row in results.csv, its x
 total_ms and its y the value of the column in layout.meta.column, so a test can match every
-point to its row. Without plotly.js (not installed) the same plots are static SVG (svg_plot,
-also docs/results.md's), whose points are elements of class ``point`` with ``data-key``,
-``data-metric``, ``data-x`` and ``data-y``.
+point to its row. Without plotly.js (not installed) the same plots are static SVG
+(charts.svg_plot, also docs/results.md's), whose points are elements of class ``point`` with
+``data-key``, ``data-metric``, ``data-x`` and ``data-y``.
 
 On load, the page checks that every image decoded and every plot has points and writes the
 outcome into document.title: "AO Lab report: ok ..." or "AO Lab report: error ...".

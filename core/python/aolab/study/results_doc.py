@@ -413,9 +413,10 @@ def block(lines: list[str]) -> str:
     return "\n".join([GENERATED_BEGIN, ""] + lines + [GENERATED_END])
 
 
-def all_scenes_section(results: dict, f: StudyFindings, image_dir: str) -> list[str]:
-    """results.md's means over all scenes: the plots, the table and the findings."""
-    if not f.agg:
+def all_scenes_section(f: StudyFindings | None, image_dir: str) -> list[str]:
+    """results.md's means over all scenes: the plots, the table and the findings (none
+    without ALL rows)."""
+    if f is None:
         return []
     lines = ["## All scenes", "",
              "Means over the scenes (times and scores). The plots are the report's: log time "
@@ -444,26 +445,32 @@ def scene_sections(results: dict) -> list[str]:
     return lines
 
 
+def findings_of(results: dict) -> StudyFindings | None:
+    """The findings over all scenes, None when the run has no ALL rows (no scene finished)."""
+    agg = [r for r in results["rows"] if r["scene"] == AGGREGATE]
+    return study_findings(results, agg) if agg else None
+
+
 def pages(results: dict, image_dir: str = "images",
           f: StudyFindings | None = None) -> dict[str, str]:
     """The generated block of each page (MAIN_PAGE, SCENES_PAGE, SEQUENCES_PAGE); ``f``: the
-    findings over all scenes when the caller has them."""
-    if f is None:
-        f = study_findings(results, [r for r in results["rows"] if r["scene"] == AGGREGATE])
+    findings over all scenes (findings_of) when the caller has them."""
+    f = f if f is not None else findings_of(results)
     run = run_line(results["meta"])
-    return {MAIN_PAGE: block([run, "", PAGES_LINE, ""] + all_scenes_section(results, f, image_dir)),
+    return {MAIN_PAGE: block([run, "", PAGES_LINE, ""] + all_scenes_section(f, image_dir)),
             SCENES_PAGE: block([run, ""] + scene_sections(results)),
             SEQUENCES_PAGE: block([run, ""] + temporal_section(results)
                                   + accumulation_section(results, image_dir))}
 
 
-def write_charts(results: dict, images: Path, f: StudyFindings) -> None:
+def write_charts(results: dict, images: Path, f: StudyFindings | None) -> None:
     """The pages' plots into ``images``: the three over all scenes, each accumulated
-    sequence's error against the frame, the error split."""
+    sequence's error against the frame, the error split (``f``: findings_of)."""
     images.mkdir(parents=True, exist_ok=True)
+    agg = f.agg if f is not None else []
     for column, label, lower in charts.PLOTS:
-        svg = charts.svg_plot(f"results-{column}", f.agg, column, label, lower,
-                              charts.hlines_for(f.agg, column, None), standalone=True)
+        svg = charts.svg_plot(f"results-{column}", agg, column, label, lower,
+                              charts.hlines_for(agg, column, None), standalone=True)
         files.write_text(images / f"results_{column}.svg", svg + "\n")
     for name in accumulated_sequences(results):
         svg = charts.frames_plot(f"results-accumulation-{files.file_name_for(name)}",
@@ -471,7 +478,7 @@ def write_charts(results: dict, images: Path, f: StudyFindings) -> None:
                                                     results["meta"].get("budget_ms", 0)),
                                  standalone=True)
         files.write_text(images / accumulation_image(name), svg + "\n")
-    split = charts.split_chart("results-split", f.split)
+    split = charts.split_chart("results-split", f.split if f is not None else [])
     if split.startswith("<svg"):
         files.write_text(images / "results_split.svg", split + "\n")
 
@@ -495,7 +502,7 @@ def write(results_json: Path, docs: Path) -> Path:
     returns results.md's path."""
     results = json.loads(files.read_text(results_json, "results JSON"))
     docs = Path(docs)
-    f = study_findings(results, [r for r in results["rows"] if r["scene"] == AGGREGATE])
+    f = findings_of(results)
     write_charts(results, docs / "images", f)
     for name, generated in pages(results, "images", f).items():
         write_page(docs / name, generated)
