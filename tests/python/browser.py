@@ -219,7 +219,7 @@ def poll(b: Browser, expression: str, timeout: float = 10.0):
 
 
 def plot_point(b: Browser, plot: str, name: str | None = None, key: str | None = None) -> dict:
-    """A point of a plot of report.html (aolab.study.report.plotly_figure), its plot scrolled
+    """A point of a plot of report.html (aolab.study.charts.plotly_figure), its plot scrolled
     into view: {"key", "x", "y" (page pixels), "d" (pixels to the nearest other point),
     "near" (the keys of the points within NEAR px, which a hover there may show instead)}.
     The point whose row is ``key``; else, of the trace ``name`` (else of every method's

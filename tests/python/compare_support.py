@@ -125,7 +125,7 @@ def read_csv(path: Path) -> list[dict]:
 class PlotPoints(HTMLParser):
     """Collects every plotted point and horizontal line of report.html, with the attributes of
     a static (SVG) point: data-key, data-metric, data-x, data-y; from the SVG elements and from
-    the plotly.js figures (report.plotly_figure: a series trace's customdata are the keys,
+    the plotly.js figures (charts.plotly_figure: a series trace's customdata are the keys,
     layout.meta.column the metric; an hline trace's meta names its row). ``figures``: plot id
     -> its plotly.js figure; ``images_index``: the page's image files of every scene."""
 

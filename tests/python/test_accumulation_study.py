@@ -17,11 +17,11 @@ import aolab
 from aolab import cli, scenes
 from aolab.scoring import digest
 from aolab.study import results_doc, runner, temporal
-from aolab.study import report as report_mod
+from aolab.study import findings
 from browser import Browser, chromium, poll
 from compare_support import SCENES, link_scene, make_sequence, parse_report, read_csv
 
-SUFFIX = report_mod.ACCUMULATED_SUFFIX
+SUFFIX = findings.ACCUMULATED_SUFFIX
 PAN_FRAMES = {"start": 1, "end": 6, "step": 1}
 PAN_SHIFT = 4
 REST_FRAMES = {"start": 1, "end": 12, "step": 1}
@@ -211,7 +211,7 @@ def test_the_pairing_picks_by_the_stated_rule(pan, rest):
             entry("m", "high", 6.0, 7.0, 0.22, 0.12),
             entry("m", "slow", 1.9, 2.9, 0.40, 0.35),     # no dearer one it beats
             entry("n", "only", 1.0, 2.0, 0.30, 0.20)]     # nothing dearer
-    pairs = {p["method"]: p for p in report_mod.accumulation_pairs(hand)}
+    pairs = {p["method"]: p for p in findings.accumulation_pairs(hand)}
     assert (pairs["m"]["x"]["label"], pairs["m"]["y"]["label"]) == ("low", "high")
     assert pairs["n"]["x"] is None and pairs["n"]["y"] is None
     rng = np.random.default_rng(5)
@@ -221,19 +221,19 @@ def test_the_pairing_picks_by_the_stated_rule(pan, rest):
             float(rng.integers(1, 9)) / 10, float(rng.integers(1, 9)) / 10)
             for i in range(int(rng.integers(1, 7)))]
         got = {p["method"]: (p["x"] and p["x"]["label"], p["y"] and p["y"]["label"])
-               for p in report_mod.accumulation_pairs(entries)}
+               for p in findings.accumulation_pairs(entries)}
         assert got == brute_force_pairs(entries), (trial, entries)
     for study, name in ((pan, "mpan"), (rest, "rest")):
-        entries = report_mod.accumulation_entries(study["json"]["rows"], name)
+        entries = findings.accumulation_entries(study["json"]["rows"], name)
         assert len(entries) == len([r for r in method_rows(study["rows"], name)
                                     if r["accumulated"] == "False"])
         got = {p["method"]: (p["x"] and p["x"]["label"], p["y"] and p["y"]["label"])
-               for p in report_mod.accumulation_pairs(entries)}
+               for p in findings.accumulation_pairs(entries)}
         assert got == brute_force_pairs(entries)
         # the report's table shows each pair by its rows' keys
         table = study["html"][study["html"].index('class="check pairs"'):]
         table = table[:table.index("</table>")]
-        for p in report_mod.accumulation_pairs(entries):
+        for p in findings.accumulation_pairs(entries):
             if p["x"] is not None:
                 assert (f'data-x="{p["x"]["acc_key"]}" data-y="{p["y"]["single_key"]}"'
                         in table)
@@ -283,16 +283,16 @@ def test_the_report_plots_the_error_against_the_frame_one_frame_and_accumulated(
         assert t["x"] == frame_numbers(PAN_FRAMES)
         for key, x, y in zip(t["customdata"], t["x"], t["y"]):
             r = rows[key]
-            assert r["label"] == report_mod.FRAMES_PRESET + (SUFFIX if accumulated else "")
+            assert r["label"] == findings.FRAMES_PRESET + (SUFFIX if accumulated else "")
             assert int(r["frame"]) == x and float(r["all_mae"]) == y
     assert 'id="accumulation-mpan"' in pan["html"] and "Converged error" in pan["html"]
 
 
 def test_without_plotly_js_the_frames_plot_is_static(pan, tmp_path, monkeypatch):
-    from aolab.study import report_files
+    from aolab.study import report, report_files
     results = json.loads((pan["out"] / "results.json").read_text())
     monkeypatch.setattr(report_files, "plotly_js", lambda: None)
-    report_mod.write_report(tmp_path / "report.html", results, {})
+    report.write_report(tmp_path / "report.html", results, {})
     html = (tmp_path / "report.html").read_text(encoding="utf-8")
     svg = html[html.index('id="plot-mpan-frames"'):]
     svg = svg[:svg.index("</svg>")]
@@ -316,27 +316,29 @@ def test_the_frames_plot_in_chromium(pan):
 
 
 def test_results_md_has_an_accumulation_section_only_with_accumulated_rows(pan, tmp_path):
-    text = results_doc.generated(pan["json"])
+    text = "\n".join(results_doc.pages(pan["json"]).values())
     part = text[text.index("## Temporal accumulation"):]
     assert "### mpan" in part and "results_accumulation_mpan.svg" in part
-    entries = report_mod.accumulation_entries(pan["json"]["rows"], "mpan")
+    entries = findings.accumulation_entries(pan["json"]["rows"], "mpan")
     for e in entries:
         assert f'| {e["method"]} | {e["label"]} | {e["single_ms"]:.1f} |' in part
-    for p in report_mod.accumulation_pairs(entries):
+    for p in findings.accumulation_pairs(entries):
         if p["x"] is not None:
             assert f'| {p["method"]} | {p["x"]["label"]}{SUFFIX} |' in part
         else:
             assert f'| {p["method"]} | — |' in part
     still = {**pan["json"], "rows": [r for r in pan["json"]["rows"]
                                      if not r.get("accumulated")]}
-    assert "## Temporal accumulation" not in results_doc.generated(still)
+    assert "## Temporal accumulation" not in "\n".join(results_doc.pages(still).values())
     # the generator writes the plot beside results.md
     (tmp_path / "results.json").write_text(json.dumps(pan["json"]))
     results_doc.write(tmp_path / "results.json", tmp_path / "docs")
     svg = (tmp_path / "docs" / "images" / "results_accumulation_mpan.svg").read_text()
     assert svg.startswith("<svg") and svg.count('class="point"') == 4 * len(
         frame_numbers(PAN_FRAMES))
-    assert "## Temporal accumulation" in (tmp_path / "docs" / "results.md").read_text()
+    assert "## Temporal accumulation" in \
+        (tmp_path / "docs" / results_doc.SEQUENCES_PAGE).read_text()
+    assert "## Temporal accumulation" not in (tmp_path / "docs" / "results.md").read_text()
 
 
 def test_flythrough_cropped_accumulates_every_configuration(tmp_path):
@@ -370,9 +372,9 @@ def test_flythrough_cropped_accumulates_every_configuration(tmp_path):
     last = next(r for r in eevee if r["scene"] == names[-1])
     assert mean["converged_mae"] == last["metrics"]["all"]["mae"]
     assert mean["flicker"] > 0 and mean["disoccluded_mae"] is not None
-    (peer,) = report_mod.peer_sequence_entries(data["rows"], "flythrough")
+    (peer,) = findings.peer_sequence_entries(data["rows"], "flythrough")
     assert peer["converged"] == mean["converged_mae"]
-    text = results_doc.generated(data)
+    text = "\n".join(results_doc.pages(data).values())
     assert (f'| {mean["label"]} | {mean["total_ms"]:.0f} | {mean["converged_mae"]:.4f} |'
             in text[text.index("## Temporal accumulation"):])
     html_ = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
@@ -395,4 +397,4 @@ def test_long_sequences_say_their_frames_briefly():
     results = {"scenes": {"room": {"rtao_not_run": why},
                           **{n: {"rtao_not_run": why} for n in names},
                           "seq": {"sequence": True, "frame_scenes": names}}}
-    assert report_mod.rtao_not_run(results) == f"room, seq (its 3 frames): {why}"
+    assert findings.rtao_not_run(results) == f"room, seq (its 3 frames): {why}"

@@ -19,7 +19,7 @@ from aolab import named_presets as presets
 from aolab.catalog.kinds import MethodEntry
 from aolab.study import compare, report_files, results_doc, runner
 from aolab.study import results as results_mod
-from aolab.study import report as report_mod
+from aolab.study import charts, findings, report_tables
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
 
@@ -184,8 +184,6 @@ def test_the_definition_part_is_what_an_affine_fit_on_the_occluded_region_remove
 
 
 def test_the_check_against_eevee_states_each_verdict():
-    from aolab.study import report
-
     def row(scene, kind, method, occluded):
         return {"scene": scene, "kind": kind, "method": method, "label": method,
                 "key": f"{scene}/{method}/{method}", "metrics": {"occluded": {"mae": occluded}}}
@@ -204,13 +202,13 @@ def test_the_check_against_eevee_states_each_verdict():
     held = {"P": fold(0.08, 0.1), "F": fold(0.11, 0.1), "L": fold(0.2, 0.1), "U": fold(0.01, 0.1)}
     results = {"meta": {"scenes": ["P", "F", "L", "U"]}, "rows": rows,
                "tuned": {"methods": {"vao": {"selection": {"tuned-100ms": {"held_out": held}}}}}}
-    checks = {c["scene"]: c for c in report.eevee_check(results)}
+    checks = {c["scene"]: c for c in findings.eevee_check(results)}
     assert {s: c["verdict"] for s, c in checks.items()} == \
         {"P": "pass", "F": "fail", "L": "limit", "U": "unknown"}
     assert checks["P"]["limit"] == 0.05 and checks["P"]["limit_label"] == \
         "screen_space_limit_t0.25R" and checks["P"]["method"] == "vao"
-    assert all(c["verdict"] == "unknown" for c in report.eevee_check({**results, "tuned": None}))
-    assert 'data-verdict="fail"' in report.eevee_table(list(checks.values()))
+    assert all(c["verdict"] == "unknown" for c in findings.eevee_check({**results, "tuned": None}))
+    assert 'data-verdict="fail"' in report_tables.eevee_table(list(checks.values()))
 
 
 def test_rtao_ladder_runs_where_a_mesh_is_timed_and_scored(study):
@@ -234,7 +232,7 @@ def test_rtao_ladder_runs_where_a_mesh_is_timed_and_scored(study):
     keys = {r["key"] for r in room}
     assert keys & {p["data-key"] for p in report.points}
     assert "Against a CPU ray tracer" in study["html"]
-    ladder = report_mod.rtao_ladder([r for r in study["json"]["rows"] if r["scene"] == "room"])
+    ladder = findings.rtao_ladder([r for r in study["json"]["rows"] if r["scene"] == "room"])
     assert [e["rays"] for e in ladder] == list(compare.RTAO_LADDER)
     assert all(e["winner"] in ("rtao", "screen space", "") for e in ladder)
 
@@ -311,11 +309,17 @@ def test_results_doc_is_regenerated_keeping_the_prose(study, tmp_path):
     path = results_doc.write(study["out"] / "results.json", tmp_path)
     text = path.read_text()
     assert results_doc.GENERATED_BEGIN in text and "## What the results show" in text
-    for column, _, _ in report_mod.PLOTS:
+    for column, _, _ in charts.PLOTS:
         svg = tmp_path / "images" / f"results_{column}.svg"
         assert f"images/results_{column}.svg" in text and "<style>" in svg.read_text()
     for method in studied_methods():
         assert f"| {method} | medium |" in text
+    # results.md opens with the prose and the means over the scenes; each scene's table is on
+    # a page of its own, linked from it
+    assert text.index("## What the results show") < text.index(results_doc.GENERATED_BEGIN)
+    assert "[results_scenes.md](results_scenes.md)" in text and "\n## room\n" not in text
+    scenes_page = (tmp_path / results_doc.SCENES_PAGE).read_text()
+    assert "\n## room\n" in scenes_page and "| baseline_one |" in scenes_page
     path.write_text(text.replace("_To be written", "Our paragraph. _To be written"))
     results_doc.write(study["out"] / "results.json", tmp_path)
     again = path.read_text()
@@ -656,7 +660,7 @@ def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real
         assert lo <= r["metrics"]["occluded"]["mae"] + 1e-12 and hi >= lo
     html = study["html"]
     assert 'id="paired"' in html and 'class="ci"' in html and 'id="worse-than-nothing"' in html
-    entries = report_mod.paired_comparisons(results, results["meta"]["budget_ms"])
+    entries = findings.paired_comparisons(results, results["meta"]["budget_ms"])
     assert entries[0]["vs_above"] is None and all(e["vs_first"] for e in entries[1:])
     assert [e["mae"] for e in entries] == sorted(e["mae"] for e in entries)
     stills = runner.still_scenes(results["scenes"])
@@ -669,13 +673,13 @@ def test_all_rows_carry_intervals_and_the_report_says_which_differences_are_real
         assert runner.whole_frame_ok(mine, base)
     for e in entries[1:]:   # two scenes: the smallest exact p-value is 0.5, never "real"
         assert e["vs_above"]["n"] == 2 and not e["vs_above"]["real"]
-    worse = report_mod.worse_than_nothing(results)
+    worse = findings.worse_than_nothing(results)
     base = {r["scene"]: r["metrics"]["all"]["mae"] for r in results["rows"]
             if r["kind"] == "baseline"}
     for w in worse:
         for s in w["scenes"]:
             assert s["mae"] > base[s["scene"]] == s["ao_one"]
-    text = "\n".join(results_doc.study_sections(results, agg, "images"))
+    text = "\n".join(results_doc.study_sections(findings.study_findings(results, agg), "images"))
     assert "## Which differences are real" in text and "## Defaults worse than no occlusion" in text
 
 
@@ -693,5 +697,5 @@ def test_tests_over_scenes_count_stills_not_a_sequence_s_frames():
                  row(s, "method", "hbao", "default", 0.06, 0.2)]
     results = {"scenes": scenes, "rows": rows}
     assert runner.still_scenes(results["scenes"]) == ["a", "b"]
-    assert set(report_mod.per_scene(results, rows[1])) == {"a", "b"}
-    assert [s["scene"] for s in report_mod.worse_than_nothing(results)[0]["scenes"]] == ["a", "b"]
+    assert set(findings.per_scene(results, rows[1])) == {"a", "b"}
+    assert [s["scene"] for s in findings.worse_than_nothing(results)[0]["scenes"]] == ["a", "b"]

@@ -21,7 +21,7 @@ from PIL import Image
 
 import aolab
 from aolab import cli, scoring
-from aolab.study import report, report_files
+from aolab.study import charts, findings, report, report_files
 from browser import Browser, chromium, plot_point, poll
 from compare_support import CROP, make_scenes, parse_report
 
@@ -49,9 +49,10 @@ def test_file_names_follow_the_content():
 
 def test_pareto_front():
     pts = [(1, 0.5, "a"), (2, 0.4, "b"), (3, 0.45, "c"), (4, 0.1, "d"), (4, 0.2, "e")]
-    assert report.pareto_front(pts, lower_is_better=True) == ["a", "b", "d"]
-    assert report.pareto_front(pts, lower_is_better=False) == ["a"]
-    assert report.pareto_front([(1, 0.9, "x"), (2, 0.95, "y")], lower_is_better=False) == ["x", "y"]
+    assert findings.pareto_front(pts, lower_is_better=True) == ["a", "b", "d"]
+    assert findings.pareto_front(pts, lower_is_better=False) == ["a"]
+    assert findings.pareto_front([(1, 0.9, "x"), (2, 0.95, "y")],
+                                 lower_is_better=False) == ["x", "y"]
 
 
 def test_signed_error_colours():
@@ -81,8 +82,8 @@ ROWS = [
 
 
 def test_svg_points_carry_their_row_and_values():
-    svg = report.svg_plot("p", ROWS, "all_mae", "MAE", True,
-                          report.hlines_for(ROWS, "all_mae", None))
+    svg = charts.svg_plot("p", ROWS, "all_mae", "MAE", True,
+                          charts.hlines_for(ROWS, "all_mae", None))
     keys = re.findall(r'class="point[^"]*"[^>]*data-key="([^"]+)"', svg)
     assert sorted(keys) == ["s/e/x", "s/m/a", "s/m/b"]
     # EEVEE's time is not comparable: it is never on the front, though fastest and best
@@ -92,8 +93,8 @@ def test_svg_points_carry_their_row_and_values():
 
 def test_the_figure_has_a_trace_per_series_the_front_and_the_lines():
     hovers = {r["key"]: r["key"] for r in ROWS}
-    fig = report.plotly_figure(ROWS, "all_mae", "MAE", True,
-                               report.hlines_for(ROWS, "all_mae", None), hovers)
+    fig = charts.plotly_figure(ROWS, "all_mae", "MAE", True,
+                               charts.hlines_for(ROWS, "all_mae", None), hovers)
     series = [t for t in fig["data"] if t["meta"]["role"] == "series"]
     assert [t["name"] for t in series] == ["m", "EEVEE GTAO (time not comparable)"]
     assert series[0]["customdata"] == ["s/m/a", "s/m/b"] and series[0]["x"] == [10.0, 100.0]
@@ -117,14 +118,14 @@ def test_hover_names_the_configuration_and_what_differs_from_the_defaults():
            "intervals": {"total_ms": [40.0, 44.0], "all_mae": [0.02, 0.03],
                          "occluded_mae": None},
            "metrics": {"all": {"mae": 0.025, "ssim": 0.91}, "occluded": {"mae": 0.15}}}
-    text = report.hover_text(row, defaults, "click: image")
+    text = charts.hover_text(row, defaults, "click: image")
     assert text.startswith("<b>hbao</b> tuned-100ms")
     assert f"steps {steps}" in text and "power 0.6478" in text and "+ blur" in text
     assert "directions" not in text                  # as the default: not named
     assert "42.0 [40.0, 44.0] ms" in text and "MAE 0.0250 [0.0200, 0.0300]" in text
     assert "MAE occluded 0.1500<br>" in text and "SSIM 0.9100" in text
     assert "mean over 3 scene(s)" in text and text.endswith("<i>click: image</i>")
-    plain = report.hover_text({**row, "label": "default", "settings": dict(defaults)}, defaults,
+    plain = charts.hover_text({**row, "label": "default", "settings": dict(defaults)}, defaults,
                               "no image")
     assert "the method's defaults" in plain and "no image" in plain
 

@@ -16,7 +16,7 @@ from aolab import scenes
 from aolab import cli
 from aolab.study import results_doc
 from aolab.study import results as results_mod
-from aolab.study import report as report_mod
+from aolab.study import findings
 from compare_support import (ROOT, SEQUENCE_FRAMES, make_sequence, parse_report, read_csv)
 
 FRAMES = list(range(SEQUENCE_FRAMES["start"], SEQUENCE_FRAMES["end"] + 1,
@@ -128,19 +128,19 @@ def test_flicker_is_set_for_every_row_and_is_the_formula(study):
 
 
 def test_per_pixel_noise_names_the_random_settings():
-    assert report_mod.per_pixel_noise("hbao", {}) == ["random_rotation", "jitter"]
-    assert report_mod.per_pixel_noise("hbao", {"jitter": False}) == ["random_rotation"]
-    assert report_mod.per_pixel_noise("lsao", {}) == []
-    assert report_mod.per_pixel_noise("crytek_ssao", {"rotation": "none"}) == []
-    assert report_mod.per_pixel_noise("crytek_ssao", {}) == ["rotation tiled4x4"]
-    assert report_mod.per_pixel_noise("baseline_one", {}) == []
+    assert findings.per_pixel_noise("hbao", {}) == ["random_rotation", "jitter"]
+    assert findings.per_pixel_noise("hbao", {"jitter": False}) == ["random_rotation"]
+    assert findings.per_pixel_noise("lsao", {}) == []
+    assert findings.per_pixel_noise("crytek_ssao", {"rotation": "none"}) == []
+    assert findings.per_pixel_noise("crytek_ssao", {}) == ["rotation tiled4x4"]
+    assert findings.per_pixel_noise("baseline_one", {}) == []
     # every setting a method describes as random per pixel is one the table names
     for m in aolab.methods():
         for s in aolab.method_info(m)["settings"]:
             d = s["description"].lower()
             if s["name"] != "seed" and ("randomly per pixel" in d or "random factor" in d
                                         or "per pixel by" in d):
-                assert s["name"] in report_mod.NOISE_SETTINGS, (m, s["name"])
+                assert s["name"] in findings.NOISE_SETTINGS, (m, s["name"])
 
 
 def test_the_report_plots_mae_per_frame_and_tables_the_flicker(study):
@@ -149,8 +149,8 @@ def test_the_report_plots_mae_per_frame_and_tables_the_flicker(study):
     frames_plots = [p for p in report.plots if "frames" in p["class"].split()]
     assert [p["id"] for p in frames_plots] == ["plot-pan-frames"]
     points = [p for p in report.points if p["data-key"].split("/")[0].startswith("pan@")]
-    best = report_mod.sequence_best([r for r in study["json"]["rows"] if r["scene"] == "pan"],
-                                    study["json"]["meta"]["budget_ms"])
+    best = findings.sequence_best([r for r in study["json"]["rows"] if r["scene"] == "pan"],
+                                  study["json"]["meta"]["budget_ms"])
     assert {r["method"] for r in best} == set(METHODS)
     assert len(points) == len(best) * len(FRAMES)
     for p in points:
@@ -179,7 +179,7 @@ def test_the_report_renders_in_headless_chromium(study):
 
 
 def test_results_doc_has_a_temporal_stability_section(study):
-    text = results_doc.generated(study["json"])
+    text = "\n".join(results_doc.pages(study["json"]).values())
     part = text[text.index("## Temporal stability"):]
     assert "### pan" in part and "reference flicker floor" in part
     assert "| method | setting | 1 | 3 | 5 | 7 |" in part

@@ -39,7 +39,7 @@ from ..scoring import require_scoreable
 from ..util import files
 from . import budget, quick_reference, tune
 from .runner import Timing, evaluate, make_scene, trial_scores
-from .report import pareto_front
+from .findings import pareto_front
 
 #: The budgets the panel offers and ``aolab advise`` answers by default: ms per 1280x720
 #: frame (60, 30 and 10 frames a second).

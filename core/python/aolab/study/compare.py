@@ -45,7 +45,7 @@ from ..util.dask_cluster import ClusterSecurity, connect, wait_all
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files
 from .output import OUTPUT_FILES, check_out, publish, staging_folder
-from .report import ACCUMULATED_SUFFIX, WEAK_FRACTION
+from .findings import ACCUMULATED_SUFFIX, WEAK_FRACTION
 from .results import (BASELINE, LIMIT_KIND, aggregate, flag_rows, flicker, flicker_floor,
                       make_row, reference_samples, score_row, tuned_results, write_results)
 from .runner import (Timing, load_scene, progress, run_configuration, score, score_outputs,

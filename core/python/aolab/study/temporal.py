@@ -2,7 +2,7 @@
 (docs/comparison.md, "Temporal accumulation"): the per-configuration histories, the step's
 time and each frame's disoccluded region (Accumulation), and the sequence's converged and
 disoccluded errors (accumulation_scores). The accumulated rows' label is the configuration's
-and report.ACCUMULATED_SUFFIX."""
+and findings.ACCUMULATED_SUFFIX."""
 
 from __future__ import annotations
 
