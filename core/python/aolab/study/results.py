@@ -19,7 +19,7 @@ from ..regions import REGIONS
 from ..scenes import Scene
 from ..util import files
 from . import stats
-from .report import WEAK_FRACTION
+from .findings import WEAK_FRACTION
 from .runner import score
 from .temporal import DISOCCLUDED
 
