@@ -11,8 +11,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E402
 
 use_checkout()
-from aolab_blender import peers  # noqa: E402
-from aolab_blender.scene_record import Cancelled  # noqa: E402
+from aolab_blender.export import peers  # noqa: E402
+from aolab_blender.export.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 before = scene_state(scene)
