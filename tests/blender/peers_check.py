@@ -1,6 +1,6 @@
 """Inside Blender (under xvfb-run, for EEVEE): the comparison peers of a user's scene — the
-Cycles ladder and EEVEE's GTAO (blender_addon/aolab_blender/peers.py) — leave every setting
-as it was, after a full render and after cancelling at each stage. Prints `RESULT {...}`
+Cycles ladder and EEVEE's GTAO (blender_addon/aolab_blender/export/peers.py) — leave every
+setting as it was, after a full render and after cancelling at each stage. Prints `RESULT {...}`
 with the outcomes, diffs, the files written and peers.json."""
 import json
 import os
