@@ -5,7 +5,8 @@
 #                  blender_addon/aolab_blender (its blender_manifest.toml), and
 #                  `blender --command extension install-file -r user_default --enable` installs
 #                  it into the user repository (module bl_ext.user_default.aolab_blender);
-#   Blender 3.4    as a legacy add-on: a zip of the folder's .py files (bl_info), installed
+#   Blender 3.4    as a legacy add-on: a zip of the package's .py files, its export/
+#                  subpackage's too (bl_info), installed
 #                  with the preferences' add-on operators (module aolab_blender).
 #
 #   scripts/install_addon.sh             make the package, install it, enable it, save the
@@ -35,7 +36,8 @@ if [ $extension = 1 ]; then
   # Built from a copy without __pycache__ (a checkout that ran its tests has them).
   stage="$(mktemp -d)"
   trap 'rm -rf "$stage"' EXIT
-  cp "$src"/*.py "$src"/blender_manifest.toml "$stage/"
+  cp -r "$src"/. "$stage/"
+  find "$stage" -name __pycache__ -prune -exec rm -rf {} +
   "$blender" -b --factory-startup -noaudio --command extension build --source-dir "$stage" \
     --output-filepath "$zip.tmp.zip" | { grep -v '^Blender [0-9]' || true; }
   # `extension build` reports an invalid manifest as FATAL_ERROR but exits with status 0
@@ -47,9 +49,11 @@ import os, sys, zipfile
 src, out = sys.argv[1:]
 tmp = out + ".tmp"
 with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
-    for name in sorted(os.listdir(src)):
-        if name.endswith(".py"):
-            z.write(os.path.join(src, name), f"aolab_blender/{name}")
+    for folder, dirs, names in os.walk(src):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(n for n in names if n.endswith(".py")):
+            path = os.path.join(folder, name)
+            z.write(path, os.path.join("aolab_blender", os.path.relpath(path, src)))
 os.replace(tmp, out)
 PY
 fi

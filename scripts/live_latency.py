@@ -33,7 +33,7 @@ def setup():
         bpy.data.objects.remove(obj)
     runpy.run_path(BUILD, run_name="__main__")
     addon_utils.enable("aolab_blender", default_set=True)
-    from aolab_blender import properties
+    from aolab_blender import library, properties
     prefs = bpy.context.preferences
     prefs.addons["aolab_blender"].preferences.cache_dir = CACHE
     prefs.addons["aolab_blender"].preferences.threads = 2
@@ -41,11 +41,11 @@ def setup():
     scene = bpy.context.scene
     scene.aolab.preview_scale = int(SCALE)
     scene.aolab.live_frames = 1   # the latency of a change: frame 0 only
-    methods = [m for m in properties.methods() if m != "screen_space_limit"]
-    for m in properties.methods():
+    methods = [m for m in library.methods() if m != "screen_space_limit"]
+    for m in library.methods():
         g = properties.method_group(scene, m)
         g.use_method = m == methods[0]
-        if "medium" in properties.presets.names(m):
+        if "medium" in library.presets.names(m):
             g.preset = "medium"
     assert bpy.ops.aolab.preview() == {"FINISHED"}
     result["size"] = bpy.context.window_manager.aolab.results_size
@@ -60,7 +60,7 @@ def setup():
 def driver():
     """A generator: each yield hands the event loop back for `wait` seconds."""
     methods = setup()
-    from aolab_blender import live, properties
+    from aolab_blender import library, live, properties
     scene = bpy.context.scene
     session = bpy.context.window_manager.aolab
     session.live = True
@@ -82,7 +82,7 @@ def driver():
         yield from settle()
         rows = []
         for _ in range(int(REPEAT)):
-            has_presets = "low" in properties.presets.names(m)
+            has_presets = "low" in library.presets.names(m)
             if has_presets:
                 g.preset = "low"
             else:

@@ -1,10 +1,14 @@
 """AO Lab for Blender: compare screen-space AO methods with a Cycles AO reference, in Blender.
 
-This package holds only what needs bpy: the add-on (preferences, hooks, properties, inputs,
-operators, live, ui, images) and the bridge's Blender glue (state, scene_record, export,
-mesh_export, peers, batch: the entry point `aolab reference` runs inside Blender). Its
-modules import one way (docs/blender_addon.md, "Modules"). Everything else comes from the
-`aolab` package (`aolab.bridge` and the study's modules), which never imports this one.
+This package holds only what needs bpy, in two halves that import one way
+(docs/blender_addon.md, "Modules"):
+- the panel (the add-on's UI, main thread): preferences, hooks, library (its one guarded
+  door to `aolab`), properties, inputs, live, operators, ui, images;
+- export/, headless (what runs under `blender -b`): the bridge's Blender glue (state,
+  compat, scene_record, mesh, reference, peers) and batch.py, the entry point `aolab
+  reference` runs inside Blender. It imports nothing of the panel.
+Everything else comes from the `aolab` package (`aolab.bridge`, `aolab.jobs`: the panel's
+background jobs, and the study's modules), which never imports this one.
 """
 
 import bpy

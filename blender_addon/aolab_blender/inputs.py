@@ -7,20 +7,14 @@ folder that cannot be one, nothing ticked). reference_inputs() adds the cached r
 folder; find_reference() looks one up; scene_hash() is the content hash. operators.py and
 live.py both use them (ui.py the camera check); this module imports neither.
 
-The add-on loads without a built `aolab` (properties.py, its one guarded door, then says
-"module not built"), and scene_record.py imports aolab: so it is imported here guarded too,
-and used only once properties.available() said aolab is there.
+What comes from `aolab` (and export.scene_record, which imports it) is library.py's, used
+only once library.available() said aolab is there (scene_inputs checks it first).
 """
 
 import math
 from pathlib import Path
 
-from . import preferences, properties
-
-try:
-    from . import scene_record
-except ImportError:  # aolab not built: properties.available() is False (IMPORT_ERROR says why)
-    scene_record = None
+from . import library, preferences, properties
 
 
 class UserError(Exception):
@@ -30,8 +24,8 @@ class UserError(Exception):
 def camera_problem(scene) -> str | None:
     """Why AO Lab cannot render from the scene's camera, or None."""
     try:
-        scene_record.scene_camera(scene)
-    except scene_record.BridgeError as e:
+        library.scene_record.scene_camera(scene)
+    except library.scene_record.BridgeError as e:
         return str(e)
     return None
 
@@ -45,8 +39,8 @@ def compare_size(scene) -> tuple[int, int]:
     """The output size scaled by the panel's resolution percentage; a UserError when a side
     falls below what Blender renders (MIN_SIZE)."""
     r = scene.render
-    w, h = properties.intrinsics.image_size(r.resolution_x, r.resolution_y,
-                                            r.resolution_percentage)
+    w, h = library.intrinsics.image_size(r.resolution_x, r.resolution_y,
+                                         r.resolution_percentage)
     pct = scene.aolab.preview_scale
     size = max(1, w * pct // 100), max(1, h * pct // 100)
     if min(size) < MIN_SIZE:
@@ -70,22 +64,22 @@ def folder_problem(path, what: str) -> str | None:
 def max_radius() -> float:
     """The largest radius every method accepts (the upper bound of their `radius` settings);
     Blender lets the world's AO distance go up to 3.4e38."""
-    return min(s["max"] for m in properties.methods()
-               for s in properties.aolab.method_info(m)["settings"] if s["name"] == "radius")
+    return min(s["max"] for m in library.methods()
+               for s in library.aolab.method_info(m)["settings"] if s["name"] == "radius")
 
 
 def render_passes() -> list[str]:
     """The G-buffer passes every registered method needs (one cached render serves all)."""
-    infos = [properties.aolab.method_info(m) for m in properties.methods()]
-    return properties.passes.required_passes(infos, [])
+    infos = [library.aolab.method_info(m) for m in library.methods()]
+    return library.passes.required_passes(infos, [])
 
 
 def scene_inputs(context, *, need_runs: bool = True, hash_scene: bool = True) -> dict:
     """What every operation reads from Blender and checks (UserError: what to fix).
     `hash_scene=False` leaves out the content hash (Live keeps its own, computed once)."""
     scene = context.scene
-    if not properties.available():
-        raise UserError(f"{properties.NOT_BUILT} ({properties.IMPORT_ERROR})")
+    if not library.available():
+        raise UserError(library.problem())
     # The camera's matrix_world is the depsgraph's: a change made since its last evaluation
     # (a script's, or one made just before this operator) is not in it until evaluated.
     context.evaluated_depsgraph_get()
@@ -120,11 +114,11 @@ def scene_inputs(context, *, need_runs: bool = True, hash_scene: bool = True) ->
 def scene_hash(scene, size: tuple[int, int]) -> str:
     """The content hash of the scene seen from its camera at `size` (W, H): the cache's key
     (scene_record.content_hash, which reads every mesh)."""
-    return scene_record.content_hash(scene, scene.camera, size)
+    return library.scene_record.content_hash(scene, scene.camera, size)
 
 
 def find_reference(inputs: dict, spp: int | None) -> Path | None:
-    return properties.jobs.find_by_content(
+    return library.find_by_content(
         inputs["cache"], scene_hash=inputs["scene_hash"], size=inputs["size"],
         radius=None if spp is None else inputs["radius"], spp=spp,
         passes=tuple(inputs["passes"]))

@@ -5,20 +5,23 @@ blur or checkbox, of R, of Scene AO Distance or of the Resolution calls `changed
 `update=` callback, main thread): the methods it affects become dirty, their generation
 goes up, and `tick` is registered with bpy.app.timers. `tick` (main thread, a timer) waits
 until the changes have been quiet for DEBOUNCE_S (at most MAX_DEFER_S after the first), then
-takes a snapshot of the latest settings of the dirty methods and starts one worker thread
-on it; changes made meanwhile only mark methods dirty again, so any number of quick changes
-cost one compute of the latest values each time the worker is free. The worker (`_compute`,
-no bpy) runs aolab.compute (C++, the GIL released) on the G-buffer kept in memory (loaded
-from the cache's EXR once per folder). `tick` writes each finished result into its image,
-unless the method's generation moved on meanwhile (the result is stale: dropped, and the
-newer change has its own compute coming; a compute of a method that changes while it runs
-is cancelled through its aolab.Progress, so a slow method does not finish a result nobody
-will see). The timer ends (returns None) when nothing is dirty, computing or converging.
+takes a snapshot of the latest settings of the dirty methods and hands it to the worker;
+changes made meanwhile only mark methods dirty again, so any number of quick changes cost
+one compute of the latest values each time the worker is free. The worker
+(aolab.jobs.live.LiveWorker, no bpy: a runner.Job per snapshot, like the operators' jobs)
+runs aolab.compute (C++, the GIL released) on the G-buffer kept in memory (loaded from the
+cache's EXR once per folder). `tick` writes each finished result into its image, unless the
+method's generation moved on meanwhile (the result is stale: dropped, and the newer change
+has its own compute coming; a compute of a method that changes while it runs is cancelled
+through its aolab.Progress, so a slow method does not finish a result nobody will see). The
+timer ends (returns None) when nothing is dirty, computing or converging. This module keeps
+only what touches bpy, and runs on the main thread alone.
 
 While nothing changes, the image converges (`scene.aolab.live_frames`, "Accumulate", N > 1):
 each method with a `seed` shown at frame 0 is computed again at frames k = 1 ... N-1
-(aolab.compute(..., frame=k): a per-frame seed) and blended by aolab.accumulate (running
-mean: alpha 0, no clamp, zero motion, since the G-buffer is the same), one frame per timer
+(aolab.compute(..., frame=k): a per-frame seed) and blended by the worker (aolab.accumulate
+as a running mean: alpha 0, no clamp, zero motion, since the G-buffer is the same), one
+frame per timer
 call, the method furthest behind first; the image after frame k is the mean of frames 0..k.
 Then the timer ends: no CPU once converged. Any change that redraws a method (its setting,
 R, the Resolution, Accumulate, its checkbox) drops its history and starts again at frame 0;
@@ -36,15 +39,12 @@ scene's own properties or an image.
 
 from __future__ import annotations
 
-import queue
-import threading
 import time
 from pathlib import Path
 
 import bpy
-import numpy as np
 
-from . import hooks, images, properties
+from . import hooks, images, library, properties
 from .inputs import UserError, find_reference, scene_hash, scene_inputs
 
 #: Changes closer together than this are coalesced into one compute (a preset sets every
@@ -55,17 +55,13 @@ DEBOUNCE_S = 0.015
 MAX_DEFER_S = 0.05
 #: The timer's interval while a compute runs (its result is shown at most this late).
 POLL_S = 0.005
-#: How long unregister() waits for a running compute (the thread holds no Blender data).
+#: How long unregister() waits for a running compute (the worker holds no Blender data).
 JOIN_S = 2.0
 #: Only IDs whose change may alter the G-buffer (geometry, transforms, camera, materials).
 #: A Scene update is the panel's own properties; an Image one is Live writing its result.
 _IGNORED_UPDATES = (bpy.types.Scene, bpy.types.Image, bpy.types.WindowManager,
                     bpy.types.Screen, bpy.types.WorkSpace, bpy.types.Text)
 ALL = "*"   # changed(ALL): every ticked method (R, Resolution)
-#: The step's settings for a G-buffer that does not move: alpha 0 makes it the running mean
-#: of the frames (docs/temporal.md), and with nothing moving no clamp is needed (it would
-#: only hold the mean to each noisy frame's neighbourhood).
-ACCUMULATE = {"alpha": 0.0, "clamp": "off"}
 
 
 class _State:
@@ -75,9 +71,7 @@ class _State:
         self.changed_at: dict[str, float] = {}  # method -> perf_counter of its latest change
         self.first_pending = 0.0                # perf_counter of the oldest undone change
         self.last_change = 0.0
-        self.worker: threading.Thread | None = None
-        self.computing: tuple | None = None     # (method, aolab.Progress) of the running run
-        self.results: queue.Queue = queue.Queue()
+        self.worker = None                      # aolab.jobs.live.LiveWorker, made when used
         self.hashes: dict[tuple, str] = {}      # (scene, camera, size) -> content hash
         self.folders: dict[tuple, Path] = {}    # (hash, size, passes, cache) -> G-buffer
         self.radius: float | None = None        # R of the last snapshot (world changes)
@@ -90,8 +84,6 @@ class _State:
 
 
 _state = _State()
-_gbuffer_lock = threading.Lock()
-_gbuffer: dict = {}   # {"key": (path, mtime_ns), "g": aolab.GBuffer}: one at a time
 
 
 # ---- main thread: changes ----
@@ -103,7 +95,7 @@ def changed(context, method: str = ALL) -> None:
     if not session.live or _state.closed:
         return
     now = time.perf_counter()
-    names = properties.methods() if method == ALL else [method]
+    names = library.methods() if method == ALL else [method]
     for m in names:
         _state.generation[m] = _state.generation.get(m, 0) + 1
         _state.changed_at[m] = now
@@ -121,9 +113,8 @@ def changed(context, method: str = ALL) -> None:
 def _cancel_running(methods) -> None:
     """A compute of a method that changed is stale: stopped, so that the latest values
     start sooner (a slow method would otherwise finish a result nobody sees)."""
-    computing = _state.computing
-    if computing is not None and computing[0] in methods:
-        computing[1].cancel()
+    if _state.worker is not None:
+        _state.worker.cancel(methods)
 
 
 def on_toggle(session, context) -> None:
@@ -184,8 +175,8 @@ def _on_load(*_args) -> None:
     _state.hashes.clear()
     _state.folders.clear()
     _state.radius = None
-    with _gbuffer_lock:
-        _gbuffer.clear()
+    if _state.worker is not None:
+        _state.worker.gbuffers.clear()
 
 
 # ---- main thread: the timer ----
@@ -199,14 +190,12 @@ def tick() -> float | None:
     context = bpy.context
     # Whether the worker ended is read before its results are taken: a frame that ended in
     # between is shown now, never computed twice.
-    running = _state.worker is not None and _state.worker.is_alive()
-    if not running:
-        _state.worker = None
+    running = _state.worker is not None and _state.worker.busy()
     _apply_results(context)
     if not _state.dirty:
         if not running and _state.accum:
             _next_frame(context)
-            running = _state.worker is not None
+            running = computing()
         return POLL_S if running or _state.dirty else None
     if running:
         return POLL_S
@@ -215,7 +204,12 @@ def tick() -> float | None:
     if wait > 0:
         return wait
     _start(context)   # may compute nothing (an unticked method): the others converge on
-    return POLL_S if _state.worker is not None or _state.accum else None
+    return POLL_S if computing() or _state.accum else None
+
+
+def computing() -> bool:
+    """Whether a compute was started whose end the timer has not seen yet."""
+    return _state.worker is not None and _state.worker.job is not None
 
 
 def _scene_hash(context, scene, size) -> str:
@@ -233,7 +227,7 @@ def _find_gbuffer(inputs: dict) -> Path | None:
     key = (inputs["scene_hash"], tuple(inputs["size"]), tuple(inputs["passes"]),
            str(inputs["cache"]))
     folder = _state.folders.get(key)
-    if folder is None or not (folder / properties.jobs.RESULT_EXR).exists():
+    if folder is None or not (folder / library.constants.RESULT_EXR).exists():
         folder = find_reference(inputs, spp=None)
         if folder is not None:
             _state.folders[key] = folder
@@ -255,7 +249,7 @@ def _gbuffer_exr(context) -> str | None:
         _, folder = _lookup(context)
     except UserError:
         return None
-    return None if folder is None else str(Path(folder) / properties.jobs.RESULT_EXR)
+    return None if folder is None else str(Path(folder) / library.constants.RESULT_EXR)
 
 
 def _next_frame(context) -> None:
@@ -268,7 +262,7 @@ def _next_frame(context) -> None:
         if exrs != {_gbuffer_exr(context)}:
             changed(context)
             return
-    order = {m: i for i, m in enumerate(properties.methods())}
+    order = {m: i for i, m in enumerate(library.methods())}
     method = min(_state.accum, key=lambda m: (_state.accum[m]["frame"], order.get(m, 0)))
     entry = _state.accum[method]
     run = {**entry["run"], "frame": entry["frame"], "changed_at": time.perf_counter()}
@@ -311,7 +305,7 @@ def snapshot(context) -> dict | None:
         r["frames"] = frames if seeded else 1
         r["frame"] = 0
         r["histories"] = []   # aolab.TemporalHistory per channel, made by the worker
-    return {"exr": str(Path(folder) / properties.jobs.RESULT_EXR), "runs": runs,
+    return {"exr": str(Path(folder) / library.constants.RESULT_EXR), "runs": runs,
             "radius": inputs["radius"], "threads": inputs["threads"], "size": (w, h),
             "scene": scene.name}
 
@@ -325,20 +319,24 @@ def _start(context) -> None:
     _start_worker(plan)
 
 
+def _is_current(method: str, generation: int) -> bool:
+    """Whether a run is still the latest of its method (the worker asks before each run)."""
+    return _state.generation.get(method) == generation
+
+
 def _start_worker(plan: dict) -> None:
+    """The worker computes `plan`; its results come back through _apply_results. The
+    conversion to Blender's pixels runs there too, so that the main thread only copies."""
+    if _state.worker is None:
+        _state.worker = library.live_jobs.LiveWorker(_is_current, images.blender_rgba)
     _state.stats["computes"] += 1
-    _state.worker = threading.Thread(target=_compute, args=(plan, _state.results),
-                                     name="aolab-live", daemon=True)
-    _state.worker.start()
+    _state.worker.start(plan)
 
 
 def _apply_results(context) -> None:
     session = context.window_manager.aolab
-    while True:
-        try:
-            item = _state.results.get_nowait()
-        except queue.Empty:
-            return
+    while _state.worker is not None and not _state.worker.results.empty():
+        item = _state.worker.results.get_nowait()
         method = item["method"]
         stale = item["cancelled"] or item["generation"] != _state.generation.get(method) or \
             item["scene"] != context.scene.name or not session.live
@@ -446,95 +444,6 @@ def _drop_rows(session, methods: list[str]) -> None:
             session.results.remove(i)
 
 
-# ---- worker thread: no bpy ----
-
-def _load(path: str):
-    """The G-buffer of `path`, loaded once and kept (a new render of the folder reloads)."""
-    key = (path, Path(path).stat().st_mtime_ns)
-    with _gbuffer_lock:
-        if _gbuffer.get("key") == key:
-            return _gbuffer["g"], 0.0
-        t0 = time.perf_counter()
-        g = properties.aolab.load_gbuffer(path)
-        g.reference = None   # not scored: the G-buffer's AO may be 1 sample
-        _gbuffer.clear()
-        _gbuffer.update(key=key, g=g)
-        return g, time.perf_counter() - t0
-
-
-def _accumulate(ao, g, run: dict, threads: int):
-    """Frame run["frame"] blended into the run's history (one per channel of an RGB result),
-    with zero motion: the G-buffer does not move. A history is touched by one worker at a
-    time (one runs at once), and a restart makes new ones."""
-    aolab = properties.aolab
-    channels = [ao] if ao.ndim == 2 else [np.ascontiguousarray(ao[..., c])
-                                          for c in range(ao.shape[2])]
-    histories = run["histories"]
-    while len(histories) < len(channels):
-        histories.append(aolab.TemporalHistory())
-    motion = np.zeros(ao.shape[:2] + (2,), np.float32)
-    # max_history up to the step's own bound (its settings table): a running mean throughout
-    bound = next(int(s["max"]) for s in aolab.accumulate_settings() if s["name"] == "max_history")
-    settings = {**ACCUMULATE, "max_history": min(run["frames"], bound)}
-    out = [aolab.accumulate(c, g, motion, h, threads=threads, **settings)[0]
-           for c, h in zip(channels, histories)]
-    return out[0] if ao.ndim == 2 else np.stack(out, axis=-1)
-
-
-def _compute(plan: dict, out: queue.Queue) -> None:
-    """Each run of the plan on its G-buffer; every result (or error) put into `out`. A run
-    whose method changed before it started is skipped, and one that changes while it
-    computes is cancelled (aolab.Progress.cancel, from `changed`): both come back stale.
-    Frame 0 of a converging run is shown as computed (aolab.accumulate returns a first frame
-    bit for bit) and its history made after it is put, so a change shows no later."""
-    aolab = properties.aolab
-    for run in plan["runs"]:
-        item = {**run, "scene": plan["scene"], "size": plan["size"], "exr": plan["exr"],
-                "radius": plan["radius"], "threads": plan["threads"], "ao": None,
-                "rgba": None, "snapshot_s": plan["snapshot_s"], "compute_s": 0.0,
-                "rgba_s": 0.0, "load_s": 0.0, "accumulate_s": 0.0, "error": None,
-                "cancelled": False}
-        # Reading the generations (plain Python data, no bpy) is safe under the GIL.
-        if _state.generation.get(run["method"]) != run["generation"]:
-            item["cancelled"] = True
-            out.put(item)
-            continue
-        progress = aolab.Progress()
-        _state.computing = (run["method"], progress)
-        first = None   # frame 0 of a converging run, for its history
-        try:
-            g, item["load_s"] = _load(plan["exr"])
-            converging = run["frames"] > 1
-            item["started_at"] = t0 = time.perf_counter()
-            ao = aolab.compute(
-                run["method"], g, radius=plan["radius"], threads=plan["threads"],
-                blur=run["blur"], progress=progress,
-                frame=run["frame"] if converging else None, **run["settings"])
-            t1 = time.perf_counter()
-            item["compute_s"] = t1 - t0
-            if converging and run["frame"] == 0:
-                first = ao
-            item["ao"] = _accumulate(ao, g, run, plan["threads"]) \
-                if converging and first is None else ao
-            item["accumulate_s"] = time.perf_counter() - t1
-            t1 = time.perf_counter()
-            item["rgba"] = images.blender_rgba(item["ao"])   # numpy: off the main thread
-            item["finished_at"] = time.perf_counter()
-            item["rgba_s"] = item["finished_at"] - t1
-        except aolab.Cancelled:
-            item["cancelled"] = True
-        except Exception as e:  # noqa: BLE001 - shown in the panel, never a traceback
-            item["error"] = str(e) if isinstance(e, ValueError) else f"{type(e).__name__}: {e}"
-        finally:
-            _state.computing = None
-        out.put(item)
-        if first is not None:
-            try:
-                _accumulate(first, g, run, plan["threads"])
-            except Exception as e:  # noqa: BLE001 - as above; no frame follows (_end_accumulation)
-                out.put({**item, "ao": None, "rgba": None, "error": f"accumulate: {e}"})
-
-
 # ---- registration ----
 
 def register() -> None:
@@ -559,13 +468,9 @@ def unregister() -> None:
             handlers.remove(fn)
     _forget_pending()   # cancels a running compute
     if _state.worker is not None:
-        _state.worker.join(JOIN_S)
-    _state.worker = None
-    with _gbuffer_lock:
-        _gbuffer.clear()
+        _state.worker.close(JOIN_S)
 
 
 def pending() -> bool:
     """Whether a change waits or a compute runs (tests)."""
-    return bool(_state.dirty) or (_state.worker is not None and _state.worker.is_alive()) \
-        or not _state.results.empty()
+    return bool(_state.dirty) or (_state.worker is not None and _state.worker.pending())

@@ -3,9 +3,9 @@
 Preview, Render Reference, Compare, Quick Compare, Advise and Write Report share one pattern
 (_JobOperator):
 `prepare()` reads everything it needs from Blender on the main thread and checks what the
-user can fix (inputs.py: UserError); an aolab.addon.jobs.Job runs the heavy part in a
-thread (aolab's C++ with the GIL released, or a child process rendering the reference);
-`finish()` writes images and the results table on the main thread.
+user can fix (inputs.py: UserError); an aolab.jobs.runner.Job runs the heavy part
+(aolab.jobs.tasks) in a thread (aolab's C++ with the GIL released, or a child process
+rendering the reference); `finish()` writes images and the results table on the main thread.
 
 - invoke() (a click in the panel) is modal: an event timer polls the job, the panel and the
   window's progress indicator follow it, Esc or the panel's Cancel button stop it.
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import bpy
 
-from . import images, live, properties
+from . import images, library, live, properties
 from .inputs import UserError, find_reference, folder_problem, reference_inputs, scene_inputs
 
 TIMER_S = 0.1
@@ -51,7 +51,7 @@ def _redraw(context) -> None:
 
 class _JobOperator:
     bl_options = {"REGISTER"}
-    task = ""   # the name of an aolab.addon.jobs.*_task
+    task = ""   # the name of an aolab.jobs.tasks.*_task
 
     @classmethod
     def poll(cls, context):
@@ -81,8 +81,7 @@ class _JobOperator:
         session.busy, session.cancel_requested = True, False
         session.job_name, session.progress, session.stage = self.bl_label, 0.0, "starting"
         session.message = ""
-        jobs = properties.jobs
-        self._job = jobs.Job(getattr(jobs, self.task), self._plan)
+        self._job = library.runner.Job(getattr(library.tasks, self.task), self._plan)
         ACTIVE[type(self).__name__] = self._job
         return None
 
@@ -101,14 +100,14 @@ class _JobOperator:
         folder = self._plan.get("tmpdir")
         if folder:
             shutil.rmtree(folder, ignore_errors=True)
-        job, jobs = self._job, properties.jobs
-        if isinstance(job.error, jobs.Cancelled) or (job.cancelled and job.error is not None):
+        job, runner = self._job, library.runner
+        if isinstance(job.error, runner.Cancelled) or (job.cancelled and job.error is not None):
             session.message, session.message_is_error = f"{self.bl_label}: cancelled", False
             self.report({"WARNING"}, session.message)
             _redraw(context)
             return {"CANCELLED"}
         if job.error is not None:
-            kind = "" if isinstance(job.error, (jobs.JobError, ValueError)) else \
+            kind = "" if isinstance(job.error, (runner.JobError, ValueError)) else \
                 f"{type(job.error).__name__}: "
             return self._fail(context, f"{kind}{job.error}")
         return self._succeed(context, job.result)
@@ -329,11 +328,11 @@ class AOLAB_OT_apply_advice(bpy.types.Operator):
 
     def execute(self, context):
         scene = context.scene
-        if not properties.available() or self.method not in scene.aolab.methods:
+        if not library.available() or self.method not in scene.aolab.methods:
             self.report({"ERROR"}, f"no method {self.method!r} in this AO Lab")
             return {"CANCELLED"}
         try:
-            names = properties.presets.names(self.method)
+            names = library.presets.names(self.method)
         except ValueError as e:
             names, problem = [], str(e)
         else:

@@ -4,6 +4,8 @@ from pathlib import Path
 
 import bpy
 
+from . import library
+
 # `# noqa: F722` / `F821` below: pyflakes reads the strings in bpy property annotations
 # (`name: bpy.props.StringProperty(name="Cache Folder")`) as forward references to types.
 
@@ -38,11 +40,9 @@ def cache_dir(context) -> Path:
     prefs = get(context)
     if prefs is not None and prefs.cache_dir:
         return Path(bpy.path.abspath(prefs.cache_dir))
-    try:
-        from aolab.render.reference import default_cache
-    except ImportError:  # not built: the panel says so; the default folder, as aolab's
+    if not library.available():   # the panel says so; the default folder, as aolab's
         return Path("~/.cache/aolab/references").expanduser()
-    return default_cache()
+    return library.default_cache()
 
 
 def threads(context) -> int:

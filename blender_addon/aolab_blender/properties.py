@@ -1,9 +1,5 @@
-"""The add-on's properties (bpy), and its one door to the `aolab` package.
+"""The add-on's properties (bpy).
 
-- `aolab` is found through the .pth that scripts/setup.sh writes into Debian's site folder
-  (Blender's Python reads it too), so the user never touches sys.path. If it does not import
-  (not built, or built for another Python), `available()` is False, IMPORT_ERROR says why,
-  the method groups are empty and the panel and the operators say NOT_BUILT.
 - `scene.aolab` (saved with the file): R, preview scale, reference samples, report folder,
   and one group per method (`scene.aolab.m_<method>`) with its checkbox, preset, shared
   blur and every setting of aolab.method_info as a Blender property (default, range and
@@ -13,35 +9,19 @@
   the results table (AOLAB_PG_result rows) of the last Preview, Compare or live update, and
   the Live switch with its last update's times. Every setting's update= callback calls a
   hook (hooks.py) that live.py registers; Live does nothing unless it is on.
+
+What they take from `aolab` (the settings tables, the presets) comes through library.py;
+without it (library.available() False) the method groups are empty.
 """
 
 import bpy
 
-from . import hooks
+from . import hooks, library
 
 # `# noqa: F722` / `F821` below: pyflakes reads the strings in bpy property annotations
 # (`mae: bpy.props.FloatProperty(name="MAE")`) as forward references to types.
 
-try:
-    import aolab
-    from aolab import named_presets as presets
-    from aolab import settings as method_settings
-    from aolab.addon import jobs
-    from aolab.bridge import intrinsics, passes
-    from aolab.study import advise, quick_reference
-except ImportError as e:  # not built, or built for another Python
-    aolab = presets = method_settings = intrinsics = jobs = passes = None
-    advise = quick_reference = None
-    IMPORT_ERROR = str(e)
-else:
-    IMPORT_ERROR = None
-
-NOT_BUILT = "module not built: run scripts/setup.sh"
-#: The quick reference's rays and Advise's budgets (aolab.study's; the properties are made
-#: even when aolab is missing, and then nothing uses them).
-QUICK_RAYS = quick_reference.QUICK_RAYS if quick_reference is not None else 64
-BUDGETS_MS = advise.BUDGETS_MS if advise is not None else (16, 33, 100)
-BUDGET_ITEMS = [(str(b), f"{b} ms", f"{b} ms per 1280x720 frame") for b in BUDGETS_MS]
+BUDGET_ITEMS = [(str(b), f"{b} ms", f"{b} ms per 1280x720 frame") for b in library.BUDGETS_MS]
 
 METHOD_PREFIX = "m_"
 UI_FIELDS = ("use_method", "show_expanded", "preset", "use_blur")
@@ -128,19 +108,10 @@ class AOLAB_PG_session(bpy.types.PropertyGroup):
         description="Frames the last live image converges to (its Accumulate)")  # noqa: F722
 
 
-def available() -> bool:
-    """Whether the aolab package imported."""
-    return aolab is not None
-
-
-def methods() -> list[str]:
-    return list(aolab.methods()) if available() else []
-
-
 def _setting_property(s: dict):
     desc = s["description"] + (f" ({s['unit']})" if s["unit"] else "")
     name = s["name"].replace("_", " ").title()
-    if method_settings.is_choice(s):
+    if library.method_settings.is_choice(s):
         items = [(c, c.replace("_", " ").title(), f"{s['name']} = {c}") for c in s["choices"]]
         return bpy.props.EnumProperty(name=name, description=desc, items=items,
                                       default=s["default"], update=_setting_changed)
@@ -159,6 +130,7 @@ def _setting_property(s: dict):
 
 def _preset_label(name: str) -> str:
     """"low" -> "Low", "tuned-100ms" -> "Tuned 100 ms"."""
+    presets = library.presets
     if name.startswith(presets.TUNED_PREFIX):
         return f"Tuned {presets.budget_of(name):g} ms"
     return name.title()
@@ -168,7 +140,7 @@ def preset_problem(method: str) -> str | None:
     """Why the method's preset menu lacks the tuned presets (a bad tuned-presets file: its
     error, naming the file), or None. The built-in presets serve all the same."""
     try:
-        presets.tuned_presets(method)
+        library.presets.tuned_presets(method)
     except ValueError as e:
         return str(e)
     return None
@@ -178,6 +150,7 @@ def _preset_items(self, context):
     """aolab.presets(method)'s names: default, the study's presets, the tuned ones. A bad
     tuned-presets file leaves the tuned ones out (the panel says why: ui._problems) instead
     of a Python error in every redraw and an empty menu."""
+    presets = library.presets
     try:
         names = presets.names(self.method_name)
     except ValueError:
@@ -197,19 +170,19 @@ def apply_preset(self, context):
     (its tuned-presets file changed and went bad) leaves the settings as they were and says
     why in the panel: an update callback cannot report, and a raise would be a traceback."""
     try:
-        values, blur = presets.preset_values(self.method_name, self.preset)
+        values, blur = library.presets.preset_values(self.method_name, self.preset)
     except ValueError as e:
         session = context.window_manager.aolab
         session.message, session.message_is_error = f"Preset: {e}", True
         return
-    for s in method_settings.described(self.method_name):
+    for s in library.method_settings.described(self.method_name):
         setattr(self, s["name"], values.get(s["name"], s["default"]))
     self.use_blur = blur
     _setting_changed(self, context)   # also when the preset changed no value
 
 
 def _method_group(method: str, index: int):
-    settings = method_settings.described(method)
+    settings = library.method_settings.described(method)
     clash = [s["name"] for s in settings if s["name"] in UI_FIELDS]
     if clash:
         raise RuntimeError(f"{method}: settings {clash} clash with the panel's own fields")
@@ -256,7 +229,7 @@ def _scene_group(method_groups: dict):
             name="Reference Samples", default=1024, min=1, max=65536,
             description="Cycles AO samples of the reference (adaptive sampling off)"),
         "quick_rays": bpy.props.IntProperty(
-            name="Quick Rays", default=QUICK_RAYS, min=2, max=65536,
+            name="Quick Rays", default=library.QUICK_RAYS, min=2, max=65536,
             description="Rays per pixel of the quick reference (rtao against the scene's "
                         "triangles) that Quick Compare and Advise score against: its noise, "
                         "stated beside the scores, falls as 1/sqrt(rays)"),
@@ -281,7 +254,7 @@ _dynamic = []
 def register():
     """Registers the result and session groups, one group per method (when aolab imports)
     and the scene group, then hooks them onto Scene and WindowManager."""
-    groups = {m: _method_group(m, i) for i, m in enumerate(methods())}
+    groups = {m: _method_group(m, i) for i, m in enumerate(library.methods())}
     _dynamic[:] = list(STATIC) + list(groups.values()) + [_scene_group(groups)]
     for cls in _dynamic:
         bpy.utils.register_class(cls)
@@ -318,8 +291,8 @@ def chosen_runs(scene) -> list[dict]:
         if not g.use_method:
             continue
         values = {name: getattr(g, name) for name in g.setting_names}
-        changed = method_settings.changed_settings(method, values)
-        label = g.preset if g.preset != presets.DEFAULT_PRESET else \
+        changed = library.method_settings.changed_settings(method, values)
+        label = g.preset if g.preset != library.presets.DEFAULT_PRESET else \
             (",".join(f"{k}={v}" for k, v in changed.items()) or "defaults")
         runs.append({"method": method, "settings": changed, "blur": bool(g.use_blur),
                      "label": label + (" +blur" if g.use_blur else "")})

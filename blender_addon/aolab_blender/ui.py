@@ -5,7 +5,7 @@ import json
 
 import bpy
 
-from . import images, inputs, properties
+from . import images, inputs, library, properties
 
 RESULT_COLUMNS = (0.34, 0.19, 0.19, 0.16)   # method | MAE | SSIM | ms, then image buttons
 WIDE_TABLE_CHARS = 44                       # narrower regions get two lines per method
@@ -15,8 +15,8 @@ AS_GOOD_SHOWN = 3                           # picks not told apart at the noise,
 
 def _problems(context) -> list[str]:
     scene = context.scene
-    if not properties.available():
-        return [properties.NOT_BUILT]
+    if not library.available():
+        return [library.problem()]
     out = []
     problem = inputs.camera_problem(scene)
     if problem:
@@ -162,7 +162,7 @@ def _draw_advice(layout, context, session, width: int) -> None:
     result = _advice(session, scene)
     if result is None:
         return
-    advise = properties.advise
+    advise = library.advise
     icon = images.preview_icon(images.image_name(images.ADVICE))
     if icon:
         box.template_icon(icon_value=icon, scale=_icon_units(context))
@@ -223,7 +223,7 @@ def draw_panel(layout, context) -> None:
     width = _chars(context)
     for problem in _problems(context):
         _wrapped(layout.box(), problem, icon="ERROR", width=width)
-    if not properties.available():
+    if not library.available():
         return
     s = scene.aolab
     col = layout.column(align=True)

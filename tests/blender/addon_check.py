@@ -71,10 +71,11 @@ if mode == "installed":
 tiny, cache, out_dir = args[1:4]
 scene = addon_on_scene(tiny, cache)
 mod = sys.modules[ADDON]
-images, operators, properties = (addon_module(n) for n in ("images", "operators", "properties"))
+images, library, operators, properties = (addon_module(n) for n in (
+    "images", "library", "operators", "properties"))
 prefs = bpy.context.preferences.addons[ADDON].preferences
 s = scene.aolab
-methods = properties.methods()
+methods = library.methods()
 getattr(s, "m_hbao").directions = 4  # a changed setting: passed to compute like --set
 r = {"methods": methods, "file": mod.__file__}
 
@@ -85,10 +86,10 @@ for m in methods:
 r["nothing_selected"] = call(bpy.ops.aolab.preview)
 for m in ("hbao", "lsao"):
     getattr(s, "m_" + m).use_method = True
-saved_aolab = properties.aolab
-properties.aolab = None  # as if `import aolab` had failed
+saved_aolab = library.aolab
+library.aolab = None  # as if `import aolab` had failed
 r["not_built"] = call(bpy.ops.aolab.preview)
-properties.aolab = saved_aolab
+library.aolab = saved_aolab
 cam = scene.camera
 cam.data.type = "ORTHO"
 r["orthographic"] = call(bpy.ops.aolab.render_reference)
@@ -197,7 +198,7 @@ if "low" in r["presets"]["hbao"]:
         r["hbao_tuned"] = {name: getattr(g, name) for name in g.setting_names} | \
             {"blur": g.use_blur}
     g.preset = "default"
-    r["hbao_default_again"] = properties.method_settings.changed_settings(
+    r["hbao_default_again"] = library.method_settings.changed_settings(
         "hbao", {n: getattr(g, n) for n in g.setting_names})
 r["show_image_background"] = call(bpy.ops.aolab.show_image, image="AO Lab hbao")
 

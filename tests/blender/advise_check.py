@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 
 args = sys.argv[sys.argv.index("--") + 1:]
 mode = args[0]
-images, properties = addon_module("images"), addon_module("properties")
+images, library, properties = (addon_module(n) for n in ("images", "library", "properties"))
 
 
 def table() -> list[dict]:
@@ -55,7 +55,7 @@ if mode == "timing":
     from aolab.named_presets import preset_names
     for m in scene.aolab.methods:
         g = getattr(scene.aolab, "m_" + m)
-        if not properties.aolab.method_info(m).get("oracle", False):
+        if not library.aolab.method_info(m).get("oracle", False):
             g.use_method = True
             if "medium" in preset_names(m):
                 g.preset = "medium"
@@ -111,8 +111,8 @@ got = advice()
 r["advice"] = {k: got[k] for k in ("scene", "width", "height", "reference", "methods",
                                    "pixels", "refused")}
 r["advice"]["trials"] = len(got["trials"])
-advise = properties.advise
-picks = {b: advise.choose(got, b) for b in properties.BUDGETS_MS + (1e6,)}
+advise = library.advise
+picks = {b: advise.choose(got, b) for b in library.BUDGETS_MS + (1e6,)}
 r["picks"] = {str(b): (p["best"]["label"] if p["best"] else None) for b, p in picks.items()}
 front = bpy.data.images.get(images.image_name(images.ADVICE))
 r["front_image"] = list(front.size) if front is not None else None

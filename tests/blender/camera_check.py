@@ -14,7 +14,7 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 from aolab.bridge import exr  # noqa: E402
 
-from aolab_blender.scene_record import camera_record  # noqa: E402
+from aolab_blender.export.scene_record import camera_record  # noqa: E402
 
 scene = scene_from_argv()
 cam = scene.camera

@@ -43,7 +43,8 @@ mode, scene_script, cache, out_dir = args[:4]
 
 run_build_script(scene_script)
 addon_utils.enable(ADDON, default_set=True)
-images, live, properties = (addon_module(n) for n in ("images", "live", "properties"))
+images, library, live, properties = (addon_module(n) for n in (
+    "images", "library", "live", "properties"))
 
 prefs = bpy.context.preferences.addons[ADDON].preferences
 prefs.cache_dir = cache
@@ -51,7 +52,7 @@ prefs.threads = 2
 scene = bpy.context.scene
 s = scene.aolab
 session = bpy.context.window_manager.aolab
-methods = properties.methods()
+methods = library.methods()
 
 
 def pump(timeout: float = 120.0) -> None:
@@ -100,7 +101,7 @@ def updates(before: dict) -> list[tuple[str, int]]:
 
 def tick_until_computing(timeout: float = 10.0) -> None:
     deadline = time.perf_counter() + timeout
-    while live._state.worker is None:
+    while not live.computing():
         if time.perf_counter() > deadline:
             raise RuntimeError("no compute started")
         time.sleep(live.tick() or 0.0)
@@ -332,12 +333,12 @@ elif mode == "accumulate":
     vao.use_method = False
     # An RGB result (a G-buffer with a colour pass): the worker's blend takes each channel
     # as its own image. Frames made of hbao's frames k, k+1, k+2 as R, G, B.
-    aolab = properties.aolab
+    aolab = library.aolab
     gb = aolab.load_gbuffer(os.path.join(r["gbuffer_folder"], "reference.exr"))
     run = {"frames": 3, "histories": []}
     hbao = [aolab.compute("hbao", gb, radius=0.75, threads=2, frame=k) for k in range(5)]
     for k in range(3):
-        rgb = live._accumulate(np.stack(hbao[k:k + 3], axis=-1), gb, run, 2)
+        rgb = library.live_jobs.accumulate(np.stack(hbao[k:k + 3], axis=-1), gb, run, 2)
     np.save(os.path.join(out_dir, "rgb.npy"), rgb)
 
 elif mode == "converge":
@@ -345,11 +346,11 @@ elif mode == "converge":
     s.preview_scale = scale
     for m in methods:
         group(m).use_method = m in chosen
-        if m in chosen and "medium" in properties.presets.names(m):
+        if m in chosen and "medium" in library.presets.names(m):
             group(m).preset = "medium"
     r["preview"] = sorted(bpy.ops.aolab.preview())
     r["size"] = session.results_size
-    g = properties.aolab.load_gbuffer(os.path.join(session.gbuffer_folder, "reference.exr"))
+    g = library.aolab.load_gbuffer(os.path.join(session.gbuffer_folder, "reference.exr"))
     geometry = g.valid_mask()
     s.live_frames = frames
     shown = {m: {} for m in chosen}   # method -> {frames averaged: image}
@@ -386,7 +387,7 @@ elif mode == "latency":
     s.live_frames = 1   # the latency of a change: frame 0 only
     for m in methods:
         group(m).use_method = m == methods[0]   # Preview exports the G-buffer
-        if "medium" in properties.presets.names(m):
+        if "medium" in library.presets.names(m):
             group(m).preset = "medium"
     r["preview"] = sorted(bpy.ops.aolab.preview())
     r["size"] = session.results_size
@@ -397,7 +398,7 @@ elif mode == "latency":
         pump()
         g = group(m)
         rows = []
-        names = properties.presets.names(m)
+        names = library.presets.names(m)
         for _ in range(repeat):
             if "medium" in names and "low" in names:
                 g.preset = "low"

@@ -19,8 +19,8 @@ from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E40
 use_checkout()
 import bpy  # noqa: E402
 
-from aolab_blender import export, mesh_export  # noqa: E402
-from aolab_blender.scene_record import Cancelled  # noqa: E402
+from aolab_blender.export import mesh, reference  # noqa: E402
+from aolab_blender.export.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 out_dir = tempfile.mkdtemp(prefix="aolab-mesh-")
@@ -41,21 +41,21 @@ def attempt(label, call):
 
 
 stages = []
-info = attempt("export", lambda: mesh_export.export_mesh(
+info = attempt("export", lambda: mesh.export_mesh(
     scene, os.path.join(out_dir, "scene.mesh"), report=stages.append))
 results["stages"] = stages
 results["info"] = {k: info[k] for k in ("objects", "skipped", "vertices", "triangles",
                                         "scene_hash")}
-attempt("failed", lambda: mesh_export.export_mesh(scene, "/proc/aolab-cannot-write-here/x.mesh",
+attempt("failed", lambda: mesh.export_mesh(scene, "/proc/aolab-cannot-write-here/x.mesh",
                                                   report=lambda s: None))
-sidecar = attempt("reference_with_mesh", lambda: export.export_reference(
+sidecar = attempt("reference_with_mesh", lambda: reference.export_reference(
     scene, os.path.join(out_dir, "reference.exr"), radius=0.5, spp=1,
     passes=["depth", "mesh"], report=lambda s: None))
 results["sidecar"] = {k: sidecar[k] for k in ("passes", "mesh_file", "scene_hash")}
 with open(os.path.join(out_dir, "reference.mesh.json")) as f:
     results["reference_mesh_hash"] = json.load(f)["scene_hash"]
 reported = []
-attempt("cancel_mesh", lambda: export.export_reference(
+attempt("cancel_mesh", lambda: reference.export_reference(
     scene, os.path.join(out_dir, "cancelled.exr"), radius=0.5, spp=1, passes=["depth", "mesh"],
     report=reported.append, cancel=lambda: reported[-1:] == ["reference"]))
 results["cancel_mesh"]["reported"] = reported
@@ -74,7 +74,7 @@ class RenderDepsgraphProbe(bpy.types.RenderEngine):
             obj = inst.object
             if not inst.show_self or obj.type != "MESH":
                 continue
-            co, tri = mesh_export._object_triangles(obj, inst.matrix_world)
+            co, tri = mesh._object_triangles(obj, inst.matrix_world)
             rendered.append({"name": obj.name, "instance": bool(inst.is_instance),
                              "triangles": len(tri), "vertex_sum": float(np.sum(co, dtype=float)),
                              "visible_shadow": bool(obj.visible_shadow)})

@@ -1,6 +1,6 @@
 """Inside Blender (under xvfb-run, for EEVEE): the comparison peers of a user's scene — the
-Cycles ladder and EEVEE's GTAO (blender_addon/aolab_blender/peers.py) — leave every setting
-as it was, after a full render and after cancelling at each stage. Prints `RESULT {...}`
+Cycles ladder and EEVEE's GTAO (blender_addon/aolab_blender/export/peers.py) — leave every
+setting as it was, after a full render and after cancelling at each stage. Prints `RESULT {...}`
 with the outcomes, diffs, the files written and peers.json."""
 import json
 import os
@@ -11,8 +11,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E402
 
 use_checkout()
-from aolab_blender import peers  # noqa: E402
-from aolab_blender.scene_record import Cancelled  # noqa: E402
+from aolab_blender.export import peers  # noqa: E402
+from aolab_blender.export.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 before = scene_state(scene)

@@ -14,8 +14,8 @@ from common import diff, scene_from_argv, scene_state, use_checkout  # noqa: E40
 use_checkout()
 import bpy  # noqa: E402
 
-from aolab_blender import export  # noqa: E402
-from aolab_blender.scene_record import Cancelled  # noqa: E402
+from aolab_blender.export import reference  # noqa: E402
+from aolab_blender.export.scene_record import Cancelled  # noqa: E402
 
 scene = scene_from_argv(dressed=True)
 
@@ -36,9 +36,9 @@ out_dir = tempfile.mkdtemp(prefix="aolab-restore-")
 
 def attempt(label, **kw):
     try:
-        export.export_reference(scene, kw.pop("out", os.path.join(out_dir, label + ".exr")),
-                                radius=0.5, spp=2, passes=kw.pop("passes", ["depth", "normal"]),
-                                report=lambda s: None, **kw)
+        reference.export_reference(
+            scene, kw.pop("out", os.path.join(out_dir, label + ".exr")), radius=0.5, spp=2,
+            passes=kw.pop("passes", ["depth", "normal"]), report=lambda s: None, **kw)
         outcome = "ok"
     except Cancelled:
         outcome = "cancelled"
@@ -59,10 +59,10 @@ for stage in STAGES:
     reported = []
     try:
         # cancel() is polled before each stage is reported: cancel at `stage`.
-        export.export_reference(scene, os.path.join(out_dir, f"c-{stage}.exr"), radius=0.5, spp=2,
-                                passes=["depth"], report=reported.append,
-                                cancel=lambda reported=reported, stage=stage:
-                                len(reported) == STAGES.index(stage))
+        reference.export_reference(
+            scene, os.path.join(out_dir, f"c-{stage}.exr"), radius=0.5, spp=2,
+            passes=["depth"], report=reported.append,
+            cancel=lambda reported=reported, stage=stage: len(reported) == STAGES.index(stage))
         outcome = "ok"
     except Cancelled:
         outcome = "cancelled"
@@ -77,8 +77,8 @@ bpy.ops.render.render()
 image = next(im for im in bpy.data.images if im.type == "RENDER_RESULT")
 before_render = scene_state(scene)
 slots_before = [slot.name for slot in image.render_slots], image.render_slots.active_index
-export.export_reference(scene, os.path.join(out_dir, "with_render.exr"), radius=0.5, spp=2,
-                        passes=["depth"], report=lambda s: None)
+reference.export_reference(scene, os.path.join(out_dir, "with_render.exr"), radius=0.5, spp=2,
+                           passes=["depth"], report=lambda s: None)
 slots_after = [slot.name for slot in image.render_slots], image.render_slots.active_index
 results["user_render_result"] = {"outcome": "ok", "diff": diff(before_render, scene_state(scene)),
                                  "slots_before": slots_before, "slots_after": slots_after}
@@ -86,8 +86,8 @@ results["user_render_result"] = {"outcome": "ok", "diff": diff(before_render, sc
 # A scene without a world: the temporary one must be gone afterwards.
 scene.world = None
 before_no_world = scene_state(scene)
-export.export_reference(scene, os.path.join(out_dir, "noworld.exr"), radius=0.5, spp=2,
-                        passes=["depth"], report=lambda s: None)
+reference.export_reference(scene, os.path.join(out_dir, "noworld.exr"), radius=0.5, spp=2,
+                           passes=["depth"], report=lambda s: None)
 results["no_world"] = {"outcome": "ok", "diff": diff(before_no_world, scene_state(scene))}
 results["passes_of_export"] = passes_of_export
 print("RESULT " + json.dumps(results))

@@ -334,9 +334,9 @@ def test_advise_renders_a_build_script_at_the_panels_size(tmp_path):
 
 
 def test_the_addon_offers_the_studys_budgets_and_rays():
-    """The add-on's properties take their budgets and rays from aolab.study (its copies are
-    for a missing aolab only)."""
-    text = (ROOT / "blender_addon" / "aolab_blender" / "properties.py").read_text()
+    """The add-on takes its budgets and rays from aolab.study (its library's copies are for a
+    missing aolab only)."""
+    text = (ROOT / "blender_addon" / "aolab_blender" / "library.py").read_text()
     assert f"else {advise.BUDGETS_MS}" in text
     assert f"else {quick_reference.QUICK_RAYS}" in text
     assert math.isclose(runner.hd_scale(320, 180), 16.0)

@@ -413,7 +413,7 @@ def run_batch(out, *args: str, scene: Path = TINY_SCENE) -> subprocess.Completed
     """batch.py run directly inside Blender on the tiny scene, writing to `out`."""
     return subprocess.run(
         [BLENDER, "-b", "--factory-startup", "-noaudio", "--disable-autoexec", "--python",
-         str(ROOT / "blender_addon" / "aolab_blender" / "batch.py"), "--", "--scene",
+         str(ROOT / "blender_addon" / "aolab_blender" / "export" / "batch.py"), "--", "--scene",
          str(scene), "--kind", "script", "--out", str(out),
          *args], capture_output=True, text=True, timeout=300, env=checkout_env())
 

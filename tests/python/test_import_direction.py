@@ -64,7 +64,7 @@ def test_the_checker_finds_every_kind_of_import():
 
 def test_source_never_imports_blender_or_the_addon():
     files = source_files()
-    assert SOURCE / "addon" / "jobs.py" in files  # the subpackages are walked too
+    assert SOURCE / "jobs" / "tasks.py" in files  # the subpackages are walked too
     found = [f for path in files
              for f in forbidden_imports(path.read_text(), str(path.relative_to(ROOT)))]
     assert found == [], "aolab must not import Blender's modules or the add-on:\n" + \
@@ -105,7 +105,7 @@ def test_the_addon_is_not_beside_the_package():
     package_root = Path(aolab.__file__).resolve().parents[1]
     assert not (package_root / "aolab_blender").exists()
     from aolab.render.reference import bridge_script
-    assert bridge_script() == ROOT / "blender_addon" / "aolab_blender" / "batch.py"
+    assert bridge_script() == ROOT / "blender_addon" / "aolab_blender" / "export" / "batch.py"
 
 
 # --- One way inside the package and the add-on ------------------------------------------------
@@ -126,7 +126,7 @@ LAYERS = (
     ("aolab.render",),
     ("aolab.study",),
     ("aolab.checks", "aolab.benchmarks"),
-    ("aolab.addon",),
+    ("aolab.jobs",),
     ("aolab.cli", "aolab.__main__"),
 )
 #: Modules outside the command line that may import argparse, and why. Nothing else reads an
@@ -135,7 +135,7 @@ LAYERS = (
 EXTENSIONS = ("aolab._core",)
 ARGPARSE_OUTSIDE_CLI = {
     "aolab.util.arguments": "the option types themselves, shared with the bridge's entry point",
-    "aolab.addon.reference_job": "a child process's own entry point (python3 -m)",
+    "aolab.jobs.reference_job": "a child process's own entry point (python3 -m)",
 }
 
 

@@ -1,5 +1,5 @@
 """The comparison study's peers: the Cycles spp ladder, the noise floor and EEVEE's GTAO,
-rendered by Blender (blender_addon/aolab_blender/peers.py) via `aolab reference --peers`."""
+rendered by Blender (blender_addon/aolab_blender/export/peers.py) via `aolab reference --peers`."""
 import json
 import shutil
 import subprocess

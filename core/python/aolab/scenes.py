@@ -1,7 +1,7 @@
 """The reference scenes: finding and resolving them, loading one (its G-buffer, reference,
 R, regions, peers and screen-space limits, cropped if asked), the frames of a sequence, and
 where each scene keeps its peers and limits (docs/file_formats.md). Below the study, the
-checks and the add-on's jobs, which all read scenes."""
+checks and the panel's jobs (aolab.jobs), which all read scenes."""
 
 from __future__ import annotations
 

@@ -9,8 +9,8 @@ as pure I/O that needs neither Blender nor the study.
 - ``motion``: Cycles' Vector pass in AO Lab's motion convention, the Motion pass read back;
 - ``outputs``: the files an export writes, checked not to be the scene or one another.
 
-The bpy side (``blender_addon/aolab_blender``: export, peers, batch, the add-on's classes)
+The bpy side (``blender_addon/aolab_blender``: its export package, the panel's classes)
 imports these modules; nothing in ``aolab`` imports bpy or ``aolab_blender``
-(tests/python/test_import_direction.py). The add-on's work off Blender's main thread is in
-``aolab.addon``.
+(tests/python/test_import_direction.py). The panel's work off Blender's main thread is in
+``aolab.jobs``.
 """

@@ -1,7 +1,7 @@
-"""The files the bridge's export writes for its --out (blender_addon/aolab_blender/batch.py,
-run by `aolab reference` and `aolab mesh`), and the check, before Blender renders anything,
-that none of them is the scene being exported or another of them (files.check_distinct).
-Plain paths, no bpy: testable without Blender."""
+"""The files the bridge's export writes for its --out
+(blender_addon/aolab_blender/export/batch.py, run by `aolab reference` and `aolab mesh`), and
+the check, before Blender renders anything, that none of them is the scene being exported
+or another of them (files.check_distinct). Plain paths, no bpy: testable without Blender."""
 
 from __future__ import annotations
 

@@ -98,16 +98,16 @@ def blender_version(blender: str | None = None) -> str:
 
 
 def bridge_script() -> Path:
-    """blender_addon/aolab_blender/batch.py of the checkout this package was built from: the
-    build writes that folder into aolab/_build_info.py. The add-on's package is never
-    imported here (it needs bpy); only Blender runs it."""
+    """blender_addon/aolab_blender/export/batch.py of the checkout this package was built
+    from: the build writes that folder into aolab/_build_info.py. The add-on's package is
+    never imported here (it needs bpy); only Blender runs it."""
     try:
         from .._build_info import ADDON_SOURCE_DIR
     except ImportError:
         raise ReferenceError("this aolab package does not say where its Blender add-on's "
                              "sources are (no aolab/_build_info.py): build it with "
                              "scripts/build.sh") from None
-    script = Path(ADDON_SOURCE_DIR) / "aolab_blender" / "batch.py"
+    script = Path(ADDON_SOURCE_DIR) / "aolab_blender" / "export" / "batch.py"
     if not script.exists():
         raise ReferenceError(f"the Blender bridge's entry point {script} is missing: was the "
                              "checkout moved? Rebuild with scripts/build.sh")
@@ -212,7 +212,7 @@ class Plan:
     resolution: tuple[int, int] | None
     camera: str | None
     gbuffer_samples: int = 1
-    # The comparison peers (Cycles ladder + EEVEE: blender_addon/aolab_blender/peers.py)
+    # The comparison peers (Cycles ladder + EEVEE: blender_addon/aolab_blender/export/peers.py)
     # instead of the reference; spp, passes and gbuffer_samples do not apply then.
     peers: bool = False
     ladder: tuple[int, ...] = LADDER_SPP
@@ -452,7 +452,7 @@ def find_by_content(cache: Path, *, scene_hash: str, size: tuple[int, int],
                     radius: float | None = None, spp: int | None = None,
                     passes: tuple[str, ...] = ()) -> Path | None:
     """The newest render in ``cache`` of this scene content (the ``scene_hash`` of its sidecar:
-    the add-on's scene_record.content_hash, which a re-saved, unchanged file keeps) at this
+    the add-on's export/scene_record.content_hash, which a re-saved, unchanged file keeps) at this
     size, and R, samples, with these passes when given; or None. The cache's own keys are
     the file's bytes (Plan.key): this finds a render whichever file or tool made it."""
     best, best_time = None, -1.0

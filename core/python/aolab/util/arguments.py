@@ -1,7 +1,7 @@
 """Command-line values checked when they are read: argparse ``type=`` functions that name the
 option and the text they refuse, the bounds they share, and ``Parser``, argparse with two gaps
 closed. Shared by the ``aolab`` command (aolab.cli) and the bridge's entry point inside
-Blender (blender_addon/aolab_blender/batch.py), which must not import the command line.
+Blender (blender_addon/aolab_blender/export/batch.py), which must not import the command line.
 They parse text into values and read no parsed options: that is the command line's work."""
 
 from __future__ import annotations

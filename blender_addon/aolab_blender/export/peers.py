@@ -3,7 +3,7 @@ screen-space AO.
 
 render_peers() renders, from the same camera, at the same AO distance and resolution:
 - the Cycles ladder: the AO pass at 1, 4, 16, 64, 256 spp with the reference's settings
-  (export.render_session) but seed 1, so that no rung shares samples with the seed-0
+  (reference.render_session) but seed 1, so that no rung shares samples with the seed-0
   1024-spp reference — each is an independent estimate, scored against it like a method;
 - the noise floor: the study derives it from the 256-spp rung (256 against 1024 spp;
   docs/comparison.md), so no second 1024-spp render is needed;
@@ -31,7 +31,7 @@ from aolab.bridge import exr
 from aolab.bridge.constants import BACKGROUND_DEPTH, LADDER_SEED, LADDER_SPP, PEERS_JSON
 
 from . import compat
-from .export import enable_only_passes, render_session, render_to
+from .reference import enable_only_passes, render_session, render_to
 from .scene_record import BridgeError, Cancelled, camera_record, content_hash, scene_camera
 from .state import SettingsRestorer
 

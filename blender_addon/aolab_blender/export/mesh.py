@@ -1,7 +1,7 @@
 """The scene's triangles as Cycles renders them, in world space: the `mesh` pass (bpy).
 
 export_mesh() writes `<stem>.mesh` + `<stem>.mesh.json` (aolab.bridge.mesh; the format is in
-docs/file_formats.md) without rendering; export.export_reference() calls write_scene_mesh()
+docs/file_formats.md) without rendering; reference.export_reference() calls write_scene_mesh()
 when its passes include "mesh".
 
 Geometry as rendered, not as the viewport shows it: Python's evaluated depsgraph is the

@@ -10,9 +10,9 @@ values: one ray position per pixel; docs/blender_facts.md, "Pixel filter"):
    on Combined and stops the AO pass early), denoising off, max_bounces 0, AO distance R,
    shadow_terminator_geometry_offset 0 on every object, lights hidden, DOF and motion blur off.
 It merges both into one EXR (normals converted to view space) with a sidecar JSON, and with
-the `mesh` pass also writes the scene's triangles as rendered beside it (mesh_export.py); it
+the `mesh` pass also writes the scene's triangles as rendered beside it (mesh.py); it
 restores every setting it touched, whether it succeeds, fails or is cancelled. The camera
-record, content hash and errors it shares with mesh_export.py and peers.py are
+record, content hash and errors it shares with mesh.py and peers.py are
 scene_record.py's.
 """
 
@@ -32,7 +32,7 @@ from aolab.bridge import exr, motion
 from aolab.bridge.constants import BACKGROUND_DEPTH, BRIDGE_VERSION
 from aolab.bridge.passes import GEOMETRY_PASSES, PASSES
 
-from . import mesh_export
+from . import mesh
 from .scene_record import (BridgeError, Cancelled, camera_record, content_hash,
                            evaluation_settings, scene_camera)
 from .state import SettingsRestorer
@@ -185,8 +185,7 @@ def export_reference(scene, out_exr: str, *, radius: float, spp: int, passes: li
         if "mesh" in passes:
             checkpoint("mesh")
             mesh_path = os.path.splitext(out_exr)[0] + ".mesh"
-            mesh_export.write_scene_mesh(rs, scene, view_layer, mesh_path, record, scene_hash,
-                                         extra)
+            mesh.write_scene_mesh(rs, scene, view_layer, mesh_path, record, scene_hash, extra)
             mesh_file = os.path.basename(mesh_path)
 
         checkpoint("merge")

@@ -2,8 +2,9 @@
 
 Every property the bridge touches goes through SettingsRestorer.set, which records the
 original value the first time; restore() writes them back in reverse order and then undoes
-what was created (a temporary world). export.py uses it as a context manager, so the user's
-scene is restored after success, failure and cancellation alike.
+what was created (a temporary world). reference.py (render_session, which peers.py uses
+too) and mesh.py hold it as a context manager, so the user's scene is restored after
+success, failure and cancellation alike.
 """
 
 from __future__ import annotations

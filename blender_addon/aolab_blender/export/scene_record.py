@@ -1,5 +1,5 @@
 """The scene record (bpy): what a reference, its mesh and its peers all record of the scene
-and check before they render, so that export.py, mesh_export.py and peers.py share it from
+and check before they render, so that reference.py, mesh.py and peers.py share it from
 below instead of importing each other.
 
 - scene_camera(): the camera to render from, or BridgeError saying what the user can fix;

@@ -18,15 +18,15 @@
                         peers.py): --out is then a folder
     --ladder 1,4,...    the ladder's samples (none: no rung)     --no-eevee   skip EEVEE
     --frame N           render animation frame N (scene.frame_set; recorded as "frame")
-    --mesh-only         export only the scene's geometry, no render (mesh_export.py): --out
+    --mesh-only         export only the scene's geometry, no render (mesh.py): --out
                         is then the .mesh (its .mesh.json beside it); --radius, --spp and
                         --passes do not apply
 
 Prints `AOLAB_STAGE <stage>` lines, `AOLAB_ERROR <message>` on a problem the user can act
 on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
 
-Run as a file, not imported: it puts its own parent folder (blender_addon/, which holds this
-package) first on sys.path, and before it the folder of the aolab package that started
+Run as a file, not imported: it puts the folder that holds the add-on's package
+(blender_addon/) first on sys.path, and before it the folder of the aolab package that started
 Blender ($AOLAB_PACKAGE_PATH, set by aolab.render.reference), so that Blender uses that same build.
 """
 
@@ -36,7 +36,7 @@ import runpy
 import sys
 import traceback
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 if os.environ.get("AOLAB_PACKAGE_PATH"):
     sys.path.insert(0, os.environ["AOLAB_PACKAGE_PATH"])
 
@@ -49,8 +49,8 @@ from aolab.bridge.intrinsics import image_size  # noqa: E402
 from aolab.bridge.outputs import check_export  # noqa: E402
 from aolab.render.reference import MAX_FRAME, MIN_RESOLUTION, parse_resolution  # noqa: E402
 
-from aolab_blender import export, mesh_export, peers  # noqa: E402
-from aolab_blender.scene_record import BridgeError  # noqa: E402
+from aolab_blender.export import mesh, peers, reference  # noqa: E402
+from aolab_blender.export.scene_record import BridgeError  # noqa: E402
 
 
 def _extra(text: str) -> dict:
@@ -66,7 +66,7 @@ def _extra(text: str) -> dict:
 def parse(argv):
     """The options, each checked with its range when read (argparse's usage line and
     `argument --OPT: ...`, exit status 2), as `aolab reference` checks its own."""
-    p = Parser(prog="aolab_blender.batch")
+    p = Parser(prog="aolab_blender.export.batch")
     p.add_argument("--scene", required=True)
     p.add_argument("--kind", choices=("blend", "script"), required=True)
     p.add_argument("--out", required=True)
@@ -127,8 +127,8 @@ def main(argv):
         print(f"AOLAB_STAGE {name}", flush=True)
 
     if args.mesh_only:
-        info = mesh_export.export_mesh(scene, args.out, camera_name=args.camera, report=stage,
-                                       extra=args.extra)
+        info = mesh.export_mesh(scene, args.out, camera_name=args.camera, report=stage,
+                                extra=args.extra)
         print("AOLAB_RESULT " + json.dumps(info), flush=True)
         return
     radius = args.radius
@@ -143,7 +143,7 @@ def main(argv):
             eevee=not args.no_eevee, camera_name=args.camera, report=stage, extra=args.extra)
         print("AOLAB_RESULT " + json.dumps(result), flush=True)
         return
-    sidecar = export.export_reference(
+    sidecar = reference.export_reference(
         scene, args.out, radius=radius, spp=args.spp, passes=args.passes,
         gbuffer_samples=args.gbuffer_samples, camera_name=args.camera,
         report=stage, extra=args.extra)

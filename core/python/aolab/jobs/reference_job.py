@@ -1,5 +1,5 @@
-"""Run by the add-on as `/usr/bin/python3 -m aolab.addon.reference_job --scene COPY.blend
-...` (no bpy; jobs.render_reference).
+"""Run by the add-on as `/usr/bin/python3 -m aolab.jobs.reference_job --scene COPY.blend
+...` (no bpy; tasks.render_reference).
 
 `aolab reference` for one scene (aolab.reference: the same plan, cache and Blender batch
 run as the command line), with its progress printed as lines the add-on parses:

@@ -1,30 +1,27 @@
-"""The AO Lab add-on's heavy work, outside Blender's main thread (no bpy).
+"""The panel's background jobs (no bpy): what Preview, Render Reference, Compare, Quick
+Compare, Advise and Write Report run in a runner.Job, off Blender's main thread.
 
-A Job runs one function in a daemon thread. The main thread (a modal operator's timer, or
-an operator's execute() waiting in a loop) polls `progress`, `stage` and `done`, and reads
-`result` or `error` once done; `cancel()` sets a flag the task checks and terminates the
-child process it may be waiting on. Tasks receive plain Python data prepared on the main
-thread and never touch bpy: images and results are made on the main thread afterwards. The
-tasks: preview, reference, compare, quick compare (the methods against rtao at a few rays:
+Each task takes the Job (to report progress and check for cancellation) and a plan of plain
+Python data the operator read from Blender on the main thread; it returns plain data too,
+which the operator turns into images and rows on the main thread. The tasks: preview,
+reference, compare, quick compare (the methods against rtao at a few rays:
 aolab.study.quick_reference), advise (aolab.study.advise: every preset, the front drawn) and
 report.
 
 References are rendered by `aolab reference` in a child /usr/bin/python3 (reference_job.py,
 with this aolab package first on its path; not sys.executable, which inside Blender is
 whichever python3.11 comes first on PATH, possibly one without numpy: docs/blender_facts.md,
-"Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its cache
-is content-keyed by the file's bytes; `find_by_content` (aolab.render.reference) also finds
-a render by the scene's content hash (the add-on's export.content_hash, stored in each
-sidecar), so that a re-saved, unchanged scene is served from the cache.
+"Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its
+cache is content-keyed by the file's bytes; `find_by_content` (aolab.render.reference, which
+the add-on's inputs.find_reference calls) also finds a render by the scene's content hash
+(the add-on's scene_record.content_hash, stored in each sidecar), so that a re-saved,
+unchanged scene is served from the cache.
 """
 
 from __future__ import annotations
 
 import json
 import os
-import signal
-import subprocess
-import threading
 import time
 from pathlib import Path
 
@@ -33,117 +30,16 @@ import numpy as np
 import aolab
 
 from ..bridge.constants import RESULT_EXR
-# find_by_content: the add-on's cache lookup by scene content (inputs.find_reference)
-from ..render.reference import find_by_content, package_path  # noqa: F401
+from ..render.reference import package_path
 from ..scoring import error_map, metrics_mask, nothing_to_score
 from ..study import advise, compare, quick_reference
+from .runner import Job, JobError
 
 PYTHON = "/usr/bin/python3"
-DRIVER = "aolab.addon.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
-TERMINATE_GRACE_S = 10.0
+DRIVER = "aolab.jobs.reference_job"   # run as python3 -P -m DRIVER (-P: not from the cwd)
 # Share of the progress bar per stage of a reference render (G-buffer render, AO render).
 STAGE_SPAN = {"start": (0.0, 0.02), "prepare": (0.02, 0.03), "gbuffer": (0.03, 0.06),
               "reference": (0.06, 0.97), "merge": (0.97, 0.99), "done": (0.99, 1.0)}
-
-
-class Cancelled(Exception):
-    pass
-
-
-class JobError(Exception):
-    """A problem the user can act on; the message says what to do."""
-
-
-class Job:
-    def __init__(self, task, *args):
-        self._progress = 0.0
-        self._samples = None  # (lo, hi, done, total, t_first, t_last) of a running render
-        self.stage = "starting"
-        self.result = None
-        self.error: Exception | None = None
-        self.done = False
-        self._cancel = threading.Event()
-        self._proc = None
-        self._lock = threading.Lock()
-        self._thread = threading.Thread(target=self._run, args=(task, args), daemon=True)
-        self._thread.start()
-
-    def _run(self, task, args):
-        try:
-            self.result = task(self, *args)
-        except Exception as e:  # reported on the main thread
-            self.error = e
-        finally:
-            self.done = True
-
-    # -- called by tasks (worker thread) --
-    def report(self, progress: float, stage: str) -> None:
-        self._progress, self.stage = max(0.0, min(1.0, progress)), stage
-        self._samples = None
-
-    def report_samples(self, lo: float, hi: float, done: int, total: int, stage: str) -> None:
-        """Cycles prints its sample count rarely (after sample 1, then every few seconds):
-        between reports, `progress` moves on at the rate measured so far."""
-        now = time.monotonic()
-        first = self._samples[4] if self._samples and done > 0 else now
-        self.report(lo + (hi - lo) * done / max(total, 1), stage)
-        self._samples = (lo, hi, done, total, first, now)
-
-    @property
-    def progress(self) -> float:
-        s = self._samples
-        if s is None or not 0 < s[2] < s[3]:
-            return self._progress
-        lo, hi, done, total, first, last = s
-        per_sample = max(last - first, 1e-3) / done
-        estimate = min(done + (time.monotonic() - last) / per_sample, 0.99 * total)
-        return lo + (hi - lo) * estimate / total
-
-    def check(self) -> None:
-        if self._cancel.is_set():
-            raise Cancelled()
-
-    def run_process(self, cmd: list[str], on_line, env: dict | None = None) -> int:
-        """Runs cmd, calling on_line(line) for each output line; cancel() terminates it."""
-        with self._lock:
-            self.check()
-            self._proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                          stdin=subprocess.DEVNULL, text=True,
-                                          start_new_session=True, env=env)
-        try:
-            for line in self._proc.stdout:
-                on_line(line.rstrip("\n"))
-            return self._proc.wait()
-        finally:
-            with self._lock:
-                self._proc = None
-
-    # -- called by the main thread --
-    @property
-    def cancelled(self) -> bool:
-        return self._cancel.is_set()
-
-    def cancel(self) -> None:
-        """Asks the task to stop; a child process gets SIGTERM (reference_job.py then kills
-        its Blender and removes its temporary folder), SIGKILL to its group after a grace
-        period."""
-        self._cancel.set()
-        with self._lock:
-            proc = self._proc
-        if proc is not None and proc.poll() is None:
-            proc.terminate()
-            threading.Thread(target=_kill_later, args=(proc,), daemon=True).start()
-
-    def wait(self, timeout: float | None = None) -> bool:
-        self._thread.join(timeout)
-        return self.done
-
-
-def _kill_later(proc) -> None:
-    try:
-        proc.wait(TERMINATE_GRACE_S)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
 
 
 def _child_env() -> dict:
