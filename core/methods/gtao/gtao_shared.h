@@ -5,7 +5,7 @@
 #include "core/base/image.h"
 #include "core/base/parallel.h"
 #include "core/methods/gtao/gtao.h"
-#include "core/methods/gtao/gtao_slice.h"
+#include "core/horizon/slice.h"
 
 namespace aolab {
 
