@@ -23,9 +23,9 @@ constexpr int kSimdTileColumns = 128;
 /// adds `height` rows to progress->total.
 template <class Span>
 Image image_from_simd_tiles(int width, int height, int threads, Progress* progress, Span span) {
-  return image_from_tiles(width, height, threads, progress, kSimdBandRows, kSimdTileColumns,
-                          [] { return 0; },
-                          [&](int, int y, int x0, int x1, float* out) { span(y, x0, x1, out); });
+  return image_from_tiles(
+      width, height, threads, progress, kSimdBandRows, kSimdTileColumns, [] { return 0; },
+      [&](int, int y, int x0, int x1, float* out) { span(y, x0, x1, out); });
 }
 
 }  // namespace aolab

@@ -44,8 +44,8 @@ inline std::size_t horizon_sample_index(const HorizonFrame& f, float distance, i
 
 /// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
 /// radius projected and split into N_s steps; image y points down, view y up.
-inline void horizon_step(const CameraIntrinsics& cam, float radius, int steps, float depth,
-                         float c, float s, float& step_x, float& step_y) {
+inline void horizon_step(const CameraIntrinsics& cam, float radius, int steps, float depth, float c,
+                         float s, float& step_x, float& step_y) {
   const float k = radius / (depth * float(steps));
   step_x = c * cam.fx * k;
   step_y = -s * cam.fy * k;

@@ -17,6 +17,8 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/horizon/obscurance_simd.cpp"
 
+#include "core/horizon/obscurance_simd.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -26,7 +28,6 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/base/simd_tiles.h"
-#include "core/horizon/obscurance_simd.h"
 #include "core/horizon/receiver.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -359,10 +360,10 @@ namespace aolab {
 HWY_EXPORT(ObscuranceSpan);
 
 Image obscurance_simd(const ObscuranceSimdFrame& f, int threads, Progress* progress) {
-  return image_from_simd_tiles(
-      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(ObscuranceSpan)(f, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(ObscuranceSpan)(f, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

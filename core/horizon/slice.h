@@ -120,7 +120,7 @@ inline bool slice_pixel(const SliceFrame& f, const HorizonDirections& directions
   const float d = f.depth[idx];
   if (!(d == d)) return false;  // background
   out.p = horizon_receiver(f.cam, x, y, d,
-                        {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
+                           {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
   out.v = slice_view_vector(out.p);
   const auto s = std::uint32_t(seed);
   const float rotation = random_rotation ? pixel_random(s, x, y, 0) : 0.0f;

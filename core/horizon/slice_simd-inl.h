@@ -30,8 +30,8 @@
 #include <numbers>
 
 #include "core/base/simd-inl.h"
-#include "core/horizon/slice.h"
 #include "core/horizon/horizon_simd-inl.h"
+#include "core/horizon/slice.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {

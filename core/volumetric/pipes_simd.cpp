@@ -17,6 +17,8 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/volumetric/pipes_simd.cpp"
 
+#include "core/volumetric/pipes_simd.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -24,7 +26,6 @@
 #include <numbers>
 
 #include "core/base/simd-inl.h"
-#include "core/volumetric/pipes_simd.h"
 #include "core/sampling/random.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -100,8 +100,8 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
             gain = std::sin(alpha) - std::sin(t_sample);
           } else {
             gain = std::sin(alpha) - std::sin(t_dir);
-            const double tolerance =
-                kHbaoNormalTolerance + kTangentDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
+            const double tolerance = kHbaoNormalTolerance +
+                                     kTangentDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
           if (s.integral == int(HbaoIntegral::Cosine)) {

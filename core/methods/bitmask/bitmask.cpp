@@ -9,8 +9,8 @@
 #include <numbers>
 #include <vector>
 
-#include "core/methods/bitmask/bitmask_shared.h"
 #include "core/horizon/slice.h"
+#include "core/methods/bitmask/bitmask_shared.h"
 
 namespace aolab {
 namespace {

@@ -28,10 +28,10 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/base/simd_tiles.h"
-#include "core/methods/bitmask/bitmask.h"
-#include "core/methods/bitmask/bitmask_shared.h"
 #include "core/horizon/slice.h"
 #include "core/horizon/slice_simd-inl.h"
+#include "core/methods/bitmask/bitmask.h"
+#include "core/methods/bitmask/bitmask_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -303,12 +303,12 @@ Image bitmask_simd(const SliceFrame& f, const BitmaskSettings& s, int threads, P
   const double thickness = double(s.thickness) * double(s.radius);
   const float t = thickness > 3e38 ? std::numeric_limits<float>::infinity() : float(thickness);
   const float radius2 = s.radius * s.radius;
-  return image_from_simd_tiles(
-      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(BitmaskSpan)
-        (f, s, t, radius2, directions.base_cos(), directions.base_sin(), cos_edge.data(),
-         sin_edge.data(), y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(BitmaskSpan)
+                                 (f, s, t, radius2, directions.base_cos(), directions.base_sin(),
+                                  cos_edge.data(), sin_edge.data(), y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

@@ -363,10 +363,10 @@ Image crytek_ssao_simd(const GBuffer& g, const float* normals, const CrytekSsaoS
   const CrytekSimdFrame f{g.depth.data, g.depth.row_stride, normals,           g.width(),
                           g.height(),   g.camera,           g.background_depth};
   const CrytekTables tables = make_tables(f, s, kernel, tile);
-  return image_from_simd_tiles(
-      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(CrytekSsaoSpan)(f, s, tables, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(CrytekSsaoSpan)(f, s, tables, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/gtao/gtao_shared.h"
 #include "core/horizon/slice.h"
+#include "core/methods/gtao/gtao_shared.h"
 
 namespace aolab {
 
@@ -31,8 +31,8 @@ namespace {
 
 constexpr double kHalfPi = std::numbers::pi / 2.0;
 
-// A GTAO slice: the shared geometry (core/horizon/slice.h) and eq. 7 of each side with its horizon at
-// the tangent.
+// A GTAO slice: the shared geometry (core/horizon/slice.h) and eq. 7 of each side with its horizon
+// at the tangent.
 struct Slice : SliceGeometry {
   double open_arc[2];
 };

@@ -22,10 +22,10 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/base/simd_tiles.h"
-#include "core/methods/gtao/gtao.h"
-#include "core/methods/gtao/gtao_shared.h"
 #include "core/horizon/slice.h"
 #include "core/horizon/slice_simd-inl.h"
+#include "core/methods/gtao/gtao.h"
+#include "core/methods/gtao/gtao_shared.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -172,12 +172,11 @@ HWY_EXPORT(GtaoSpan);
 
 Image gtao_simd(const SliceFrame& f, const GtaoSettings& s, int threads, Progress* progress) {
   const HorizonDirections directions(2 * s.slices);
-  return image_from_simd_tiles(f.width, f.height, threads, progress,
-                               [&](int y, int x0, int x1, float* out) {
-                                 HWY_DYNAMIC_DISPATCH(GtaoSpan)
-                                 (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1,
-                                  out);
-                               });
+  return image_from_simd_tiles(
+      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
+        HWY_DYNAMIC_DISPATCH(GtaoSpan)
+        (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1, out);
+      });
 }
 
 }  // namespace aolab

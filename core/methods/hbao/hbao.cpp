@@ -67,7 +67,8 @@ using Frame = HorizonFrame;
 
 // The paper's one t(θ) per direction (per_sample_tangent off): from the ray one pixel along
 // θ, or in azimuth where that ray never meets the tangent plane.
-float direction_tangent_sin(const HorizonReceiver& p, float step_x, float step_y, float c, float s) {
+float direction_tangent_sin(const HorizonReceiver& p, float step_x, float step_y, float c,
+                            float s) {
   const float len = std::sqrt(step_x * step_x + step_y * step_y);
   const RayTangent rt =
       tangent_on_ray(p.n, p.n_r0, step_x / len, step_y / len, p.d, p.ox, p.oy, p.inv_fx, p.inv_fy);
@@ -82,8 +83,8 @@ struct Candidate {
 // t at the sample itself: the tangent plane on the sample's own view ray rs, met at depth tau
 // (tangent_on_ray). S counts only if it lies nearer than the plane by more than float32 depth
 // and normal rounding. The cheap sign test comes first: most samples of open surfaces fail it.
-bool per_sample_candidate(const HorizonReceiver& p, float qx, float qy, float ds, float dd, float r2,
-                          Candidate& out) {
+bool per_sample_candidate(const HorizonReceiver& p, float qx, float qy, float ds, float dd,
+                          float r2, Candidate& out) {
   const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
   const float n_rs = glm::dot(p.n, rs);
   const float tau = p.d * p.n_r0 / n_rs;
@@ -125,8 +126,9 @@ float cosine_gain(const HorizonReceiver& p, bool per_sample, float sin_t_dir, fl
 // The sample on texel (sx, sy) at depth ds as a horizon candidate; false if it lies beyond R
 // (ignored, §3), is background (NaN) or is not above the tangent by more than rounding. The
 // tangent test decides whether it counts; `integral` decides its gain.
-bool sample_candidate(const HorizonReceiver& p, const HbaoSettings& s, float radius2, float sin_t_dir,
-                      float c, float sn, int sx, int sy, float ds, Candidate& out) {
+bool sample_candidate(const HorizonReceiver& p, const HbaoSettings& s, float radius2,
+                      float sin_t_dir, float c, float sn, int sx, int sy, float ds,
+                      Candidate& out) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   // D = S − P without cancellation (see elevation_sin_on_ray).
   const float dd = ds - p.d;

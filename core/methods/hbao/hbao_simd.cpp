@@ -29,9 +29,9 @@
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
 #include "core/base/simd_tiles.h"
+#include "core/horizon/horizon_simd-inl.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/hbao/hbao_shared.h"
-#include "core/horizon/horizon_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -174,9 +174,9 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   } else {
     r = hn::Sqrt(r2);
     gain = hn::Sub(hn::Div(hn::Neg(dd), r), sin_t_dir);
-    const VF tol =
-        hn::Add(hn::Set(df, kHbaoNormalTolerance),
-                hn::Div(hn::Mul(hn::Set(df, kTangentDepthUlps * kUnitRoundoff), hn::Max(p.d, ds)), r));
+    const VF tol = hn::Add(
+        hn::Set(df, kHbaoNormalTolerance),
+        hn::Div(hn::Mul(hn::Set(df, kTangentDepthUlps * kUnitRoundoff), hn::Max(p.d, ds)), r));
     counts = hn::And(live, hn::Gt(gain, tol));
     if (hn::AllFalse(df, counts)) return;
   }
@@ -302,9 +302,9 @@ HWY_INLINE VF DirectionTerm(DF df, const HbaoSettings& s, const RowConstants& k,
 // samples' tests, whose data-dependent branches would otherwise stall each gather behind a
 // mispredicted one. When N_s ≤ kBufferSteps / 2 one pass holds several directions' steps
 // (4 at N_s = 8), so that enough gathers are in flight; a longer march is cut into chunks.
-HWY_INLINE VF MarchDirections(DF df, const HorizonFrame& f, const HbaoSettings& s, const Receiver& p,
-                              const RowConstants& k, MF geometry, VF jitter, VF cp, VF sp,
-                              const float* base_cos, const float* base_sin) {
+HWY_INLINE VF MarchDirections(DF df, const HorizonFrame& f, const HbaoSettings& s,
+                              const Receiver& p, const RowConstants& k, MF geometry, VF jitter,
+                              VF cp, VF sp, const float* base_cos, const float* base_sin) {
   const DI di;
   HWY_ALIGN std::int32_t buf_sx[kBufferSteps * hn::MaxLanes(di)];
   HWY_ALIGN std::int32_t buf_sy[kBufferSteps * hn::MaxLanes(di)];
@@ -432,12 +432,11 @@ HWY_EXPORT(HbaoSpan);
 
 Image hbao_simd(const HorizonFrame& f, const HbaoSettings& s, int threads, Progress* progress) {
   const HorizonDirections directions(s.directions);
-  return image_from_simd_tiles(f.width, f.height, threads, progress,
-                               [&](int y, int x0, int x1, float* out) {
-                                 HWY_DYNAMIC_DISPATCH(HbaoSpan)
-                                 (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1,
-                                  out);
-                               });
+  return image_from_simd_tiles(
+      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
+        HWY_DYNAMIC_DISPATCH(HbaoSpan)
+        (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1, out);
+      });
 }
 
 }  // namespace aolab

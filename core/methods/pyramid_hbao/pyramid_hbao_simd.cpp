@@ -524,10 +524,10 @@ Image pyramid_hbao_simd(const GatherPyramid& pyramid, const float* normals,
   const GatherPyramidLevel& base = pyramid.level(0);
   const pyramid_simd::Frame frame{pyramid.data(), pyramid.levels(), normals,
                                   base.width,     base.height,      cam};
-  return image_from_simd_tiles(
-      base.width, base.height, threads, progress, [&](int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(PyramidHbaoSpan)(frame, s, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(base.width, base.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(PyramidHbaoSpan)(frame, s, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

@@ -5,8 +5,8 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd_tiles.h"
-#include "core/volumetric/pipes_simd.h"
 #include "core/sampling/random.h"
+#include "core/volumetric/pipes_simd.h"
 
 namespace aolab {
 
@@ -29,11 +29,10 @@ Image vao(const GBuffer& g, const VaoSettings& s, const RunOptions& options) {
     sets.seed = std::uint32_t(s.seed);
     VaoSimdCounts counts;
     counts.samples = s.samples;
-    return image_from_simd_tiles(w, h, threads, options.progress,
-                                 [&](int y, int x0, int x1, float* row) {
-                                   vao_simd_span(frame, po, sets, counts, y, x0, x1, 1, 0, row, 1,
-                                                 nullptr);
-                                 });
+    return image_from_simd_tiles(
+        w, h, threads, options.progress, [&](int y, int x0, int x1, float* row) {
+          vao_simd_span(frame, po, sets, counts, y, x0, x1, 1, 0, row, 1, nullptr);
+        });
   }
   Image out(w, h, 1, 1.0f);
   if (options.progress) options.progress->total += h;

@@ -11,9 +11,9 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
+#include "core/methods/vao_pp/vao_pp.h"
 #include "core/volumetric/pipes.h"
 #include "core/volumetric/pipes_simd.h"
-#include "core/methods/vao_pp/vao_pp.h"
 
 namespace aolab {
 

@@ -1,7 +1,7 @@
 // VAO++'s SIMD kernel: the culling pre-pass (§4.2) and the occlusion pass (§3) of vao_pp.cpp
-// on VAO's SIMD sample loop (vao_simd_span, core/volumetric/pipes_simd.cpp), in tiles of rows; the cross-bilateral
-// filter's SIMD form is bilateral_simd.cpp. vao_pp() runs them for Kernel::Simd; the scalar
-// passes are their oracle (docs/methods/vao_pp.md).
+// on VAO's SIMD sample loop (vao_simd_span, core/volumetric/pipes_simd.cpp), in tiles of rows; the
+// cross-bilateral filter's SIMD form is bilateral_simd.cpp. vao_pp() runs them for Kernel::Simd;
+// the scalar passes are their oracle (docs/methods/vao_pp.md).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -10,8 +10,8 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd_tiles.h"
-#include "core/volumetric/pipes_simd.h"
 #include "core/methods/vao_pp/vao_pp_shared.h"
+#include "core/volumetric/pipes_simd.h"
 
 namespace aolab::vao_pp_detail {
 
