@@ -7,7 +7,8 @@
 //                   (parallel.h), pinhole intrinsics (camera.h), the G-buffer and the
 //                   background rule (gbuffer.h), the SIMD target in use (simd_target.h),
 //                   the cache of large working arrays (working_memory.h), the depth MIP
-//                   chain for far samples (depth_mip.h).
+//                   chain for far samples (depth_mip.h), how a computation runs (threads,
+//                   progress, kernel: run_options.h), the SIMD kernels' tiles (simd_tiles.h).
 // - core/sampling/  counter-based random numbers (random.h), per-frame seeds (frame_seed.h),
 //                   blue noise (blue_noise.h), rotation-aware Poisson-disk sets
 //                   (poisson_disk.h).
@@ -19,8 +20,15 @@
 //                   accumulation over frames (temporal.h; temporal_pixel.h: its per-pixel
 //                   step, the oracle of its SIMD kernel).
 // - core/scenes/    analytic scenes with closed-form Cycles AO (analytic_scenes.h).
+// - core/horizon/   what the horizon-based methods share: the receiver and its tangent-plane
+//                   test (receiver.h), the directions (directions.h), the frame and step
+//                   (frame.h), GTAO's slice (slice.h), the obscurance estimator of Alchemy AO
+//                   and SAO (obscurance_estimator.h, obscurance_simd.h).
+// - core/volumetric/ what VAO and VAO++ share: sample sets, pipes and the per-pixel sums
+//                   (pipes.h), their SIMD kernel (pipes_simd.h).
 // - core/methods/   the registry (registry.h: every method by name, with its settings table)
-//                   and one folder per method; a method's helpers in its folder are private.
+//                   and one folder per method; a method's helpers in its folder are private,
+//                   and a method includes no other method's folder.
 // The Python bindings (core/python/) and the Blender add-on sit on top; nothing here knows
 // of Python or Blender.
 //
@@ -52,8 +60,10 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
+#include "core/base/run_options.h"
 #include "core/base/settings.h"
 #include "core/base/simd_target.h"
+#include "core/base/simd_tiles.h"
 #include "core/base/triangle_mesh.h"
 #include "core/base/working_memory.h"
 
@@ -80,6 +90,18 @@
 
 // core/scenes
 #include "core/scenes/analytic_scenes.h"
+
+// core/horizon: what the horizon-based methods share
+#include "core/horizon/directions.h"
+#include "core/horizon/frame.h"
+#include "core/horizon/obscurance_estimator.h"
+#include "core/horizon/obscurance_simd.h"
+#include "core/horizon/receiver.h"
+#include "core/horizon/slice.h"
+
+// core/volumetric: what VAO and VAO++ share
+#include "core/volumetric/pipes.h"
+#include "core/volumetric/pipes_simd.h"
 
 // core/methods: the registry and every method
 #include "core/methods/alchemy/alchemy.h"

@@ -16,8 +16,8 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
+#include "core/base/run_options.h"
 #include "core/base/settings.h"
-#include "core/methods/registry.h"
 #include "core/raytracing/ray_scene.h"
 
 namespace aolab {

@@ -44,7 +44,7 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
   const CameraIntrinsics& cam = g.camera;
   const double R = s.radius;
   Image out(w, h, 1, 1.0f);
-  const HbaoDirections directions(s.directions);
+  const HorizonDirections directions(s.directions);
   std::vector<float> dir_cos(s.directions), dir_sin(s.directions);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -59,7 +59,7 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
       double sum = 0.0;
       for (int k = 0; k < s.directions; ++k) {
         float step_x, step_y;
-        hbao_step(cam, s.radius, s.steps, d, dir_cos[k], dir_sin[k], step_x, step_y);
+        horizon_step(cam, s.radius, s.steps, d, dir_cos[k], dir_sin[k], step_x, step_y);
         // Paper, §3: t(θ) from intersecting the view ray one pixel along θ with the tangent
         // plane of (P, n).
         double t_dir = 0.0;
@@ -95,13 +95,13 @@ Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
             const double grazing = glm::length(r0) / std::abs(glm::dot(n, r0)) +
                                    glm::length(ray) / std::abs(glm::dot(n, ray));
             const double tolerance = std::ldexp(1.0, -24) * std::max(double(ds), hits ? tau : ds) *
-                                     (kHbaoDepthUlps + kHbaoNormalUlps * grazing);
+                                     (kTangentDepthUlps + kTangentNormalUlps * grazing);
             if (!((hits ? tau : INFINITY) - ds > tolerance)) continue;
             gain = std::sin(alpha) - std::sin(t_sample);
           } else {
             gain = std::sin(alpha) - std::sin(t_dir);
-            const double tolerance =
-                kHbaoNormalTolerance + kHbaoDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
+            const double tolerance = kHbaoNormalTolerance +
+                                     kTangentDepthUlps * std::ldexp(1.0, -24) * std::max(d, ds) / r;
             if (!(gain > tolerance)) continue;
           }
           if (s.integral == int(HbaoIntegral::Cosine)) {

@@ -238,15 +238,15 @@ def test_the_umbrella_header_includes_every_public_header():
 
 
 # The core's layers (docs/architecture.md): base/ uses nothing else; the folders of the middle
-# layer use base/ and themselves; methods use all of those, the registry and their own folder
-# (VAO++ is built on VAO; Pyramid HBAO, GTAO, Alchemy and SAO share HBAO's receiver set-up;
-# SAO shares Alchemy's estimator; the visibility bitmask shares GTAO's slice set-up,
-# gtao_slice.h, and through it HBAO's); the registry
-# includes every method's public header. raytracing/ (rtao, not a method) uses base/,
-# sampling/, itself and the registry's RunOptions.
+# layer use base/ and themselves; the libraries that methods share (horizon/: the receiver,
+# directions, tangent test, slice and obscurance estimator of the horizon-based methods;
+# volumetric/: the pipes of VAO and VAO++) use base/, sampling/ and themselves; a method's
+# folder uses its own files, base/, sampling/, filters/, those libraries and the registry
+# (registry.h), never another method's folder; the registry includes every method's public
+# header. raytracing/ (rtao, not a method) uses base/, sampling/ and itself, not methods/.
 MIDDLE = {"sampling", "io", "scoring", "filters", "scenes"}
-METHOD_USES = {"vao_pp": {"vao"}, "pyramid_hbao": {"hbao"}, "gtao": {"hbao"},
-               "bitmask": {"gtao", "hbao"}, "alchemy": {"hbao"}, "sao": {"hbao", "alchemy"}}
+SHARED_LIBRARIES = {"horizon", "volumetric"}
+METHOD_MAY_USE = {"base", "sampling", "filters"} | SHARED_LIBRARIES
 
 
 def allowed_include(source: str, header: str) -> bool:
@@ -255,17 +255,18 @@ def allowed_include(source: str, header: str) -> bool:
         return dst[1] == "base"
     if src[1] in MIDDLE:
         return dst[1] in ("base", src[1])
+    if src[1] in SHARED_LIBRARIES:
+        return dst[1] in ("base", "sampling", src[1])
     if src[1] == "raytracing":
-        return dst[1] in ("base", "sampling", "raytracing") or header == "core/methods/registry.h"
+        return dst[1] in ("base", "sampling", "raytracing")
     if src[1] == "methods":
         if dst[1] != "methods":
-            return True
+            return dst[1] in METHOD_MAY_USE
         if len(dst) == 3:  # core/methods/registry.h
             return True
         if len(src) == 3:  # the registry: every method's public header, no private helper
             return dst[3] == dst[2] + ".h"
-        own = src[2]
-        return dst[2] == own or dst[2] in METHOD_USES.get(own, set())
+        return dst[2] == src[2]  # its own folder, never another method's
     return True  # core/aolab.h
 
 

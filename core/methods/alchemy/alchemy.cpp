@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/alchemy/alchemy_shared.h"
+#include "core/horizon/obscurance_simd.h"
 
 namespace aolab {
 

@@ -12,7 +12,7 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
-#include "core/methods/alchemy/obscurance_estimator.h"
+#include "core/horizon/obscurance_estimator.h"
 #include "core/methods/registry.h"
 
 namespace aolab {

@@ -9,9 +9,8 @@
 #include <numbers>
 #include <vector>
 
+#include "core/horizon/slice.h"
 #include "core/methods/bitmask/bitmask_shared.h"
-#include "core/methods/gtao/gtao_slice.h"
-#include "core/methods/hbao/hbao.h"
 
 namespace aolab {
 namespace {
@@ -40,7 +39,7 @@ struct SectorTables {
   }
 };
 
-// One slice: GTAO's geometry (gtao_slice.h) and where its sector edges and centres lie.
+// One slice: GTAO's geometry (core/horizon/slice.h) and where its sector edges and centres lie.
 struct Slice : SliceGeometry {
   // cos φ_i of the 2N + 1 points; the points with φ_i < 0 (i < first_side0) lie on side 1,
   // the others on side 0. Within a side the angle from v grows away from index first_side0.
@@ -128,13 +127,13 @@ struct Params {
 // paper's Algorithm 1) or u = S/|S| (sample_ray, EEVEE's); with radius_clip = sphere the segment
 // is clipped to |X| ≤ R first. Both ends are projected onto the slice plane and turned into
 // cosines from v in double precision (T reaches 1e60); the sector search needs no acos.
-std::uint64_t sample_bits(const HbaoReceiver& p, const Params& q, const Slice& sl,
+std::uint64_t sample_bits(const HorizonReceiver& p, const Params& q, const Slice& sl,
                           const glm::vec3& v, int points, int sx, int sy, float ds, int side) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   const glm::vec3 D = slice_sample_offset(p, qx, qy, ds);
   const float r2 = glm::dot(D, D);
   if (q.clip == BitmaskRadiusClip::Cut && !(double(r2) <= q.radius2)) return 0;
-  if (!hbao_above_tangent_plane(p, qx, qy, ds)) return 0;
+  if (!above_tangent_plane(p, qx, qy, ds)) return 0;
   const glm::dvec3 d(D), a(sl.axis), w(v);
   const glm::dvec3 u =
       q.back == BitmaskBackDirection::View
@@ -176,14 +175,14 @@ std::uint64_t sample_bits(const HbaoReceiver& p, const Params& q, const Slice& s
 }
 
 float bitmask_pixel(const SliceFrame& f, const Params& q, const SectorTables& tables,
-                    const HbaoDirections& directions, int x, int y, float* dir_cos,
+                    const HorizonDirections& directions, int x, int y, float* dir_cos,
                     float* dir_sin) {
   const BitmaskSettings& s = q.s;
   // GTAO's set-up and random streams: with the same settings both march the same samples.
   SlicePixel px;
   if (!slice_pixel(f, directions, x, y, s.seed, s.random_rotation, s.jitter, dir_cos, dir_sin, px))
     return 1.0f;  // background
-  const HbaoReceiver& p = px.p;
+  const HorizonReceiver& p = px.p;
   const glm::vec3& v = px.v;
   const float jitter = px.jitter;
   const int points = 2 * s.sectors + 1;
@@ -245,7 +244,7 @@ Image bitmask(const GBuffer& g, const BitmaskSettings& s, const RunOptions& opti
   const SectorTables tables(s.sectors);
   return run_slice_method(
       g, s.slices, s.mip_distance, options,
-      [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
+      [&](const SliceFrame& f, const HorizonDirections& directions, int x, int y, float* dir_cos,
           float* dir_sin) {
         return bitmask_pixel(f, params, tables, directions, x, y, dir_cos, dir_sin);
       },

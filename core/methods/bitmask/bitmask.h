@@ -1,6 +1,6 @@
 // Visibility bitmask AO: Therrien, Levesque, Gilet, "Screen Space Indirect Lighting with
 // Visibility Bitmask" (arXiv 2301.11376, 2023; The Visual Computer). GTAO's slices around the
-// per-pixel view vector (Jimenez et al. 2016, §4; the set-up is shared, gtao_slice.h), but
+// per-pixel view vector (Jimenez et al. 2016, §4; the set-up is shared, core/horizon/slice.h), but
 // each slice keeps a bitmask of N sectors of equal angle over the hemisphere around the
 // projected normal instead of two horizon angles (the paper's §3). Each sample S marks the
 // sectors between its front angle (the direction of S) and its back angle (the direction of S

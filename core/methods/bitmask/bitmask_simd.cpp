@@ -1,7 +1,7 @@
 // The visibility bitmask's SIMD kernel: the scalar per-pixel code of bitmask.cpp (the oracle
 // it is tested against) on Lanes consecutive pixels of a row at once, compiled by Highway for
 // every target and dispatched at run time. Every setting is supported. The slice set-up, the
-// march and the tangent test are GTAO's SIMD ones (gtao_slice_simd-inl.h).
+// march and the tangent test are GTAO's SIMD ones (core/horizon/slice_simd-inl.h).
 //
 // What it does differently (docs/methods/bitmask.md, "SIMD kernel"):
 // - a slice's sector mask is one 32-bit word per lane (two for more than 32 sectors), a
@@ -27,10 +27,11 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/base/simd_tiles.h"
+#include "core/horizon/slice.h"
+#include "core/horizon/slice_simd-inl.h"
 #include "core/methods/bitmask/bitmask.h"
 #include "core/methods/bitmask/bitmask_shared.h"
-#include "core/methods/gtao/gtao_slice.h"
-#include "core/methods/gtao/gtao_slice_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -291,12 +292,8 @@ namespace aolab {
 
 HWY_EXPORT(BitmaskSpan);
 
-// HBAO's and GTAO's tiles: 16 rows × 128 columns, a multiple of every vector length.
-constexpr int kBitmaskBandRows = 16;
-constexpr int kBitmaskTileColumns = 128;
-
 Image bitmask_simd(const SliceFrame& f, const BitmaskSettings& s, int threads, Progress* progress) {
-  const HbaoDirections directions(2 * s.slices);
+  const HorizonDirections directions(2 * s.slices);
   std::vector<float> cos_edge, sin_edge;  // SectorTables' cos and sin of 2jπ/N
   for (int j = 0; j <= s.sectors; ++j) {
     cos_edge.push_back(float(std::cos(2.0 * std::numbers::pi * j / s.sectors)));
@@ -306,13 +303,12 @@ Image bitmask_simd(const SliceFrame& f, const BitmaskSettings& s, int threads, P
   const double thickness = double(s.thickness) * double(s.radius);
   const float t = thickness > 3e38 ? std::numeric_limits<float>::infinity() : float(thickness);
   const float radius2 = s.radius * s.radius;
-  return image_from_tiles(
-      f.width, f.height, threads, progress, kBitmaskBandRows, kBitmaskTileColumns, [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(BitmaskSpan)
-        (f, s, t, radius2, directions.base_cos(), directions.base_sin(), cos_edge.data(),
-         sin_edge.data(), y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(BitmaskSpan)
+                                 (f, s, t, radius2, directions.base_cos(), directions.base_sin(),
+                                  cos_edge.data(), sin_edge.data(), y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

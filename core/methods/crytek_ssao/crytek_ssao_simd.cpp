@@ -35,6 +35,7 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/base/simd_tiles.h"
 #include "core/methods/crytek_ssao/crytek_ssao.h"
 #include "core/methods/crytek_ssao/crytek_ssao_shared.h"
 
@@ -310,11 +311,6 @@ HWY_EXPORT(CrytekSsaoSpan);
 
 namespace {
 
-// Tiles of 16 rows × 128 columns, as HBAO's: the depth a tile's points read (±R around it)
-// stays in the core's L2 for large radii, where ±R rows of the whole width would not.
-constexpr int kCrytekBandRows = 16;
-constexpr int kCrytekTileColumns = 128;
-
 // u, v of an offset o (file comment), in double and rounded once.
 float offset_u(const CameraIntrinsics& cam, double radius, const glm::vec3& o) {
   return float(radius * (double(cam.fx) * o.x - double(cam.cx) * o.z));
@@ -367,11 +363,10 @@ Image crytek_ssao_simd(const GBuffer& g, const float* normals, const CrytekSsaoS
   const CrytekSimdFrame f{g.depth.data, g.depth.row_stride, normals,           g.width(),
                           g.height(),   g.camera,           g.background_depth};
   const CrytekTables tables = make_tables(f, s, kernel, tile);
-  return image_from_tiles(
-      f.width, f.height, threads, progress, kCrytekBandRows, kCrytekTileColumns, [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(CrytekSsaoSpan)(f, s, tables, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(CrytekSsaoSpan)(f, s, tables, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

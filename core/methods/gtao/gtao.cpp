@@ -7,9 +7,8 @@
 #include <vector>
 
 #include "core/base/parallel.h"
+#include "core/horizon/slice.h"
 #include "core/methods/gtao/gtao_shared.h"
-#include "core/methods/gtao/gtao_slice.h"
-#include "core/methods/hbao/hbao.h"
 
 namespace aolab {
 
@@ -32,8 +31,8 @@ namespace {
 
 constexpr double kHalfPi = std::numbers::pi / 2.0;
 
-// A GTAO slice: the shared geometry (gtao_slice.h) and eq. 7 of each side with its horizon at
-// the tangent.
+// A GTAO slice: the shared geometry (core/horizon/slice.h) and eq. 7 of each side with its horizon
+// at the tangent.
 struct Slice : SliceGeometry {
   double open_arc[2];
 };
@@ -47,7 +46,7 @@ double side_arc(const SliceGeometry& sl, float horizon_cos, int side) {
   return gtao_arc(clamped, sl.n, sl.cos_n, sl.sin_n);
 }
 
-Slice make_slice(const SliceFrame& f, const GtaoSettings& s, const HbaoReceiver& p,
+Slice make_slice(const SliceFrame& f, const GtaoSettings& s, const HorizonReceiver& p,
                  const glm::vec3& v, float c, float sn) {
   Slice sl{make_slice_geometry(f.cam, s.radius, s.steps, p, v, c, sn), {}};
   sl.open_arc[0] = side_arc(sl, sl.low[0], 0);
@@ -58,7 +57,7 @@ Slice make_slice(const SliceFrame& f, const GtaoSettings& s, const HbaoReceiver&
 // The horizon cosine one sample offers on a side whose tangent cosine is `low`: the cosine
 // from v of D = S − P projected onto the slice plane, faded towards `low` by the falloff
 // weight, and `low` itself for samples beyond R or not above the tangent plane.
-float sample_horizon_cos(const HbaoReceiver& p, const GtaoSettings& s, const Slice& sl,
+float sample_horizon_cos(const HorizonReceiver& p, const GtaoSettings& s, const Slice& sl,
                          const glm::vec3& v, float low, float horizon, int sx, int sy, float ds) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   const glm::vec3 D = slice_sample_offset(p, qx, qy, ds);
@@ -81,14 +80,14 @@ float sample_horizon_cos(const HbaoReceiver& p, const GtaoSettings& s, const Sli
   // Without the thickness heuristic a sample at or below the horizon changes nothing whether
   // it counts or not, so the dearer tangent test is left out for it.
   if (s.thickness == 0.0f && faded <= horizon) return low;
-  return hbao_above_tangent_plane(p, qx, qy, ds) ? faded : low;
+  return above_tangent_plane(p, qx, qy, ds) ? faded : low;
 }
 
 // The horizon cosine of one side (sign +1: side 0, −1: side 1): the max over its samples
 // (Algorithm 1's horizon search), or with the thickness heuristic a sample below the current
 // horizon pulls it towards itself by `thickness` (§4.3, "Height-field assumption
 // considerations").
-float search_horizon(const SliceFrame& f, const GtaoSettings& s, const HbaoReceiver& p,
+float search_horizon(const SliceFrame& f, const GtaoSettings& s, const HorizonReceiver& p,
                      const Slice& sl, const glm::vec3& v, float jitter, int side) {
   const float low = sl.low[side];
   float horizon = low;
@@ -114,12 +113,12 @@ double slice_visibility(const Slice& sl, const float horizon_cos[2]) {
   return double(sl.length) * sum;
 }
 
-float gtao_pixel(const SliceFrame& f, const GtaoSettings& s, const HbaoDirections& directions,
+float gtao_pixel(const SliceFrame& f, const GtaoSettings& s, const HorizonDirections& directions,
                  int x, int y, float* dir_cos, float* dir_sin) {
   SlicePixel px;
   if (!slice_pixel(f, directions, x, y, s.seed, s.random_rotation, s.jitter, dir_cos, dir_sin, px))
     return 1.0f;  // background
-  const HbaoReceiver& p = px.p;
+  const HorizonReceiver& p = px.p;
   const glm::vec3& v = px.v;
   const float jitter = px.jitter;
   double visible = 0.0, open = 0.0;
@@ -151,7 +150,7 @@ Image gtao(const GBuffer& g, const GtaoSettings& s, const RunOptions& options) {
   validate_settings(s, kGtaoFields);
   return run_slice_method(
       g, s.slices, 0.0f, options,
-      [&](const SliceFrame& f, const HbaoDirections& directions, int x, int y, float* dir_cos,
+      [&](const SliceFrame& f, const HorizonDirections& directions, int x, int y, float* dir_cos,
           float* dir_sin) { return gtao_pixel(f, s, directions, x, y, dir_cos, dir_sin); },
       [&](const SliceFrame& f, int threads, Progress* progress) {
         return gtao_simd(f, s, threads, progress);

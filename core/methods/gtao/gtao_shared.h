@@ -4,8 +4,8 @@
 
 #include "core/base/image.h"
 #include "core/base/parallel.h"
+#include "core/horizon/slice.h"
 #include "core/methods/gtao/gtao.h"
-#include "core/methods/gtao/gtao_slice.h"
 
 namespace aolab {
 

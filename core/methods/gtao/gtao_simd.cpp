@@ -1,7 +1,7 @@
 // GTAO's SIMD kernel: the scalar per-pixel code of gtao.cpp (the oracle it is tested against)
 // on Lanes consecutive pixels of a row at once, compiled by Highway for every target and
 // dispatched at run time. Every setting is supported. The slice set-up, the march and the
-// tangent test are shared with the visibility bitmask (gtao_slice_simd-inl.h).
+// tangent test are shared with the visibility bitmask (core/horizon/slice_simd-inl.h).
 //
 // What it does differently (docs/methods/gtao.md, "SIMD kernel"):
 // - float instead of double for eq. 7, with cos(2h − n) from cos h = c and sin h = ±√(1 − c²)
@@ -10,7 +10,7 @@
 // - the open slice's sides are eq. 7's closed form at n ± π/2, ¼(2 cos n + (2n ± π) sin n),
 //   and a side whose horizon stayed at its tangent takes that value, so an open plane still
 //   gives the same bits for the visible and the unoccluded sums, hence exactly 1;
-// - the slice set-up of gtao_slice_simd-inl.h (no sin/cos of n, one reciprocal square root
+// - the slice set-up of core/horizon/slice_simd-inl.h (no sin/cos of n, one reciprocal square root
 //   per normalisation, HBAO's division-free prefilter before the tangent test).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/methods/gtao/gtao_simd.cpp"
@@ -21,10 +21,11 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/base/simd_tiles.h"
+#include "core/horizon/slice.h"
+#include "core/horizon/slice_simd-inl.h"
 #include "core/methods/gtao/gtao.h"
 #include "core/methods/gtao/gtao_shared.h"
-#include "core/methods/gtao/gtao_slice.h"
-#include "core/methods/gtao/gtao_slice_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -104,7 +105,7 @@ HWY_INLINE void SearchHorizons(DF df, const SliceFrame& f, const GtaoSettings& s
 }  // namespace
 
 // Pixels [x_begin, x_end) of row y of GTAO into out (the row): gtao_pixel on Lanes pixels at
-// a time. base_cos/sin: the unrotated table of 2·slices directions (HbaoDirections).
+// a time. base_cos/sin: the unrotated table of 2·slices directions (HorizonDirections).
 void GtaoSpan(const SliceFrame& f, const GtaoSettings& s, const float* base_cos,
               const float* base_sin, int y, int x_begin, int x_end, float* HWY_RESTRICT out) {
   const DF df;
@@ -169,16 +170,10 @@ namespace aolab {
 
 HWY_EXPORT(GtaoSpan);
 
-// HBAO's tiles (hbao_simd.cpp): 16 rows × 128 columns keep the ±R neighbourhood a tile reads
-// in a core's L2 at large radii; a multiple of every vector length.
-constexpr int kGtaoBandRows = 16;
-constexpr int kGtaoTileColumns = 128;
-
 Image gtao_simd(const SliceFrame& f, const GtaoSettings& s, int threads, Progress* progress) {
-  const HbaoDirections directions(2 * s.slices);
-  return image_from_tiles(
-      f.width, f.height, threads, progress, kGtaoBandRows, kGtaoTileColumns, [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
+  const HorizonDirections directions(2 * s.slices);
+  return image_from_simd_tiles(
+      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
         HWY_DYNAMIC_DISPATCH(GtaoSpan)
         (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1, out);
       });

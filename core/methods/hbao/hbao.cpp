@@ -17,36 +17,6 @@ HbaoPixelPattern hbao_pixel_pattern(const HbaoSettings& s, int x, int y) {
           s.jitter ? pixel_random(seed, x, y, 1) : 0.0f};
 }
 
-HbaoDirections::HbaoDirections(int directions) : base_cos_(directions), base_sin_(directions) {
-  const double spacing = 2.0 * std::numbers::pi / directions;
-  for (int k = 0; k < directions; ++k) {
-    base_cos_[k] = float(std::cos(spacing * k));
-    base_sin_[k] = float(std::sin(spacing * k));
-  }
-}
-
-void HbaoDirections::rotated(float rotation, float* cos_out, float* sin_out) const {
-  const float phi = float(2.0 * std::numbers::pi / size() * rotation);
-  const float cp = std::cos(phi), sp = std::sin(phi);
-  for (int k = 0; k < size(); ++k) {
-    cos_out[k] = base_cos_[k] * cp - base_sin_[k] * sp;
-    sin_out[k] = base_sin_[k] * cp + base_cos_[k] * sp;
-  }
-}
-
-HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float depth,
-                           const glm::vec3& normal) {
-  HbaoReceiver p;
-  p.x = x, p.y = y, p.d = depth, p.n = normal;
-  p.px = float(x) + 0.5f, p.py = float(y) + 0.5f;
-  p.ox = p.px - cam.cx, p.oy = p.py - cam.cy;
-  p.inv_fx = 1.0f / cam.fx, p.inv_fy = 1.0f / cam.fy;
-  const glm::vec3 r0(p.ox * p.inv_fx, -p.oy * p.inv_fy, -1.0f);
-  p.n_r0 = glm::dot(p.n, r0);
-  p.grazing_p = glm::length(r0) / std::abs(p.n_r0);
-  return p;
-}
-
 namespace {
 
 constexpr float kFloatEpsilon = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
@@ -93,11 +63,12 @@ inline RayTangent tangent_on_ray(const glm::vec3& n, float n_r0, float qx, float
   return {r.z / glm::length(r), std::numeric_limits<float>::infinity()};
 }
 
-using Frame = HbaoFrame;
+using Frame = HorizonFrame;
 
 // The paper's one t(θ) per direction (per_sample_tangent off): from the ray one pixel along
 // θ, or in azimuth where that ray never meets the tangent plane.
-float direction_tangent_sin(const HbaoReceiver& p, float step_x, float step_y, float c, float s) {
+float direction_tangent_sin(const HorizonReceiver& p, float step_x, float step_y, float c,
+                            float s) {
   const float len = std::sqrt(step_x * step_x + step_y * step_y);
   const RayTangent rt =
       tangent_on_ray(p.n, p.n_r0, step_x / len, step_y / len, p.d, p.ox, p.oy, p.inv_fx, p.inv_fy);
@@ -112,8 +83,8 @@ struct Candidate {
 // t at the sample itself: the tangent plane on the sample's own view ray rs, met at depth tau
 // (tangent_on_ray). S counts only if it lies nearer than the plane by more than float32 depth
 // and normal rounding. The cheap sign test comes first: most samples of open surfaces fail it.
-bool per_sample_candidate(const HbaoReceiver& p, float qx, float qy, float ds, float dd, float r2,
-                          Candidate& out) {
+bool per_sample_candidate(const HorizonReceiver& p, float qx, float qy, float ds, float dd,
+                          float r2, Candidate& out) {
   const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
   const float n_rs = glm::dot(p.n, rs);
   const float tau = p.d * p.n_r0 / n_rs;
@@ -122,7 +93,7 @@ bool per_sample_candidate(const HbaoReceiver& p, float qx, float qy, float ds, f
   const float rs_len = glm::length(rs);
   const float grazing_s = rs_len / std::abs(n_rs);
   const float tolerance = kFloatEpsilon * std::max(ds, hits ? tau : ds) *
-                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
+                          (kTangentDepthUlps + kTangentNormalUlps * (p.grazing_p + grazing_s));
   if (!((hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance)) return false;
   const float sin_t =
       hits ? elevation_sin_on_ray(qx, qy, tau, p.d, p.ox, p.oy, p.inv_fx, p.inv_fy) : rs.z / rs_len;
@@ -135,7 +106,7 @@ bool per_sample_candidate(const HbaoReceiver& p, float qx, float qy, float ds, f
 // is the cosine band from t to the sample's elevation (hbao_cosine_band). Per-sample tangents:
 // in the sample's own azimuth û = D.xy/|D.xy|, with t the tangent plane's elevation there.
 // One tangent per direction: in the direction's azimuth (c, sn), with its t(θ).
-float cosine_gain(const HbaoReceiver& p, bool per_sample, float sin_t_dir, float c, float sn,
+float cosine_gain(const HorizonReceiver& p, bool per_sample, float sin_t_dir, float c, float sn,
                   float dx, float dy, float dd, float r) {
   const float sin_a = -dd / r, hor = std::sqrt(dx * dx + dy * dy), cos_a = hor / r;
   if (!per_sample) {
@@ -155,8 +126,9 @@ float cosine_gain(const HbaoReceiver& p, bool per_sample, float sin_t_dir, float
 // The sample on texel (sx, sy) at depth ds as a horizon candidate; false if it lies beyond R
 // (ignored, §3), is background (NaN) or is not above the tangent by more than rounding. The
 // tangent test decides whether it counts; `integral` decides its gain.
-bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius2, float sin_t_dir,
-                      float c, float sn, int sx, int sy, float ds, Candidate& out) {
+bool sample_candidate(const HorizonReceiver& p, const HbaoSettings& s, float radius2,
+                      float sin_t_dir, float c, float sn, int sx, int sy, float ds,
+                      Candidate& out) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   // D = S − P without cancellation (see elevation_sin_on_ray).
   const float dd = ds - p.d;
@@ -171,7 +143,7 @@ bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius
     out.r = std::sqrt(r2);
     out.gain = -dd / out.r - sin_t_dir;
     const float tolerance =
-        kHbaoNormalTolerance + kHbaoDepthUlps * kFloatEpsilon * std::max(p.d, ds) / out.r;
+        kHbaoNormalTolerance + kTangentDepthUlps * kFloatEpsilon * std::max(p.d, ds) / out.r;
     counts = out.gain > tolerance;
   }
   if (counts && s.integral == int(HbaoIntegral::Cosine))
@@ -183,11 +155,11 @@ bool sample_candidate(const HbaoReceiver& p, const HbaoSettings& s, float radius
 // incremental_attenuation eq. 2's rises of sin h, each weighted by W of the sample that caused
 // it; with integral = cosine the cosine band replaces sin h − sin t, with attenuation = none
 // W = 1.
-float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver& p, float jitter,
+float march_direction(const Frame& f, const HbaoSettings& s, const HorizonReceiver& p, float jitter,
                       float c, float sn) {
   const float radius = s.radius, radius2 = radius * radius, inv_radius = 1.0f / radius;
   float step_x, step_y;
-  hbao_step(f.cam, radius, s.steps, p.d, c, sn, step_x, step_y);
+  horizon_step(f.cam, radius, s.steps, p.d, c, sn, step_x, step_y);
   const float sin_t_dir =
       s.per_sample_tangent ? 0.0f : direction_tangent_sin(p, step_x, step_y, c, sn);
   // Its length in pixels, for the MIP level of far samples (a sum of products, no fused
@@ -201,7 +173,7 @@ float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver&
     // Leaving the image along a straight line is final; the test also rejects inf/NaN.
     if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
     int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
-    const std::size_t index = hbao_sample_index(f, t * step_len, sx, sy);
+    const std::size_t index = horizon_sample_index(f, t * step_len, sx, sy);
     if (sx == p.x && sy == p.y) continue;
     Candidate cand;
     if (!sample_candidate(p, s, radius2, sin_t_dir, c, sn, sx, sy, f.depth[index], cand)) continue;
@@ -216,12 +188,12 @@ float march_direction(const Frame& f, const HbaoSettings& s, const HbaoReceiver&
              : best_gain * std::max(0.0f, 1.0f - best_r * inv_radius);  // eq. 3
 }
 
-float hbao_pixel(const Frame& f, const HbaoSettings& s, const HbaoDirections& directions, int x,
+float hbao_pixel(const Frame& f, const HbaoSettings& s, const HorizonDirections& directions, int x,
                  int y, float* dir_cos, float* dir_sin) {
   const std::size_t idx = std::size_t(y) * f.width + x;
   const float d = f.depth[idx];
   if (!(d == d)) return 1.0f;  // background
-  const HbaoReceiver p = hbao_receiver(
+  const HorizonReceiver p = horizon_receiver(
       f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
   const HbaoPixelPattern pattern = hbao_pixel_pattern(s, x, y);
   directions.rotated(pattern.rotation, dir_cos, dir_sin);
@@ -245,28 +217,16 @@ Image hbao(const GBuffer& g, const HbaoSettings& s, const RunOptions& options) {
   // far samples on the MIP chain, its levels after the depth.
   Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
-  const Frame frame = hbao_frame(depth, normals, g.camera, s.mip_distance, threads);
+  const Frame frame = horizon_frame(depth, normals, g.camera, s.mip_distance, threads);
   if (options.kernel == Kernel::Simd) return hbao_simd(frame, s, threads, options.progress);
 
-  const HbaoDirections directions(s.directions);
+  const HorizonDirections directions(s.directions);
   return image_from_pixels(
       w, h, threads, options.progress,
       [&] { return std::vector<float>(2 * std::size_t(s.directions)); },
       [&](std::vector<float>& dirs, int x, int y) {
         return hbao_pixel(frame, s, directions, x, y, dirs.data(), dirs.data() + s.directions);
       });
-}
-
-HbaoFrame hbao_frame(Buffer<float>& depth, const Image& normals, const CameraIntrinsics& cam,
-                     float mip_distance, int threads) {
-  HbaoFrame f{depth.data(), normals.data(), normals.width(), normals.height(), cam};
-  if (mip_distance > 0.0f) {
-    f.mip = depth_mip_layout(f.width, f.height, kMaxDepthMipLevel);
-    build_depth_mip(depth, f.mip, threads);  // may move the depth
-    f.depth = depth.data();
-    f.inv_mip_distance = 1.0f / mip_distance;
-  }
-  return f;
 }
 
 Method hbao_method() {

@@ -21,6 +21,9 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/settings.h"
+#include "core/horizon/directions.h"
+#include "core/horizon/frame.h"
+#include "core/horizon/receiver.h"
 #include "core/methods/registry.h"
 
 namespace aolab {
@@ -29,16 +32,11 @@ namespace aolab {
 constexpr int kHbaoDefaultDirections = 8;
 constexpr int kHbaoDefaultSteps = 8;
 
-/// Float32 rounding must not create occlusion: with per-sample tangents a sample counts only
-/// if it lies nearer than the tangent plane, along its own view ray, by more than
-/// 2^-24 · depth · (kHbaoDepthUlps + kHbaoNormalUlps · g), g = |r|/|n·r| summed over P's and
-/// the sample's rays (how much normal rounding moves a tangent-plane depth; large at grazing
-/// angles). With the paper's per-direction tangent the gain sin α - sin t must exceed
-/// kHbaoNormalTolerance + kHbaoDepthUlps · 2^-24 · max(d_P, d_S)/|D|. Either way an
-/// unoccluded plane gives exactly 1; only occluders within a few ulps of depth of the
-/// tangent plane are lost.
-constexpr float kHbaoDepthUlps = 8.0f;
-constexpr float kHbaoNormalUlps = 4.0f;
+/// Float32 rounding must not create occlusion: with per-sample tangents the tangent-plane test
+/// of receiver.h decides (kTangentDepthUlps, kTangentNormalUlps). With the paper's
+/// per-direction tangent the gain sin α - sin t must exceed kHbaoNormalTolerance +
+/// kTangentDepthUlps · 2^-24 · max(d_P, d_S)/|D|. Either way an unoccluded plane gives exactly
+/// 1; only occluders within a few ulps of depth of the tangent plane are lost.
 constexpr float kHbaoNormalTolerance = 1e-6f;
 
 /// The horizon point's distance r sets W (eq. 3), so the choice among samples of nearly
@@ -155,36 +153,6 @@ Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& opt
 /// The registry entry.
 Method hbao_method();
 
-/// What the HBAO kernels read of a frame: depth with background as NaN (so every comparison
-/// with it fails), prepared normals (3 floats per pixel), the size and the camera; GTAO's
-/// slices march over the same (SliceFrame).
-struct HbaoFrame {
-  const float* depth;
-  const float* normals;
-  int width, height;
-  CameraIntrinsics cam;
-  /// With far samples on the depth MIP chain (mip_distance > 0): `depth` is the chain (its
-  /// level 0 the frame), `mip` its layout and inv_mip_distance 1/q; else 0.
-  DepthMipLayout mip = {};
-  float inv_mip_distance = 0.0f;
-};
-
-/// The frame over `depth` (background as NaN) and prepared `normals`; with mip_distance q > 0
-/// the depth MIP chain is appended to `depth` (build_depth_mip) for far samples.
-HbaoFrame hbao_frame(Buffer<float>& depth, const Image& normals, const CameraIntrinsics& cam,
-                     float mip_distance, int threads);
-
-/// Where HBAO's sample at (sx, sy), `distance` pixels from P along its direction, reads its
-/// depth in f.depth; with the MIP chain (f.inv_mip_distance > 0) the sample first snaps to
-/// its level's pixel (sx, sy updated).
-inline std::size_t hbao_sample_index(const HbaoFrame& f, float distance, int& sx, int& sy) {
-  if (!(f.inv_mip_distance > 0.0f)) return std::size_t(sy) * std::size_t(f.width) + sx;
-  const int level = depth_mip_level(distance * f.inv_mip_distance, f.mip.levels);
-  const std::size_t index = depth_mip_index(f.mip, level, sx, sy);
-  sx = depth_mip_pixel(sx, level, f.width), sy = depth_mip_pixel(sy, level, f.height);
-  return index;
-}
-
 // ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
 // texels; the oracle re-derives everything else in double precision. ----
 
@@ -194,67 +162,5 @@ struct HbaoPixelPattern {
 };
 
 HbaoPixelPattern hbao_pixel_pattern(const HbaoSettings& s, int x, int y);
-
-/// The N_d view-space directions θ_k = 2π (k + rotation) / N_d: a table of the unrotated
-/// directions built once, rotated per pixel (one sincos per pixel instead of N_d).
-class HbaoDirections {
- public:
-  explicit HbaoDirections(int directions);
-  int size() const { return int(base_cos_.size()); }
-  /// cos/sin of the directions rotated by `rotation` (a fraction of the spacing, [0, 1)).
-  void rotated(float rotation, float* cos_out, float* sin_out) const;
-  /// The unrotated table: cos and sin of 2π k / N_d.
-  const float* base_cos() const { return base_cos_.data(); }
-  const float* base_sin() const { return base_sin_.data(); }
-
- private:
-  std::vector<float> base_cos_, base_sin_;
-};
-
-/// What the tangent-plane tests of HBAO and Pyramid HBAO need of the receiver P at pixel
-/// (x, y), computed once per pixel.
-struct HbaoReceiver {
-  int x, y;
-  float d;       ///< P's depth
-  glm::vec3 n;   ///< P's prepared normal
-  float px, py;  ///< P's pixel centre
-  float ox, oy;  ///< offsets of P's pixel centre from (cx, cy)
-  float inv_fx, inv_fy;
-  float n_r0;       ///< n · (P's view ray at depth 1)
-  float grazing_p;  ///< |r0| / |n·r0|: how much normal rounding moves tangent-plane depths here
-};
-
-HbaoReceiver hbao_receiver(const CameraIntrinsics& cam, int x, int y, float depth,
-                           const glm::vec3& normal);
-
-/// Whether a sample on P's pixel + (qx, qy), at depth ds, lies nearer than P's tangent plane
-/// along its own view ray by more than float32 rounding: the plane meets that ray at depth
-/// tau = d (n·r0)/(n·rs), and the sample counts only if tau − ds exceeds
-/// 2^-24 · max(ds, tau) · (kHbaoDepthUlps + kHbaoNormalUlps · g), g summing |r|/|n·r| of both
-/// rays. A ray that never meets the plane in front of the camera counts any finite sample.
-/// (v·n = (n·rs)(ds − tau) for v = S − P, so this is "v·n > 0" made immune to rounding.)
-/// HBAO's per-sample tangent test, shared with GTAO, Alchemy AO and SAO: an open plane never
-/// occludes itself, whatever snapping does to the samples. Inline: it runs once per sample.
-inline bool hbao_above_tangent_plane(const HbaoReceiver& p, float qx, float qy, float ds) {
-  constexpr float kUnitRoundoff = 1.0f / 16777216.0f;  // 2^-24, unit roundoff of float32
-  const glm::vec3 rs((p.ox + qx) * p.inv_fx, -(p.oy + qy) * p.inv_fy, -1.0f);
-  const float n_rs = glm::dot(p.n, rs);
-  const float tau = p.d * p.n_r0 / n_rs;  // depth where rs meets the tangent plane
-  const bool hits = n_rs < 0.0f && tau > 0.0f && std::isfinite(tau);
-  if (hits && !(tau > ds)) return false;
-  const float grazing_s = glm::length(rs) / std::abs(n_rs);
-  const float tolerance = kUnitRoundoff * std::max(ds, hits ? tau : ds) *
-                          (kHbaoDepthUlps + kHbaoNormalUlps * (p.grazing_p + grazing_s));
-  return (hits ? tau : std::numeric_limits<float>::infinity()) - ds > tolerance;
-}
-
-/// Image-space step (pixels) of direction (c, s) for a pixel at depth d: the eye-space
-/// radius projected and split into N_s steps; image y points down, view y up.
-inline void hbao_step(const CameraIntrinsics& cam, float radius, int steps, float depth, float c,
-                      float s, float& step_x, float& step_y) {
-  const float k = radius / (depth * float(steps));
-  step_x = c * cam.fx * k;
-  step_y = -s * cam.fy * k;
-}
 
 }  // namespace aolab

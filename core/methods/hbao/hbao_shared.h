@@ -11,6 +11,6 @@ namespace aolab {
 
 /// The SIMD kernel (hbao_simd.cpp): the same algorithm as the scalar per-pixel code for every
 /// setting, on consecutive pixels of a row at once. hbao() runs it for Kernel::Simd.
-Image hbao_simd(const HbaoFrame& f, const HbaoSettings& s, int threads, Progress* progress);
+Image hbao_simd(const HorizonFrame& f, const HbaoSettings& s, int threads, Progress* progress);
 
 }  // namespace aolab

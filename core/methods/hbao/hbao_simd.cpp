@@ -28,15 +28,16 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/base/simd_tiles.h"
+#include "core/horizon/horizon_simd-inl.h"
 #include "core/methods/hbao/hbao.h"
 #include "core/methods/hbao/hbao_shared.h"
-#include "core/methods/hbao/hbao_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
 namespace {
 
-// The receiver P of each lane (hbao_receiver).
+// The receiver P of each lane (horizon_receiver).
 struct Receiver {
   VF d, nx, ny, nz;
   VF px, py, ox, oy;
@@ -49,7 +50,7 @@ struct Receiver {
   VF ax, ay;
   VF d_n_r0;      // d · (n·r0)
   VF prefilter;   // d · (n·r0) / (1 + 12·2^-24), the prefilter's left side
-  VF step_scale;  // hbao_step's R / (d·N_s)
+  VF step_scale;  // horizon_step's R / (d·N_s)
 };
 
 // What every step of a row shares.
@@ -57,7 +58,7 @@ struct RowConstants {
   VF inv_fx, inv_fy, fx, fy, width, height, radius, radius2, inv_radius;
   int y, w;
   bool small;           // width and height < 2^23: TexelOf may be used
-  MipSampling<DF> mip;  // far samples on the depth MIP chain (HbaoFrame::mip)
+  MipSampling<DF> mip;  // far samples on the depth MIP chain (HorizonFrame::mip)
 };
 
 // int(v) for 0 ≤ v < 2^23: v + 2^23 holds trunc(v) in its low mantissa bits. Three
@@ -173,9 +174,9 @@ HWY_INLINE void SampleStep(DF df, const HbaoSettings& s, const Receiver& p, cons
   } else {
     r = hn::Sqrt(r2);
     gain = hn::Sub(hn::Div(hn::Neg(dd), r), sin_t_dir);
-    const VF tol =
-        hn::Add(hn::Set(df, kHbaoNormalTolerance),
-                hn::Div(hn::Mul(hn::Set(df, kHbaoDepthUlps * kUnitRoundoff), hn::Max(p.d, ds)), r));
+    const VF tol = hn::Add(
+        hn::Set(df, kHbaoNormalTolerance),
+        hn::Div(hn::Mul(hn::Set(df, kTangentDepthUlps * kUnitRoundoff), hn::Max(p.d, ds)), r));
     counts = hn::And(live, hn::Gt(gain, tol));
     if (hn::AllFalse(df, counts)) return;
   }
@@ -223,7 +224,7 @@ HWY_INLINE Direction MakeDirection(DF df, const HbaoSettings& s, const Receiver&
                                    const RowConstants& k, VF c, VF sn) {
   Direction d;
   d.c = c, d.sn = sn;
-  // hbao_step: the projected radius split into N_s steps.
+  // horizon_step: the projected radius split into N_s steps.
   d.step_x = hn::Mul(hn::Mul(c, k.fx), p.step_scale);
   d.step_y = hn::Neg(hn::Mul(hn::Mul(sn, k.fy), p.step_scale));
   d.sin_t_dir = s.per_sample_tangent ? hn::Zero(df)
@@ -245,7 +246,7 @@ struct StepBuffers {
   float* ds;
   float* live;
 };
-HWY_INLINE int GatherSteps(DF df, const HbaoFrame& f, const Receiver& p, const RowConstants& k,
+HWY_INLINE int GatherSteps(DF df, const HorizonFrame& f, const Receiver& p, const RowConstants& k,
                            const Direction& d, VF jitter, int i0, int n, MF& alive,
                            const StepBuffers& b, int at) {
   const DI di;
@@ -301,16 +302,16 @@ HWY_INLINE VF DirectionTerm(DF df, const HbaoSettings& s, const RowConstants& k,
 // samples' tests, whose data-dependent branches would otherwise stall each gather behind a
 // mispredicted one. When N_s ≤ kBufferSteps / 2 one pass holds several directions' steps
 // (4 at N_s = 8), so that enough gathers are in flight; a longer march is cut into chunks.
-HWY_INLINE VF MarchDirections(DF df, const HbaoFrame& f, const HbaoSettings& s, const Receiver& p,
-                              const RowConstants& k, MF geometry, VF jitter, VF cp, VF sp,
-                              const float* base_cos, const float* base_sin) {
+HWY_INLINE VF MarchDirections(DF df, const HorizonFrame& f, const HbaoSettings& s,
+                              const Receiver& p, const RowConstants& k, MF geometry, VF jitter,
+                              VF cp, VF sp, const float* base_cos, const float* base_sin) {
   const DI di;
   HWY_ALIGN std::int32_t buf_sx[kBufferSteps * hn::MaxLanes(di)];
   HWY_ALIGN std::int32_t buf_sy[kBufferSteps * hn::MaxLanes(di)];
   HWY_ALIGN float buf_ds[kBufferSteps * hn::MaxLanes(df)];
   HWY_ALIGN float buf_live[kBufferSteps * hn::MaxLanes(df)];
   const StepBuffers b{buf_sx, buf_sy, buf_ds, buf_live};
-  // HbaoDirections::rotated.
+  // HorizonDirections::rotated.
   const auto direction = [&](int dir) {
     const VF bc = hn::Set(df, base_cos[dir]), bs = hn::Set(df, base_sin[dir]);
     return MakeDirection(df, s, p, k, hn::Sub(hn::Mul(bc, cp), hn::Mul(bs, sp)),
@@ -355,8 +356,8 @@ HWY_INLINE VF MarchDirections(DF df, const HbaoFrame& f, const HbaoSettings& s, 
 }  // namespace
 
 // Pixels [x_begin, x_end) of row y of HBAO into out (the row): hbao_pixel on Lanes pixels at
-// a time. base_cos/sin: the unrotated direction table (HbaoDirections).
-void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
+// a time. base_cos/sin: the unrotated direction table (HorizonDirections).
+void HbaoSpan(const HorizonFrame& f, const HbaoSettings& s, const float* base_cos,
               const float* base_sin, int y, int x_begin, int x_end, float* HWY_RESTRICT out) {
   const DF df;
   const DI di;
@@ -394,7 +395,7 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
     p.x = hn::Add(hn::Set(di, x0), hn::Iota(di, 0));
     p.px = PixelCentres(df, x0), p.py = hn::Set(df, py);
     p.ox = hn::Sub(p.px, hn::Set(df, f.cam.cx)), p.oy = hn::Set(df, py - f.cam.cy);
-    // hbao_receiver.
+    // horizon_receiver.
     const VF r0x = hn::Mul(p.ox, k.inv_fx), r0y = hn::Neg(hn::Mul(p.oy, k.inv_fy));
     p.n_r0 = hn::Sub(hn::MulAdd(p.nx, r0x, hn::Mul(p.ny, r0y)), p.nz);
     p.ax = hn::Mul(p.nx, k.inv_fx), p.ay = hn::Mul(p.ny, k.inv_fy);
@@ -406,7 +407,7 @@ void HbaoSpan(const HbaoFrame& f, const HbaoSettings& s, const float* base_cos,
 
     VF result = hn::Set(df, 1.0f);
     if (!hn::AllFalse(df, geometry)) {
-      // hbao_pixel_pattern and HbaoDirections::rotated.
+      // hbao_pixel_pattern and HorizonDirections::rotated.
       const VF rotation = s.random_rotation ? PixelRandom(df, seed, x0, y, 0) : hn::Zero(df);
       const VF jitter = s.jitter ? PixelRandom(df, seed, x0, y, 1) : hn::Zero(df);
       const VF phi = hn::Mul(rotation, hn::Set(df, spacing));
@@ -429,18 +430,10 @@ namespace aolab {
 
 HWY_EXPORT(HbaoSpan);
 
-// Tiles of 16 rows × 128 columns: the depth that a tile's samples read (±R around it, about
-// 270 × 160 texels at R ≈ 70 px) fits a core's 512 KiB L2, where ±R rows of the whole width
-// do not. Measured on `blocks` at R = 0.25 it makes no difference (the kernel is bound by
-// arithmetic there); it keeps large radii from becoming bound by memory.
-constexpr int kHbaoBandRows = 16;
-constexpr int kHbaoTileColumns = 128;
-
-Image hbao_simd(const HbaoFrame& f, const HbaoSettings& s, int threads, Progress* progress) {
-  const HbaoDirections directions(s.directions);
-  return image_from_tiles(
-      f.width, f.height, threads, progress, kHbaoBandRows, kHbaoTileColumns, [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
+Image hbao_simd(const HorizonFrame& f, const HbaoSettings& s, int threads, Progress* progress) {
+  const HorizonDirections directions(s.directions);
+  return image_from_simd_tiles(
+      f.width, f.height, threads, progress, [&](int y, int x0, int x1, float* out) {
         HWY_DYNAMIC_DISPATCH(HbaoSpan)
         (f, s, directions.base_cos(), directions.base_sin(), y, x0, x1, out);
       });

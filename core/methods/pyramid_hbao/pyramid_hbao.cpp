@@ -9,7 +9,7 @@
 
 #include "core/base/parallel.h"
 #include "core/filters/blur.h"
-#include "core/methods/hbao/hbao.h"
+#include "core/horizon/receiver.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao_shared.h"
 #include "core/sampling/blue_noise.h"
 #include "core/sampling/random.h"
@@ -76,7 +76,7 @@ struct Frame {
 // Eq. 8's term W(r)·sin α of the texel read on level l, into `weighted`; false if the texel
 // is background, at or beyond R (W = 0, eq. 7; with attenuation none, beyond R) or not above
 // P's tangent plane.
-bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexel& texel, int l,
+bool texel_contribution(const Frame& f, const HorizonReceiver& p, const PyramidTexel& texel, int l,
                         float radius2, float inv_radius, bool attenuate, float& weighted) {
   const float ds = texel.depth;
   // §3.4 step 2a: "restore the position in the three-dimensional space" — at the texel's
@@ -116,7 +116,7 @@ bool texel_contribution(const Frame& f, const HbaoReceiver& p, const PyramidTexe
 
 // Eq. 8 for one direction: the largest weighted contribution max_i W(r_i)·sin α_i over the
 // samples of the march (§3.4 step 2), 0 if no sample occludes.
-float march_direction(const Frame& f, const PyramidHbaoSettings& s, const HbaoReceiver& p,
+float march_direction(const Frame& f, const PyramidHbaoSettings& s, const HorizonReceiver& p,
                       const PyramidHbaoDirection& dir) {
   const float radius2 = s.radius * s.radius, inv_radius = 1.0f / s.radius;
   const bool attenuate = s.attenuation == int(PyramidHbaoAttenuation::Linear);
@@ -162,7 +162,7 @@ float pyramid_hbao_pixel(const Frame& f, const PyramidHbaoSettings& s, int x, in
   const float d = f.pyramid->level(0).texels[idx].depth;
   if (!(d == d)) return 1.0f;  // background
   // §3.4 step 1: P from the depth buffer, n from the normal map.
-  const HbaoReceiver p = hbao_receiver(
+  const HorizonReceiver p = horizon_receiver(
       f.cam, x, y, d, {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
 
   pyramid_hbao_directions(s, x, y, dirs);

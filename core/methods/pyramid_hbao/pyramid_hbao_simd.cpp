@@ -30,6 +30,7 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
+#include "core/base/simd_tiles.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao.h"
 #include "core/methods/pyramid_hbao/pyramid_hbao_shared.h"
 #include "core/sampling/blue_noise.h"
@@ -113,7 +114,7 @@ HWY_INLINE VF Reciprocal(DF df, VF v) {
   return hn::Mul(r, hn::NegMulAdd(v, r, hn::Set(df, 2.0f)));
 }
 
-// The receiver P of each lane (hbao_receiver), and what its reads share.
+// The receiver P of each lane (horizon_receiver), and what its reads share.
 struct Receiver {
   VF d, nx, ny, nz;
   VF xf, px, py, ox, oy;  // P's column, its pixel centre, their offsets from (cx, cy)
@@ -412,7 +413,7 @@ HWY_INLINE void LoadPixels(DF df, const float* depth_row, const float* normal_ro
   }
 }
 
-// hbao_receiver on every lane of P's loaded depth and normal; a tail lane repeats the row's
+// horizon_receiver on every lane of P's loaded depth and normal; a tail lane repeats the row's
 // last pixel at its own x (dropped).
 HWY_INLINE void SetUpReceiver(DF df, const Frame& f, const RowConstants& k, int x0, int y,
                               Receiver& p) {
@@ -517,23 +518,16 @@ namespace aolab {
 
 HWY_EXPORT(PyramidHbaoSpan);
 
-// Tiles of 16 rows × 128 columns, as HBAO's: the reads of a tile (a few pixels around it on
-// level 0, a few texels on the coarser levels) stay in the core's L1 and L2.
-constexpr int kPyramidHbaoBandRows = 16;
-constexpr int kPyramidHbaoTileColumns = 128;
-
 Image pyramid_hbao_simd(const GatherPyramid& pyramid, const float* normals,
                         const CameraIntrinsics& cam, const PyramidHbaoSettings& s, int threads,
                         Progress* progress) {
   const GatherPyramidLevel& base = pyramid.level(0);
   const pyramid_simd::Frame frame{pyramid.data(), pyramid.levels(), normals,
                                   base.width,     base.height,      cam};
-  return image_from_tiles(
-      base.width, base.height, threads, progress, kPyramidHbaoBandRows, kPyramidHbaoTileColumns,
-      [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(PyramidHbaoSpan)(frame, s, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(base.width, base.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(PyramidHbaoSpan)(frame, s, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab

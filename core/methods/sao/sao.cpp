@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/hbao/hbao.h"
 #include "core/methods/sao/sao_blur.h"
 #include "core/methods/sao/sao_shared.h"
 #include "core/sampling/random.h"

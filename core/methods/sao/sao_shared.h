@@ -1,15 +1,15 @@
 // What SAO's scalar code (sao.cpp, sao_blur.cpp) and its SIMD kernel (sao_simd.cpp) share:
-// the z pyramid laid out for the SIMD estimator SAO shares with Alchemy AO (alchemy_shared.h)
-// and the bilateral reconstruction in vectors. sao() runs them for Kernel::Simd; the scalar
-// code is the oracle they are tested against. Private to core/methods/sao/ and its tests
-// (docs/architecture.md, "Two kernels per method").
+// the z pyramid laid out for the SIMD estimator SAO shares with Alchemy AO
+// (core/horizon/obscurance_simd.h) and the bilateral reconstruction in vectors. sao() runs them for
+// Kernel::Simd; the scalar code is the oracle they are tested against. Private to core/methods/sao/
+// and its tests (docs/architecture.md, "Two kernels per method").
 #pragma once
 
 #include <span>
 
 #include "core/base/image.h"
 #include "core/base/parallel.h"
-#include "core/methods/alchemy/alchemy_shared.h"
+#include "core/horizon/obscurance_simd.h"
 #include "core/methods/sao/sao.h"
 #include "core/methods/sao/sao_blur.h"
 

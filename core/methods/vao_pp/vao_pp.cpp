@@ -6,11 +6,11 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/vao/vao_shared.h"
 #include "core/methods/vao_pp/bilateral.h"
 #include "core/methods/vao_pp/vao_pp_shared.h"
 #include "core/sampling/poisson_disk.h"
 #include "core/sampling/random.h"
+#include "core/volumetric/pipes_simd.h"
 
 namespace aolab {
 

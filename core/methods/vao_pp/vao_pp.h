@@ -1,6 +1,6 @@
 // VAO++: Bokšanský, Pospíšil, Bittner, "VAO++: Practical Volumetric Ambient Occlusion for
-// Games", EGSR 2017, §4: VAO
-// (core/methods/vao/vao.h, whose per-sample code it runs) with these extensions, each a setting:
+// Games", EGSR 2017, §4: VAO (core/methods/vao/vao.h; its per-sample code, which VAO++ runs,
+// is core/volumetric/pipes.h) with these extensions, each a setting:
 //   §4.1 adaptive sampling: 2, 4, 8, 16 or 32 samples from the projected disc area;
 //   §4.2 culling pre-pass: AO at 1/8 resolution with 8 samples; pixels with no occlusion in
 //        the bilinear fetches at their four corners are skipped (greedy) or get 4 samples
@@ -19,7 +19,7 @@
 #include "core/base/image.h"
 #include "core/base/settings.h"
 #include "core/methods/registry.h"
-#include "core/methods/vao/vao.h"
+#include "core/volumetric/pipes.h"
 
 namespace aolab {
 
@@ -59,7 +59,7 @@ struct VaoPpSettings {
   /// 32 (§4.1). [2, 32].
   int samples = kVaoDefaultSamples;
   /// Pipes along the samples' view rays (exact on planes); off: parallel to the view axis
-  /// with F by eq. 2 (see VaoSettings::view_ray_pipes).
+  /// with F by eq. 2 (as VaoSettings::view_ray_pipes, vao.h).
   bool view_ray_pipes = true;
   /// §4.1: fewer samples where the projected disc is small.
   bool adaptive_sampling = true;

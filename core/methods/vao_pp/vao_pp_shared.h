@@ -11,9 +11,9 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
-#include "core/methods/vao/vao.h"
-#include "core/methods/vao/vao_shared.h"
 #include "core/methods/vao_pp/vao_pp.h"
+#include "core/volumetric/pipes.h"
+#include "core/volumetric/pipes_simd.h"
 
 namespace aolab {
 

@@ -1,7 +1,7 @@
 // VAO++'s SIMD kernel: the culling pre-pass (§4.2) and the occlusion pass (§3) of vao_pp.cpp
-// on VAO's SIMD sample loop (vao_simd_span, vao_simd.cpp), in tiles of rows; the cross-bilateral
-// filter's SIMD form is bilateral_simd.cpp. vao_pp() runs them for Kernel::Simd; the scalar
-// passes are their oracle (docs/methods/vao_pp.md).
+// on VAO's SIMD sample loop (vao_simd_span, core/volumetric/pipes_simd.cpp), in tiles of rows; the
+// cross-bilateral filter's SIMD form is bilateral_simd.cpp. vao_pp() runs them for Kernel::Simd;
+// the scalar passes are their oracle (docs/methods/vao_pp.md).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -9,8 +9,9 @@
 #include <vector>
 
 #include "core/base/parallel.h"
-#include "core/methods/vao/vao_shared.h"
+#include "core/base/simd_tiles.h"
 #include "core/methods/vao_pp/vao_pp_shared.h"
+#include "core/volumetric/pipes_simd.h"
 
 namespace aolab::vao_pp_detail {
 
@@ -114,18 +115,18 @@ Image occlusion_pass_simd(const Pass& r, const VaoSimdSets& sets, const Image& l
                       : 1.0f;
           }
         }
-        for (int x0 = 0; x0 < w; x0 += kVaoTileColumns)
+        for (int x0 = 0; x0 < w; x0 += kSimdTileColumns)
           for (int y = y0; y < y1; ++y) {
             counts.culled = culled.data() + std::size_t(y - y0) * w;
             if (r.culling == VaoPpCulling::Off) counts.culled = nullptr;
-            vao_simd_span(r.frame, full_po, sets, counts, y, x0, std::min(w, x0 + kVaoTileColumns),
+            vao_simd_span(r.frame, full_po, sets, counts, y, x0, std::min(w, x0 + kSimdTileColumns),
                           1, 0, &work(0, y, 0), channels, &stats);
           }
         counters.pixels += stats.pixels;
         counters.culled += stats.culled;
         counters.samples += stats.samples;
       },
-      r.progress, kVaoBandRows);
+      r.progress, kSimdBandRows);
   return work;
 }
 

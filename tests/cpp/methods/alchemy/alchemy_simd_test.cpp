@@ -1,5 +1,5 @@
-// Alchemy AO's SIMD kernel (the estimator of alchemy_simd.cpp, shared with SAO) against its
-// scalar code, the oracle: every setting, on analytic scenes and on committed reference
+// Alchemy AO's SIMD kernel (the estimator of core/horizon/obscurance_simd.cpp, shared with SAO)
+// against its scalar code, the oracle: every setting, on analytic scenes and on committed reference
 // scenes; the same bits for any thread count; hard sizes and inputs. The known-answer tests of
 // alchemy_test.cpp and conformance_test.cpp run the SIMD kernel too (it is the default).
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
-// SAO's SIMD path (the estimator of alchemy_simd.cpp shared with Alchemy AO, the pyramid and
-// filter of sao_simd.cpp) against its scalar code, the oracle: every setting, on analytic
-// scenes and on committed reference scenes; the same bits for any thread count; hard sizes and
-// inputs; the pyramid texel for texel; the filter alone. The known-answer tests of
-// sao_test.cpp and conformance_test.cpp run the SIMD path too (it is the default).
+// SAO's SIMD path (the estimator of core/horizon/obscurance_simd.cpp shared with Alchemy AO, the
+// pyramid and filter of sao_simd.cpp) against its scalar code, the oracle: every setting, on
+// analytic scenes and on committed reference scenes; the same bits for any thread count; hard sizes
+// and inputs; the pyramid texel for texel; the filter alone. The known-answer tests of sao_test.cpp
+// and conformance_test.cpp run the SIMD path too (it is the default).
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 

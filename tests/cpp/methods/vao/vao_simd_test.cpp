@@ -1,6 +1,6 @@
-// The SIMD kernel of VAO and VAO++ (vao_simd.cpp, bilateral_simd.cpp) against their scalar
-// code, the oracle: every setting, on analytic scenes and on committed reference scenes, at
-// the extreme radii; the same bits for any thread count; hard sizes and inputs. The
+// The SIMD kernel of VAO and VAO++ (core/volumetric/pipes_simd.cpp, bilateral_simd.cpp) against
+// their scalar code, the oracle: every setting, on analytic scenes and on committed reference
+// scenes, at the extreme radii; the same bits for any thread count; hard sizes and inputs. The
 // known-answer tests of vao_test.cpp, vao_pp_test.cpp and conformance_test.cpp run the SIMD
 // kernel too (it is the default).
 #include <gtest/gtest.h>

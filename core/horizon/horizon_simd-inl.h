@@ -1,18 +1,20 @@
-// HBAO's exact per-sample tangent test (hbao_above_tangent_plane) on a vector of lanes: the one
-// SIMD copy that HBAO's kernel and GTAO's slice kernel (GTAO, the visibility bitmask) share, as
-// their scalar code shares hbao.h's. Included once per target by a kernel's foreach_target
+// The exact per-sample tangent test (above_tangent_plane, receiver.h) and the depth MIP
+// chain's sample index (horizon_sample_index, frame.h) on a vector of lanes: the one SIMD copy
+// that HBAO's kernel and the slice kernels (GTAO, the visibility bitmask) share, as their scalar
+// code shares receiver.h and frame.h. Included once per target by a kernel's foreach_target
 // pass, so it has Highway's per-target include guard instead of #pragma once.
-#if defined(AOLAB_HBAO_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
-#ifdef AOLAB_HBAO_SIMD_INL_H_
-#undef AOLAB_HBAO_SIMD_INL_H_
+#if defined(AOLAB_HORIZON_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef AOLAB_HORIZON_SIMD_INL_H_
+#undef AOLAB_HORIZON_SIMD_INL_H_
 #else
-#define AOLAB_HBAO_SIMD_INL_H_
+#define AOLAB_HORIZON_SIMD_INL_H_
 #endif
 
 #include <limits>
 
 #include "core/base/simd-inl.h"
-#include "core/methods/hbao/hbao.h"
+#include "core/horizon/frame.h"
+#include "core/horizon/receiver.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -26,10 +28,10 @@ struct TangentTest {
   hn::Vec<DF> inv_rs_len;  ///< 1/|rs|, rs the sample's view ray at depth 1
 };
 
-/// hbao_above_tangent_plane on the lanes of `maybe` (false elsewhere), for a sample at depth
+/// above_tangent_plane on the lanes of `maybe` (false elsewhere), for a sample at depth
 /// `ds` on the view ray rs = (rsx, rsy, −1): d_n_r0 = d·(n·r0) of the receiver, n_rs = n·rs,
-/// grazing_p = |r0|/|n·r0|. The tolerance is 2^-24·max(ds, tau)·(kHbaoDepthUlps +
-/// kHbaoNormalUlps·(g_P + g_S)), as in the scalar test.
+/// grazing_p = |r0|/|n·r0|. The tolerance is 2^-24·max(ds, tau)·(kTangentDepthUlps +
+/// kTangentNormalUlps·(g_P + g_S)), as in the scalar test.
 template <class DF>
 HWY_INLINE TangentTest<DF> ExactTangentTest(DF df, hn::Vec<DF> d_n_r0, hn::Vec<DF> n_rs,
                                             hn::Vec<DF> rsx, hn::Vec<DF> rsy, hn::Vec<DF> ds,
@@ -45,15 +47,15 @@ HWY_INLINE TangentTest<DF> ExactTangentTest(DF df, hn::Vec<DF> d_n_r0, hn::Vec<D
       hn::Mul(hn::ApproximateReciprocal(t.inv_rs_len), hn::ApproximateReciprocal(hn::Abs(n_rs)));
   const auto tol =
       hn::Mul(hn::Mul(hn::Set(df, kUnitRoundoff), hn::Max(ds, hn::IfThenElse(t.hits, t.tau, ds))),
-              hn::MulAdd(hn::Set(df, kHbaoNormalUlps), hn::Add(grazing_p, grazing_s),
-                         hn::Set(df, kHbaoDepthUlps)));
+              hn::MulAdd(hn::Set(df, kTangentNormalUlps), hn::Add(grazing_p, grazing_s),
+                         hn::Set(df, kTangentDepthUlps)));
   const auto gap = hn::Sub(
       hn::IfThenElse(t.hits, t.tau, hn::Set(df, std::numeric_limits<float>::infinity())), ds);
   t.counts = hn::And(hn::AndNot(rejected, maybe), hn::Gt(gap, tol));
   return t;
 }
 
-/// What hbao_sample_index needs of the frame's depth MIP chain, on every lane.
+/// What horizon_sample_index needs of the frame's depth MIP chain, on every lane.
 template <class DF>
 struct MipSampling {
   bool on = false;  ///< f.inv_mip_distance > 0
@@ -62,7 +64,7 @@ struct MipSampling {
 };
 
 template <class DF>
-HWY_INLINE MipSampling<DF> MakeMipSampling(DF df, const HbaoFrame& f) {
+HWY_INLINE MipSampling<DF> MakeMipSampling(DF df, const HorizonFrame& f) {
   const hn::RebindToSigned<DF> di;
   MipSampling<DF> m;
   m.on = f.inv_mip_distance > 0.0f;
@@ -73,7 +75,7 @@ HWY_INLINE MipSampling<DF> MakeMipSampling(DF df, const HbaoFrame& f) {
   return m;
 }
 
-/// hbao_sample_index with the MIP chain on every lane: the level of a sample `distance` pixels
+/// horizon_sample_index with the MIP chain on every lane: the level of a sample `distance` pixels
 /// from P, its texel's index in the chain, and (sx, sy) snapped to the level's pixel
 /// (depth_mip_pixel). A lane that has left the image holds texel (0, 0), inside every level.
 template <class DF>
@@ -103,4 +105,4 @@ HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> MipSampleIndex(DF, const MipSampling<
 }  // namespace aolab::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
-#endif  // AOLAB_HBAO_SIMD_INL_H_
+#endif  // AOLAB_HORIZON_SIMD_INL_H_

@@ -1,9 +1,7 @@
-// What Alchemy AO's scalar code (alchemy.cpp) and its SIMD kernel (alchemy_simd.cpp) share:
-// the SIMD kernel of the obscurance estimator (obscurance_estimator.h) that Alchemy AO and SAO
-// share, obscurance_estimate on consecutive pixels of a row at once, and what it reads. The
-// scalar code stays the oracle it is tested against; docs/methods/alchemy.md, "SIMD kernel",
-// says where the two differ. Private to core/methods/alchemy/ and SAO (docs/architecture.md,
-// "Two kernels per method").
+// The SIMD kernel (obscurance_simd.cpp) of the obscurance estimator (obscurance_estimator.h)
+// that Alchemy AO and SAO share: obscurance_estimate on consecutive pixels of a row at once,
+// and what it reads. The scalar code stays the oracle it is tested against;
+// docs/methods/alchemy.md, "SIMD kernel", says where the two differ.
 #pragma once
 
 #include <bit>
@@ -13,7 +11,7 @@
 #include "core/base/camera.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
-#include "core/methods/alchemy/obscurance_estimator.h"
+#include "core/horizon/obscurance_estimator.h"
 
 namespace aolab {
 

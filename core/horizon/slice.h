@@ -18,14 +18,17 @@
 #include "core/base/gbuffer.h"
 #include "core/base/image.h"
 #include "core/base/parallel.h"
-#include "core/methods/hbao/hbao.h"
+#include "core/base/run_options.h"
+#include "core/horizon/directions.h"
+#include "core/horizon/frame.h"
+#include "core/horizon/receiver.h"
 #include "core/sampling/random.h"
 
 namespace aolab {
 
 /// The view-space inputs a slice method marches over: HBAO's, depth with background as NaN (so
 /// every test on it fails) and the prepared normals, 3 per pixel.
-using SliceFrame = HbaoFrame;
+using SliceFrame = HorizonFrame;
 
 /// One slice of one pixel: the plane through P spanned by the view vector v and the
 /// back-projected screen direction (the plane through the camera that holds the screen line).
@@ -39,13 +42,13 @@ struct SliceGeometry {
 };
 
 /// The true per-pixel view vector, from P towards the camera: −P/|P| = −r0/|r0|.
-inline glm::vec3 slice_view_vector(const HbaoReceiver& p) {
+inline glm::vec3 slice_view_vector(const HorizonReceiver& p) {
   return glm::normalize(glm::vec3(-p.ox * p.inv_fx, p.oy * p.inv_fy, 1.0f));
 }
 
 /// The slice of screen direction (c, s) = (cos φ, sin φ) for receiver p with view vector v.
 inline SliceGeometry make_slice_geometry(const CameraIntrinsics& cam, float radius, int steps,
-                                         const HbaoReceiver& p, const glm::vec3& v, float c,
+                                         const HorizonReceiver& p, const glm::vec3& v, float c,
                                          float s) {
   SliceGeometry sl;
   // Moving along the screen direction (c·fx, −s·fy) changes the normalised image
@@ -65,13 +68,13 @@ inline SliceGeometry make_slice_geometry(const CameraIntrinsics& cam, float radi
   const float sin_n = sl.length > 0.0f ? along_t / sl.length : 0.0f;
   sl.low[0] = -sin_n;
   sl.low[1] = sin_n;
-  hbao_step(cam, radius, steps, p.d, c, s, sl.step_x, sl.step_y);
+  horizon_step(cam, radius, steps, p.d, c, s, sl.step_x, sl.step_y);
   return sl;
 }
 
 /// D = S − P for the sample on P's pixel + (qx, qy) at depth ds, without cancellation (HBAO's
 /// form, docs/methods/hbao.md step 6).
-inline glm::vec3 slice_sample_offset(const HbaoReceiver& p, float qx, float qy, float ds) {
+inline glm::vec3 slice_sample_offset(const HorizonReceiver& p, float qx, float qy, float ds) {
   const float dd = ds - p.d;
   return {(qx * ds + p.ox * dd) * p.inv_fx, -(qy * ds + p.oy * dd) * p.inv_fy, -dd};
 }
@@ -81,7 +84,7 @@ inline glm::vec3 slice_sample_offset(const HbaoReceiver& p, float qx, float qy, 
 /// Leaving the image ends the march; P's own texel and background texels are skipped.
 /// visit(sx, sy, ds) is called for every other sample in order and returns false to stop.
 template <class Visit>
-void march_slice_side(const SliceFrame& f, const HbaoReceiver& p, const SliceGeometry& sl,
+void march_slice_side(const SliceFrame& f, const HorizonReceiver& p, const SliceGeometry& sl,
                       int steps, float jitter, int side, Visit&& visit) {
   const float sign = side == 0 ? 1.0f : -1.0f;
   // |step| in pixels, for the MIP level of far samples (no fused add: the SIMD kernel's bits).
@@ -92,7 +95,7 @@ void march_slice_side(const SliceFrame& f, const HbaoReceiver& p, const SliceGeo
     // Leaving the image along a straight line is final; the test also rejects inf/NaN.
     if (!(sx_f >= 0.0f && sx_f < float(f.width) && sy_f >= 0.0f && sy_f < float(f.height))) break;
     int sx = int(sx_f), sy = int(sy_f);  // snap to the texel (its centre below)
-    const std::size_t index = hbao_sample_index(f, (float(i) - jitter) * step_len, sx, sy);
+    const std::size_t index = horizon_sample_index(f, (float(i) - jitter) * step_len, sx, sy);
     if (sx == p.x && sy == p.y) continue;
     const float ds = f.depth[index];
     if (!(ds == ds)) continue;  // background never occludes
@@ -104,20 +107,20 @@ void march_slice_side(const SliceFrame& f, const HbaoReceiver& p, const SliceGeo
 /// of its samples, and the slices' screen directions rotated into dir_cos/dir_sin (random
 /// streams 0: rotation, 1: jitter, so that GTAO and the bitmask march the same samples).
 struct SlicePixel {
-  HbaoReceiver p;
+  HorizonReceiver p;
   glm::vec3 v;
   float jitter;
 };
 
 /// Sets up pixel (x, y); false for background (AO 1).
-inline bool slice_pixel(const SliceFrame& f, const HbaoDirections& directions, int x, int y,
+inline bool slice_pixel(const SliceFrame& f, const HorizonDirections& directions, int x, int y,
                         int seed, bool random_rotation, bool jitter, float* dir_cos, float* dir_sin,
                         SlicePixel& out) {
   const std::size_t idx = std::size_t(y) * f.width + x;
   const float d = f.depth[idx];
   if (!(d == d)) return false;  // background
-  out.p = hbao_receiver(f.cam, x, y, d,
-                        {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
+  out.p = horizon_receiver(f.cam, x, y, d,
+                           {f.normals[3 * idx], f.normals[3 * idx + 1], f.normals[3 * idx + 2]});
   out.v = slice_view_vector(out.p);
   const auto s = std::uint32_t(seed);
   const float rotation = random_rotation ? pixel_random(s, x, y, 0) : 0.0f;
@@ -140,9 +143,9 @@ Image run_slice_method(const GBuffer& g, int slices, float mip_distance, const R
   const int threads = resolve_threads(options.threads);
   Buffer<float> depth = depth_with_background_as_nan(g, threads);
   const Image normals = prepared_normals(g, threads);
-  const SliceFrame frame = hbao_frame(depth, normals, g.camera, mip_distance, threads);
+  const SliceFrame frame = horizon_frame(depth, normals, g.camera, mip_distance, threads);
   if (options.kernel == Kernel::Simd) return simd(frame, threads, options.progress);
-  const HbaoDirections directions(2 * slices);
+  const HorizonDirections directions(2 * slices);
   return image_from_pixels(
       w, h, threads, options.progress, [&] { return std::vector<float>(4 * std::size_t(slices)); },
       [&](std::vector<float>& dirs, int x, int y) {

@@ -17,10 +17,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <numbers>
 #include <vector>
 
-#include "core/methods/hbao/hbao.h"
+#include "core/base/camera.h"
+#include "core/horizon/receiver.h"
 #include "core/sampling/random.h"
 
 namespace aolab {
@@ -125,10 +128,10 @@ struct ObscuranceEstimator {
 /// The term of one tap for the receiver p: the surface point on pixel (sx, sy) at depth ds
 /// (its texel centre), v = S − C formed without cancellation (HBAO's form). The cheap tests
 /// (beyond r, v·n ≤ b) come first; of the rest, taps not above
-/// C's tangent plane by more than float32 rounding add nothing (hbao_above_tangent_plane):
+/// C's tangent plane by more than float32 rounding add nothing (above_tangent_plane):
 /// their v·n ≤ 0 in exact arithmetic, so this only removes rounding noise, and an open plane
 /// gives exactly 1.
-inline double obscurance_tap(const HbaoReceiver& p, int sx, int sy, float ds, double bias,
+inline double obscurance_tap(const HorizonReceiver& p, int sx, int sy, float ds, double bias,
                              const ObscuranceEstimator& e) {
   const float qx = float(sx - p.x), qy = float(sy - p.y);
   const float dd = ds - p.d;
@@ -137,7 +140,7 @@ inline double obscurance_tap(const HbaoReceiver& p, int sx, int sy, float ds, do
   if (!(vv < e.r2)) return 0.0;  // beyond r: w = 0 for both falloffs
   const double vn = double(v.x) * p.n.x + double(v.y) * p.n.y + double(v.z) * p.n.z;
   if (!(vn > bias)) return 0.0;  // the term's max(0, ·) is 0: no need for the dearer test
-  if (!hbao_above_tangent_plane(p, qx, qy, ds)) return 0.0;
+  if (!above_tangent_plane(p, qx, qy, ds)) return 0.0;
   return e.term(vv, vn, bias);
 }
 
@@ -153,7 +156,7 @@ float obscurance_estimate(const CameraIntrinsics& cam, int x, int y, float d, co
                           float radius, bool random_rotation, int seed, double bias,
                           const SpiralTaps& taps, const ObscuranceEstimator& e, int width,
                           int height, ReadTap&& read) {
-  const HbaoReceiver p = hbao_receiver(cam, x, y, d, n);
+  const HorizonReceiver p = horizon_receiver(cam, x, y, d, n);
   const float rx = radius * cam.fx / d, ry = radius * cam.fy / d;
   const float phi = random_rotation ? 2.0f * std::numbers::pi_v<float> *
                                           pixel_random(std::uint32_t(seed), x, y, 0)

@@ -1,4 +1,4 @@
-// The SIMD kernel of VAO and VAO++: vao_pixel (vao.cpp, the oracle it is tested against) on
+// The SIMD kernel of VAO and VAO++: vao_pixel (pipes.cpp, the oracle it is tested against) on
 // Lanes pixels of a row at once, compiled by Highway for every target and dispatched at run
 // time. Both methods run this one sample loop; VAO++ adds its per-pixel sample counts (§4.1,
 // §4.2), range check (§4.4), tiled sample sets (§4.5) and colour bleeding (§4.7).
@@ -15,7 +15,9 @@
 //   scales a tolerance);
 // - a sample's depth, and where pixels use different sets its disc point, is a gather.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "core/methods/vao/vao_simd.cpp"
+#define HWY_TARGET_INCLUDE "core/volumetric/pipes_simd.cpp"
+
+#include "core/volumetric/pipes_simd.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +26,6 @@
 #include <numbers>
 
 #include "core/base/simd-inl.h"
-#include "core/methods/vao/vao_shared.h"
 #include "core/sampling/random.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -1,4 +1,4 @@
-// The SIMD form of the slice set-up in gtao_slice.h, shared by the SIMD kernels of GTAO
+// The SIMD form of the slice set-up in slice.h, shared by the SIMD kernels of GTAO
 // (gtao_simd.cpp) and the visibility bitmask (bitmask_simd.cpp): lanes are consecutive pixels
 // of one row, and each lane follows the scalar pixel's steps (its rotation, jitter, snapped
 // texels, tangent tests), so the kernels differ from the scalar code by float rounding only.
@@ -7,7 +7,7 @@
 // - the slice angle n = atan2(proj n · t, proj n · v) is needed for the linear term of eq. 7
 //   only; cos n and sin n are the two dot products over their length, not cos and sin of n;
 // - the per-pixel rotation is one sin/cos per pixel turning the base direction table
-//   (HbaoDirections), as in the scalar code, but for a vector of pixels at once;
+//   (HorizonDirections), as in the scalar code, but for a vector of pixels at once;
 // - P's step in pixels is the same for every slice up to the direction: R/(d·M) once per
 //   pixel;
 // - a sample's distance from the slice plane's normal line, |D − a(a·D)|, and its cosine from
@@ -16,11 +16,11 @@
 //
 // Included once per target by a kernel's own foreach_target pass, hence Highway's per-target
 // include guard instead of #pragma once.
-#if defined(AOLAB_GTAO_SLICE_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
-#ifdef AOLAB_GTAO_SLICE_SIMD_INL_H_
-#undef AOLAB_GTAO_SLICE_SIMD_INL_H_
+#if defined(AOLAB_HORIZON_SLICE_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef AOLAB_HORIZON_SLICE_SIMD_INL_H_
+#undef AOLAB_HORIZON_SLICE_SIMD_INL_H_
 #else
-#define AOLAB_GTAO_SLICE_SIMD_INL_H_
+#define AOLAB_HORIZON_SLICE_SIMD_INL_H_
 #endif
 
 #include <algorithm>
@@ -30,9 +30,8 @@
 #include <numbers>
 
 #include "core/base/simd-inl.h"
-#include "core/methods/gtao/gtao_slice.h"
-#include "core/methods/hbao/hbao.h"
-#include "core/methods/hbao/hbao_simd-inl.h"
+#include "core/horizon/horizon_simd-inl.h"
+#include "core/horizon/slice.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -42,7 +41,7 @@ namespace slice_simd {
 struct Row {
   VF inv_fx, inv_fy, fx, fy, width, height;
   int y, w;
-  MipSampling<DF> mip;  // far samples on the depth MIP chain (HbaoFrame::mip)
+  MipSampling<DF> mip;  // far samples on the depth MIP chain (HorizonFrame::mip)
 };
 
 inline Row make_row(DF df, const SliceFrame& f, int y) {
@@ -55,7 +54,7 @@ inline Row make_row(DF df, const SliceFrame& f, int y) {
   return k;
 }
 
-/// slice_pixel on every lane: the receiver (hbao_receiver), the view vector, the jitter and
+/// slice_pixel on every lane: the receiver (horizon_receiver), the view vector, the jitter and
 /// the rotation of the direction table.
 struct Pixels {
   MF geometry;  // not background
@@ -65,7 +64,7 @@ struct Pixels {
   VF vx, vy, vz;     // v = −P/|P|
   VF jitter;         // the samples' offset w
   VF rot_c, rot_s;   // cos and sin of the per-pixel rotation
-  VF step_scale;     // R/(d·M): hbao_step without the direction
+  VF step_scale;     // R/(d·M): horizon_step without the direction
 };
 
 /// The pixels x0 … x0 + Lanes − 1 of row k.y (count of them real; the others repeat the last
@@ -104,7 +103,7 @@ inline Pixels load_pixels(DF df, const SliceFrame& f, const Row& k, int x0, int 
   const auto s = std::uint32_t(seed);
   const VF rotation = random_rotation ? PixelRandom(df, s, x0, k.y, 0) : hn::Zero(df);
   p.jitter = jitter ? PixelRandom(df, s, x0, k.y, 1) : hn::Zero(df);
-  // HbaoDirections::rotated: the table of `directions` directions turned by a fraction
+  // HorizonDirections::rotated: the table of `directions` directions turned by a fraction
   // `rotation` of their spacing.
   const VF phi = hn::Mul(rotation, hn::Set(df, float(2.0 * std::numbers::pi / directions)));
   p.rot_c = hn::Cos(df, phi), p.rot_s = hn::Sin(df, phi);
@@ -126,7 +125,7 @@ struct Slice {
 inline Slice make_slice(DF df, const Row& k, const Pixels& p, float bc, float bs) {
   const VF zero = hn::Zero(df);
   Slice sl;
-  // The rotated direction (c, s) (HbaoDirections::rotated).
+  // The rotated direction (c, s) (HorizonDirections::rotated).
   const VF c = hn::Sub(hn::Mul(hn::Set(df, bc), p.rot_c), hn::Mul(hn::Set(df, bs), p.rot_s));
   const VF s = hn::MulAdd(hn::Set(df, bs), p.rot_c, hn::Mul(hn::Set(df, bc), p.rot_s));
   // axis = normalize((c, s, 0) × v); v.z > 0, so the cross product is never zero.
@@ -160,7 +159,7 @@ inline Slice make_slice(DF df, const Row& k, const Pixels& p, float bc, float bs
   sl.sin_n = hn::IfThenElseZero(has_h, hn::Mul(along_t, inv_h));
   const VF sin_low = hn::IfThenElseZero(sl.active, hn::Mul(along_t, inv_len));
   sl.low[0] = hn::Neg(sin_low), sl.low[1] = sin_low;
-  // hbao_step.
+  // horizon_step.
   sl.step_x = hn::Mul(hn::Mul(c, k.fx), p.step_scale);
   sl.step_y = hn::Neg(hn::Mul(hn::Mul(s, k.fy), p.step_scale));
   return sl;
@@ -184,7 +183,7 @@ inline Offset sample_offset(DF df, const Row& k, const Pixels& p, VI sx, VI sy, 
   return o;
 }
 
-/// hbao_above_tangent_plane on the lanes of `live` (false elsewhere). First HBAO's
+/// above_tangent_plane on the lanes of `live` (false elsewhere). First HBAO's
 /// division-free prefilter: where the sample's ray meets the plane in front of the camera
 /// (n·rs < 0, n·r0 < 0), the test needs tau > ds·(1 + 16·2^-24), since its tolerance is at
 /// least 2^-24·ds·(8 + 4·(1 + 1)); for n·rs < 0 that is d·(n·r0) < ds·(n·rs)·(1 + 16·2^-24).
@@ -292,4 +291,4 @@ HWY_INLINE void march_sides(DF df, const SliceFrame& f, const Row& k, const Pixe
 }  // namespace aolab::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
-#endif  // AOLAB_GTAO_SLICE_SIMD_INL_H_
+#endif  // AOLAB_HORIZON_SLICE_SIMD_INL_H_

@@ -1,14 +1,13 @@
-// What VAO's scalar code (vao.cpp) and its SIMD kernel (vao_simd.cpp) share: the SIMD kernel,
-// vao_pixel on Lanes pixels of a row at once, with the sample sets and counts it reads. VAO++
-// runs the same sample loop (vao_pp.cpp). The scalar vao_pixel stays the oracle it is
-// tested against (docs/methods/vao.md, "SIMD kernel"). Private to core/methods/vao/ and VAO++
-// (docs/architecture.md, "Two kernels per method").
+// The SIMD kernel of the volumetric obscurance (pipes_simd.cpp): vao_pixel of pipes.h on Lanes
+// pixels of a row at once, with the sample sets and counts it reads, run by VAO (vao.cpp) and
+// VAO++ (vao_pp.cpp, vao_pp_simd.cpp). The scalar vao_pixel stays the oracle it is tested
+// against (docs/methods/vao.md, "SIMD kernel").
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
-#include "core/methods/vao/vao.h"
+#include "core/volumetric/pipes.h"
 
 namespace aolab {
 
@@ -26,12 +25,6 @@ struct VaoSimdSets {
   /// Appends a base set and sets offset[k.size()].
   void add(const VaoKernel& k);
 };
-
-/// The SIMD loops run tiles of kVaoBandRows rows × kVaoTileColumns columns, so that the
-/// depth a tile's samples read (±R around it) stays in a core's L2 cache; the columns are a
-/// multiple of every vector length (spans start at multiples of it).
-constexpr int kVaoBandRows = 16;
-constexpr int kVaoTileColumns = 128;
 
 /// How many samples each pixel gets: `samples`, or with `adaptive` VAO++'s §4.1 count
 /// (vao_pp_adaptive_samples of the disc's projected diameter, at most `samples`), cut where

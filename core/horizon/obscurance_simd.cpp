@@ -1,5 +1,5 @@
 // The SIMD kernel of the obscurance estimator that Alchemy AO and SAO share
-// (alchemy_shared.h): obscurance_estimate of obscurance_estimator.h, the oracle it is tested
+// (obscurance_simd.h): obscurance_estimate of obscurance_estimator.h, the oracle it is tested
 // against, on Lanes consecutive pixels of a row at once, compiled by Highway for every target
 // and dispatched at run time. Every setting of both methods is supported; each lane follows the
 // scalar pixel's steps (its own rotation, the same taps, texels, pyramid levels and tests).
@@ -15,7 +15,9 @@
 //   some lane's tap passed the cheap tests, and its grazing factors, which only scale its
 //   tolerance, come from the hardware's reciprocal and 1/sqrt estimates.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "core/methods/alchemy/alchemy_simd.cpp"
+#define HWY_TARGET_INCLUDE "core/horizon/obscurance_simd.cpp"
+
+#include "core/horizon/obscurance_simd.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -25,8 +27,8 @@
 
 #include "core/base/parallel.h"
 #include "core/base/simd-inl.h"
-#include "core/methods/alchemy/alchemy_shared.h"
-#include "core/methods/hbao/hbao.h"
+#include "core/base/simd_tiles.h"
+#include "core/horizon/receiver.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aolab::HWY_NAMESPACE {
@@ -34,12 +36,12 @@ namespace {
 
 constexpr int kChunk = 16;  // taps gathered before they are tested
 
-// The receiver C of each lane (hbao_receiver) and what its taps share.
+// The receiver C of each lane (horizon_receiver) and what its taps share.
 struct Receiver {
   VF d, nx, ny, nz;
   VF px, py, ox, oy;
   VI x;
-  VF n_r0, grazing;  // n·r0 and |r0|/|n·r0| (hbao_above_tangent_plane)
+  VF n_r0, grazing;  // n·r0 and |r0|/|n·r0| (above_tangent_plane)
   VF bias;           // b/r
 };
 
@@ -92,7 +94,7 @@ HWY_INLINE RowConstants MakeRowConstants(DF df, const ObscuranceSimdFrame& f, in
   k.width_f = hn::Set(df, float(k.w)), k.height_f = hn::Set(df, float(k.h));
   k.epsilon = hn::Set(df, float(e.epsilon * e.inv_r2));
   k.scale = hn::Set(df, float(e.scale / double(f.radius)));
-  k.tol_ulps = hn::Set(df, kHbaoDepthUlps), k.normal_ulps = hn::Set(df, kHbaoNormalUlps);
+  k.tol_ulps = hn::Set(df, kTangentDepthUlps), k.normal_ulps = hn::Set(df, kTangentNormalUlps);
   k.smooth = e.falloff == ObscuranceFalloff::Smooth;
   k.at_source = lv && lv->has_sources();
   k.max_level = lv ? lv->count - 1 : 0;
@@ -250,7 +252,7 @@ HWY_INLINE void PlaceTaps(DF df, const ObscuranceSimdFrame& f, const RowConstant
   }
 }
 
-// hbao_above_tangent_plane on the lanes of `live` for a tap at pixel offset (qx, qy) and depth
+// above_tangent_plane on the lanes of `live` for a tap at pixel offset (qx, qy) and depth
 // ds. |rs|/|n·rs| only scales the tolerance: the hardware estimates (12 bits or better) will
 // do where the scalar code divides by a square root; |n·rs| = 0 gives inf there too.
 HWY_INLINE MF AboveTangentPlane(DF df, const RowConstants& k, const Receiver& p, VF qx, VF qy,
@@ -357,18 +359,11 @@ namespace aolab {
 
 HWY_EXPORT(ObscuranceSpan);
 
-// Tiles of 16 rows × 128 columns, as HBAO's: the depth a tile's taps read (±r' around it)
-// stays in a core's L2 at large radii, where ±r' rows of the whole width would not.
-constexpr int kObscuranceBandRows = 16;
-constexpr int kObscuranceTileColumns = 128;
-
 Image obscurance_simd(const ObscuranceSimdFrame& f, int threads, Progress* progress) {
-  return image_from_tiles(
-      f.width, f.height, threads, progress, kObscuranceBandRows, kObscuranceTileColumns,
-      [] { return 0; },
-      [&](int, int y, int x0, int x1, float* out) {
-        HWY_DYNAMIC_DISPATCH(ObscuranceSpan)(f, y, x0, x1, out);
-      });
+  return image_from_simd_tiles(f.width, f.height, threads, progress,
+                               [&](int y, int x0, int x1, float* out) {
+                                 HWY_DYNAMIC_DISPATCH(ObscuranceSpan)(f, y, x0, x1, out);
+                               });
 }
 
 }  // namespace aolab
