@@ -39,7 +39,7 @@ def cache_dir(context) -> Path:
     if prefs is not None and prefs.cache_dir:
         return Path(bpy.path.abspath(prefs.cache_dir))
     try:
-        from aolab.render.reference import default_cache
+        from aolab.cycles.cache import default_cache
     except ImportError:  # not built: the panel says so; the default folder, as aolab's
         return Path("~/.cache/aolab/references").expanduser()
     return default_cache()

@@ -20,6 +20,7 @@ from aolab import cli
 from aolab import named_presets as presets
 from aolab.study import pareto
 from aolab.study import compare, tune
+from aolab.cli.options import crop_of
 
 optuna = pytest.importorskip("optuna")
 
@@ -124,7 +125,7 @@ def test_timing_counts_warmup_and_repeat():
 
 
 def test_occluded_mae_is_the_studys():
-    crop = scenes.parse_crop("160x90")
+    crop = crop_of("160x90")
     (sc,) = tune.load_scenes([SCENES / "room"], crop)
     got = tune.evaluate("vao", {"samples": 4}, True, [sc], tune.Timing(0, 1))["room"]
     full = scenes.load_scene(SCENES / "room", crop)
@@ -185,7 +186,7 @@ def test_the_guard_excludes_a_choice_worse_than_ao_one_or_the_default_on_the_who
 def test_degenerate_outputs_cannot_pass_the_whole_frame_guard():
     """All dark, all grey, or the reference darkened everywhere: each is worse than AO = 1
     on the whole frame of a real scene, so no budget can choose it."""
-    (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("320x180"))
+    (sc,) = tune.load_scenes([SCENES / "room"], crop_of("320x180"))
     guard = pareto.Guard(ao_one={"room": sc.ao_one_mae})
     ref = sc.reference
 
@@ -384,7 +385,7 @@ def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     opts = tune.Options(out=tmp_path)
     assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
-    opts.crop = scenes.parse_crop(CROP)
+    opts.crop = crop_of(CROP)
     assert tune.default_presets_file(every, SCENES, opts) == tmp_path / presets.TUNED_FILE
 
 

@@ -13,7 +13,7 @@ References are rendered by `aolab reference` in a child /usr/bin/python3 (refere
 with this aolab package first on its path; not sys.executable, which inside Blender is
 whichever python3.11 comes first on PATH, possibly one without numpy: docs/blender_facts.md,
 "Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its cache
-is content-keyed by the file's bytes; `find_by_content` (aolab.render.reference) also finds
+is content-keyed by the file's bytes; `find_by_content` (aolab.cycles.cache) also finds
 a render by the scene's content hash (the add-on's export.content_hash, stored in each
 sidecar), so that a re-saved, unchanged scene is served from the cache.
 """
@@ -34,7 +34,8 @@ import aolab
 
 from ..bridge.constants import RESULT_EXR
 # find_by_content: the add-on's cache lookup by scene content (inputs.find_reference)
-from ..render.reference import find_by_content, package_path  # noqa: F401
+from ..cycles.blender import package_path  # noqa: F401
+from ..cycles.cache import find_by_content  # noqa: F401
 from ..scoring import error_map, metrics_mask, nothing_to_score
 from ..study import advise, compare, quick_reference
 
