@@ -22,7 +22,7 @@ try:
     from aolab.bridge import constants, intrinsics, passes
     from aolab.jobs import live as live_jobs
     from aolab.jobs import runner, tasks
-    from aolab.render.reference import default_cache, find_by_content
+    from aolab.cycles.cache import default_cache, find_by_content
     from aolab.study import advise, quick_reference
 
     from .export import scene_record

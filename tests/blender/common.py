@@ -25,7 +25,7 @@ def addon_module(name: str):
 
 def use_checkout():
     """The checkout's bridge (blender_addon/aolab_blender) first on sys.path, and before it
-    the aolab package the test imports ($AOLAB_PACKAGE_PATH, as aolab.render.reference sets it for
+    the aolab package the test imports ($AOLAB_PACKAGE_PATH, as aolab.cycles.blender sets it for
     batch.py). Not for the add-on's own check, which tests the installed add-on."""
     sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
     if os.environ.get("AOLAB_PACKAGE_PATH"):

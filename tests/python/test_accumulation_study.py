@@ -15,9 +15,9 @@ import pytest
 
 import aolab
 from aolab import cli, scenes
+from aolab.cli.options import crop_of
 from aolab.scoring import digest
-from aolab.study import results_doc, runner, temporal
-from aolab.study import findings
+from aolab.study import findings, results_doc, runner, temporal
 from browser import Browser, chromium, poll
 from compare_support import SCENES, link_scene, make_sequence, parse_report, read_csv
 
@@ -248,7 +248,7 @@ def test_stills_and_sequences_without_motion_are_unchanged(pan, tmp_path):
     room = [r for r in pan["json"]["rows"] if r["scene"] in ("room", "ALL")]
     assert room and not any(new & set(r) for r in room)
     assert not any(r["label"].endswith(SUFFIX) for r in room)
-    scene = scenes.load_scene(SCENES / "room", scenes.parse_crop("160x90"))
+    scene = scenes.load_scene(SCENES / "room", crop_of("160x90"))
     by_key = {r["key"]: r for r in room}
     ao = aolab.compute("hbao", scene.g, radius=scene.radius)
     assert by_key["room/hbao/default"]["metrics"] == runner.score(ao, scene)["regions"]

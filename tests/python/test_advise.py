@@ -18,6 +18,7 @@ import aolab
 from aolab.scenes import Crop, load_cropped
 from aolab.scoring import reference_noise
 from aolab.study import advise, budget, quick_reference, runner, tune
+from aolab.util.arguments import parse_budget
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "reference_scenes"
@@ -236,7 +237,7 @@ def test_configurations_merge_presets_that_compute_the_same():
 @pytest.mark.parametrize("text, ms", [("16ms", 16.0), ("33 ms", 33.0), ("100", 100.0),
                                       ("8.5ms", 8.5)])
 def test_budgets_are_read_in_ms(text, ms):
-    assert advise.parse_budget(text) == ms
+    assert parse_budget(text) == ms
 
 
 @pytest.mark.parametrize("text", ["fast", "0ms", "-16ms", "16s", "nan", "inf", "", "1e9",

@@ -16,7 +16,7 @@ import pytest
 import aolab
 from aolab.bridge.intrinsics import intrinsics
 from aolab.bridge.passes import parse_passes, required_passes
-from aolab.render import reference
+from aolab.cycles.blender import package_path
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
@@ -105,7 +105,7 @@ def test_pass_names_are_checked():
 
 def checkout_env() -> dict:
     """Blender's environment for tests/blender scripts: the aolab this test imports first on
-    its path (tests/blender/common.py use_checkout, as aolab.render.reference does for batch.py)."""
+    its path (tests/blender/common.py use_checkout, as aolab.cycles.blender does for batch.py)."""
     return dict(os.environ, AOLAB_PACKAGE_PATH=str(Path(aolab.__file__).resolve().parents[1]))
 
 
@@ -344,7 +344,7 @@ def test_a_bridge_that_dies_before_its_handler_renders_nothing(tmp_path):
 def test_blender_is_given_the_folder_that_holds_this_package():
     """$AOLAB_PACKAGE_PATH, first on Blender's sys.path, holds aolab/ itself: the folder of
     aolab/ (as it once was) would make `import aolab` in Blender find another build."""
-    held = Path(reference.package_path()) / "aolab" / "__init__.py"
+    held = Path(package_path()) / "aolab" / "__init__.py"
     assert held.resolve() == Path(aolab.__file__).resolve()
 
 
@@ -394,7 +394,7 @@ def test_background_reference_is_one(tmp_path):
 def test_scene_key_covers_the_shared_helpers(tmp_path):
     """A reference scene's content hash (the cache key's scene part) covers its build.py,
     its manifest and reference_scenes/scene_kit.py, which every build.py imports."""
-    from aolab.render.reference import SCENE_KIT, resolve_scene
+    from aolab.cycles.plan import SCENE_KIT, resolve_scene
     scenes = tmp_path / "reference_scenes"
     shutil.copytree(ROOT / "reference_scenes" / "analytic", scenes / "analytic",
                     ignore=shutil.ignore_patterns("*.exr", "peers"))
@@ -474,7 +474,8 @@ def test_batch_refuses_an_export_over_the_scene_or_itself(tmp_path, out, passes,
 def test_the_blender_release_is_in_the_cache_key(tmp_path):
     """Another Blender release samples Cycles differently: a reference cached by one is not
     handed out for another (docs/blender_bridge.md, "Across Blender releases")."""
-    from aolab.render.reference import blender_version, make_plan, resolve_scene
+    from aolab.cycles.blender import blender_version
+    from aolab.cycles.plan import make_plan, resolve_scene
     version = blender_version()
     assert re.fullmatch(r"\d+\.\d+(\.\d+)?", version) and \
         version.startswith("%d.%d" % BLENDER_VERSION)

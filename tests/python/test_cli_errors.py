@@ -370,13 +370,13 @@ def test_run_on_an_all_nan_ao_pass_says_so(capsys, tmp_path):
 def test_resolution_text_is_in_range_or_named(text):
     """aolab reference --resolution (and batch.py's): a size Blender renders as asked, or a
     ValueError naming the option."""
-    from aolab.render import reference
+    from aolab.util.arguments import MAX_RESOLUTION, MIN_RESOLUTION, parse_resolution
     try:
-        w, h = reference.parse_resolution(text)
+        w, h = parse_resolution(text)
     except ValueError as e:
         assert str(e).startswith("--resolution must be WxH"), e
         return
-    assert reference.MIN_RESOLUTION <= min(w, h) and max(w, h) <= reference.MAX_RESOLUTION
+    assert MIN_RESOLUTION <= min(w, h) and max(w, h) <= MAX_RESOLUTION
 
 
 @settings(max_examples=30, deadline=None,

@@ -19,7 +19,13 @@ import pytest
 
 import aolab
 from aolab import cli
-from aolab.render import cluster, reference
+from aolab.cycles import cluster
+from aolab.cycles import run as cycles_run
+from aolab.cycles.blender import Stopped
+from aolab.cycles.cache import count_cached
+from aolab.cycles.plan import make_plan, per_frame, resolve_scene
+from aolab.cycles.run import Delivery
+from aolab.util.arguments import MAX_FRAMES, parse_frames
 
 from test_bridge import ROOT, needs_blender
 
@@ -45,18 +51,18 @@ def same_bits(a, b) -> bool:
 
 
 def test_frames_are_parsed_and_checked():
-    assert reference.parse_frames("3") == [3]
-    assert reference.parse_frames("1-8:3") == [1, 4, 7]
-    assert reference.parse_frames("-2-1") == [-2, -1, 0, 1]
+    assert parse_frames("3") == [3]
+    assert parse_frames("1-8:3") == [1, 4, 7]
+    assert parse_frames("-2-1") == [-2, -1, 0, 1]
     for bad in ("", "4-1", "1-8:0", "a", "1-2000000", "0-200000"):
         with pytest.raises(ValueError, match="--frames"):
-            reference.parse_frames(bad)
+            parse_frames(bad)
 
 
 def test_a_frame_has_its_own_cache_key_and_stills_keep_theirs():
-    scene = reference.resolve_scene(str(ANIMATION))
-    still = reference.make_plan(scene, spp=4)
-    framed = reference.per_frame([still], [1, 2])
+    scene = resolve_scene(str(ANIMATION))
+    still = make_plan(scene, spp=4)
+    framed = per_frame([still], [1, 2])
     assert [p.frame for p in framed] == [1, 2]
     keys = {still.key()} | {p.key() for p in framed}
     assert len(keys) == 3 and "-f0002-" in framed[1].key() and "-f0" not in still.key()
@@ -118,7 +124,7 @@ def test_a_killed_worker_loses_no_frame_and_leaves_nothing_partial(tmp_path):
     assert not blender_children_of(set(), str(cache))
     # Every frame arrived, the same bits as the sequential render.
     expected, got = frames_of(tmp_path / "seq"), frames_of(tmp_path / "cluster")
-    assert sorted(got) == sorted(expected) == reference.parse_frames(FRAMES)
+    assert sorted(got) == sorted(expected) == parse_frames(FRAMES)
     for f in expected:
         assert same_bits(expected[f], got[f]), f"frame {f}"
         assert got[f].sidecar["frame"] == f
@@ -199,8 +205,8 @@ def test_an_interrupted_sequence_counts_the_frames_in_the_cache(monkeypatch, tmp
     rendered by an earlier run: 3 done, 14 in the cache."""
     cache = tmp_path / "cache"
     cache.mkdir()
-    scene = reference.resolve_scene(str(ANIMATION))
-    for plan in reference.per_frame([reference.make_plan(scene, spp=1)], range(19991, 20001)):
+    scene = resolve_scene(str(ANIMATION))
+    for plan in per_frame([make_plan(scene, spp=1)], range(19991, 20001)):
         write_entry(cache, plan)
 
     def render(plan, cache, *, force=False, progress=True, blender=None, should_stop=None):
@@ -209,7 +215,7 @@ def test_an_interrupted_sequence_counts_the_frames_in_the_cache(monkeypatch, tmp
             raise KeyboardInterrupt
         return folder, False
 
-    monkeypatch.setattr(reference, "render", render)
+    monkeypatch.setattr(cycles_run, "render", render)
     assert cli.main(["reference", str(ANIMATION), "--frames", MANY, "--spp", "1",
                      "--cache", str(cache), "--quiet"]) == 130
     out, err = capsys.readouterr()
@@ -222,10 +228,10 @@ def test_an_interrupted_sequence_counts_the_frames_in_the_cache(monkeypatch, tmp
 def test_too_many_references_are_refused_before_any_is_planned(tmp_path):
     """--frames takes at most MAX_FRAMES frames, and so does one command in all: two scenes
     of MAX_FRAMES frames each are refused in one line, with nothing rendered."""
-    top = reference.MAX_FRAMES
-    assert len(reference.parse_frames(f"1-{top}")) == top
+    top = MAX_FRAMES
+    assert len(parse_frames(f"1-{top}")) == top
     with pytest.raises(ValueError, match="--frames"):
-        reference.parse_frames(f"1-{top + 1}")
+        parse_frames(f"1-{top + 1}")
     copy = tmp_path / "other.py"
     copy.write_text(ANIMATION.read_text())
     r = subprocess.run([sys.executable, "-m", "aolab", "reference", str(ANIMATION), str(copy),
@@ -237,7 +243,7 @@ def test_too_many_references_are_refused_before_any_is_planned(tmp_path):
 
 
 # --- many frames on a cluster: the submission window and the interrupt's count ------------
-# A real local cluster runs cluster.render_job; only reference.render is replaced on its
+# A real local cluster runs cluster.render_job; only cycles_run.render is replaced on its
 # workers, by one that finishes at once or, past ``fast_until``, renders until told to stop.
 
 def fake_render(plan, cache, *, force=False, progress=True, blender=None, should_stop=None,
@@ -245,12 +251,12 @@ def fake_render(plan, cache, *, force=False, progress=True, blender=None, should
     if plan.frame > fast_until:   # a long render: until the stop event is set
         while not should_stop():
             time.sleep(0.05)
-        raise reference.Stopped(f"{plan.scene.name}: stopped")
+        raise Stopped(f"{plan.scene.name}: stopped")
     return write_entry(Path(cache), plan), False
 
 
 def install_fake_render(fast_until: int) -> None:
-    reference.render = functools.partial(fake_render, fast_until=fast_until)
+    cycles_run.render = functools.partial(fake_render, fast_until=fast_until)
 
 
 class InterruptingStdout(io.StringIO):
@@ -273,8 +279,7 @@ def run_many(monkeypatch, tmp_path, fast_until: int, interrupt_at: int):
     """cluster.run_plans over MANY frames of the tiny animation on 2 local workers; returns
     (status, stdout, submissions, plans), each submission (jobs submitted, result lines
     printed)."""
-    plans = reference.per_frame([reference.make_plan(reference.resolve_scene(str(ANIMATION)),
-                                                     spp=1)], reference.parse_frames(MANY))
+    plans = per_frame([make_plan(resolve_scene(str(ANIMATION)), spp=1)], parse_frames(MANY))
     submissions, stdout = [], InterruptingStdout(interrupt_at)
     real_connect = cluster.connect
 
@@ -292,7 +297,7 @@ def run_many(monkeypatch, tmp_path, fast_until: int, interrupt_at: int):
 
     monkeypatch.setattr(cluster, "connect", connect)
     monkeypatch.setattr(sys, "stdout", stdout)
-    delivery = reference.Delivery(cache=str(tmp_path / "cache"), quiet=True)
+    delivery = Delivery(cache=str(tmp_path / "cache"), quiet=True)
     # Should the run not reach its interrupt, a real SIGINT ends it and the asserts say so.
     watchdog = threading.Timer(60, os.kill, (os.getpid(), signal.SIGINT))
     watchdog.start()
@@ -330,8 +335,8 @@ def test_the_interrupt_counts_the_frames_in_the_cache(monkeypatch, tmp_path, cap
     5 it finished and the 15 in the cache, and stops the renders still running."""
     cache = tmp_path / "cache"
     cache.mkdir()
-    scene = reference.resolve_scene(str(ANIMATION))
-    for plan in reference.per_frame([reference.make_plan(scene, spp=1)], range(19991, 20001)):
+    scene = resolve_scene(str(ANIMATION))
+    for plan in per_frame([make_plan(scene, spp=1)], range(19991, 20001)):
         write_entry(cache, plan)
     status, out, submissions, plans = run_many(monkeypatch, tmp_path, fast_until=5,
                                                interrupt_at=5)
@@ -341,7 +346,7 @@ def test_the_interrupt_counts_the_frames_in_the_cache(monkeypatch, tmp_path, cap
     assert "run the same command again to resume" in err
     assert sorted(int(line.split(" frame ")[1].split(":")[0]) for line in out.splitlines()) \
         == [1, 2, 3, 4, 5]
-    assert reference.count_cached(cache, plans) == 15
+    assert count_cached(cache, plans) == 15
     assert not [p.name for p in cache.iterdir() if p.name.startswith(".")]
 
 
@@ -349,8 +354,8 @@ def test_a_cached_job_returns_at_once_from_its_worker(tmp_path):
     """A job whose entry is in the cache answers without a client of the scheduler (here: it
     runs outside any worker, where making one would fail), so a resume costs no connection
     per frame."""
-    scene = reference.resolve_scene(str(ANIMATION))
-    plan = reference.per_frame([reference.make_plan(scene, spp=1)], [7])[0]
+    scene = resolve_scene(str(ANIMATION))
+    plan = per_frame([make_plan(scene, spp=1)], [7])[0]
     write_entry(tmp_path, plan)
     result = cluster.render_job(plan, str(tmp_path), False, "aolab-stop-unused")
     assert result["cached"] is True and result["folder"] == str(tmp_path / plan.key())

@@ -17,9 +17,9 @@ from aolab import scenes
 from aolab import cli, regions
 from aolab import named_presets as presets
 from aolab.catalog.kinds import MethodEntry
-from aolab.study import compare, report_files, results_doc, runner
+from aolab.cli.options import crop_of
+from aolab.study import charts, compare, findings, report_files, report_tables, results_doc, runner
 from aolab.study import results as results_mod
-from aolab.study import charts, findings, report_tables
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
 
@@ -131,8 +131,8 @@ def test_limits_are_read_the_best_is_chosen_and_methods_are_measured_against_it(
     assert info["room"]["limits"] == list(SYNTHETIC_LIMITS) and "limit" not in info["grille"]
     # the approximation error: EEVEE's against the chosen limit, recomputed from the files
     g = aolab.load_gbuffer(ROOT / "reference_scenes" / "room" / "reference.exr")
-    crop = scenes.parse_crop(CROP).fit(g.width, g.height)
-    scene = scenes.load_scene(study["scenes"] / "room", scenes.parse_crop(CROP))
+    crop = crop_of(CROP).fit(g.width, g.height)
+    scene = scenes.load_scene(study["scenes"] / "room", crop_of(CROP))
     occluded = scene.regions["occluded"]
     eevee = scenes.read_y_exr(study["scenes"] / "room" / "peers" / "eevee_gtao.exr")
     limit = scenes.read_y_exr(study["scenes"] / "room" / "limits" /
@@ -251,7 +251,7 @@ def test_rtao_rays_option_is_checked_and_none_skips_it(tmp_path):
 
 def test_baseline_scores_no_occlusion(study):
     g = aolab.load_gbuffer(ROOT / "reference_scenes" / "grille" / "reference.exr")
-    crop = scenes.parse_crop(CROP).fit(g.width, g.height)
+    crop = crop_of(CROP).fit(g.width, g.height)
     ref = crop.apply(g.reference).astype(np.float64)
     valid = crop.apply(g.valid_mask()) & np.isfinite(ref)
     base = next(r for r in study["rows"] if r["scene"] == "grille" and r["kind"] == "baseline")
@@ -341,7 +341,7 @@ def test_the_results_page_names_no_folder_of_the_machine_it_was_made_on(tmp_path
 
 @pytest.fixture(scope="module")
 def room():
-    return scenes.load_scene(ROOT / "reference_scenes" / "room", scenes.parse_crop("240x135"))
+    return scenes.load_scene(ROOT / "reference_scenes" / "room", crop_of("240x135"))
 
 
 def test_whole_frame_scores_equal_aolab_metrics(room):

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from aolab.render import reference
+from aolab.util.arguments import parse_frames
 from aolab.util import files
 from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
                                      parse_scheduler)
@@ -360,5 +360,5 @@ def test_a_killed_tls_worker_loses_no_frame(tls_farm, tmp_path):
     assert killed is not None, "no render was caught running: " + err[-2000:]
     assert run.returncode == 0, err[-3000:]
     frames = sorted(int(p.name) for p in (tmp_path / "out" / "frames").iterdir())
-    assert frames == reference.parse_frames(FRAMES)
+    assert frames == parse_frames(FRAMES)
     assert all((p / "reference.json").exists() for p in cache.iterdir())

@@ -20,7 +20,7 @@ import pytest
 import aolab
 from aolab import cli
 from aolab.util import files
-from aolab.render import reference
+from aolab.cycles.run import copy_result
 
 from test_hostile_outputs import FILES, compare_cli, small_scenes, snapshot
 
@@ -136,12 +136,12 @@ def test_a_reference_copied_out_on_a_full_disk_leaves_nothing_half_written(tmp_p
             return [folder / "reference.exr", folder / "reference.json"]
 
     out = full_disk / "out"
-    reference.copy_result(Plan, cached, out)
+    copy_result(Plan, cached, out)
     (out / "reference.json").write_bytes(b"{}")   # an earlier result, smaller
     before = snapshot(out)
     fill(full_disk)
     with pytest.raises(OSError, match="No space left on device"):
-        reference.copy_result(Plan, cached, out)
+        copy_result(Plan, cached, out)
     assert snapshot(out) == before
 
 

@@ -19,6 +19,7 @@ import aolab
 from aolab import named_presets
 from aolab.study import advise, limits
 from aolab.util import values
+from aolab.util.arguments import MAX_BUDGET_MS, parse_budget
 
 K = dict(fx=20.0, fy=20.0, cx=8.0, cy=4.5)
 
@@ -372,10 +373,10 @@ def test_the_bridge_checks_its_radius_alike():
 
 
 def test_a_budget_at_its_bound_is_taken_and_one_beyond_names_the_bound():
-    assert advise.parse_budget("1e6") == 1e6 == advise.MAX_BUDGET_MS
-    assert advise.parse_budget("16ms") == advise.parse_budget("1.6e1 ms") == 16.0
+    assert parse_budget("1e6") == 1e6 == MAX_BUDGET_MS
+    assert parse_budget("16ms") == parse_budget("1.6e1 ms") == 16.0
     for text in ("2e6", "1000001", "0", "nan", "inf", "1e", "16 s"):
-        refused(lambda: advise.parse_budget(text), "--budget must be", "at most 1000000",
+        refused(lambda: parse_budget(text), "--budget must be", "at most 1000000",
                 f"got {text!r}")
 
 

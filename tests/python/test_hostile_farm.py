@@ -10,7 +10,9 @@ import sys
 import pytest
 
 from aolab import cli
-from aolab.render import reference
+from aolab.cycles import run as cycles_run
+from aolab.cycles.plan import make_plan, resolve_scene
+from aolab.cycles.run import Delivery
 from aolab.util.dask_cluster import parse_scheduler
 
 from test_bridge import TINY
@@ -30,7 +32,7 @@ def no_connection(monkeypatch):
         pytest.fail(f"a connection or a render was attempted: {args!r}")
     monkeypatch.setattr(distributed, "Client", refused)
     monkeypatch.setattr(distributed, "LocalCluster", refused)
-    monkeypatch.setattr(reference, "render", refused)
+    monkeypatch.setattr(cycles_run, "render", refused)
 
 
 def refused_line(argv, capsys) -> str:
@@ -89,11 +91,11 @@ def test_an_empty_scheduler_is_not_taken_for_none(command, tmp_path):
 
 
 def test_the_api_refuses_an_empty_scheduler_too(no_connection, tmp_path):
-    from aolab.render import cluster
-    scene = reference.resolve_scene(str(TINY))
+    from aolab.cycles import cluster
+    scene = resolve_scene(str(TINY))
     with pytest.raises(ValueError, match=r"^--scheduler '': give the scheduler's address"):
-        cluster.run_plans([reference.make_plan(scene, spp=1)],
-                          reference.Delivery(cache=str(tmp_path / "cache")), scheduler="")
+        cluster.run_plans([make_plan(scene, spp=1)],
+                          Delivery(cache=str(tmp_path / "cache")), scheduler="")
     assert not (tmp_path / "cache").exists()
 
 

@@ -14,7 +14,7 @@ import pytest
 import aolab
 from aolab import cli
 from aolab.study import compare, output, report_files
-from aolab.render import reference
+from aolab.util.arguments import check_resolution, parse_resolution
 
 FILES = ["report.html", "report_files", "results.csv", "results.json"]
 
@@ -184,20 +184,20 @@ def test_reference_resolution_out_of_range_is_refused(text, capsys):
     with pytest.raises(ValueError, match=r"--resolution must be WxH with integers in "
                                          r"\[4, 16384\] \(Blender renders at least 4x4\), got " +
                                          repr(text).replace(".", r"\.")):
-        reference.parse_resolution(text)
+        parse_resolution(text)
     # the command refuses it before looking for Blender or the scene
     assert cli.main(["reference", "no_such_scene", f"--resolution={text}"]) == 2
     assert "--resolution must be WxH" in capsys.readouterr().err
 
 
 def test_reference_resolution_in_range_is_accepted():
-    assert reference.parse_resolution("4x4") == (4, 4)
-    assert reference.parse_resolution("16384X16384") == (16384, 16384)
-    assert reference.parse_resolution(" 1280x720 ") == (1280, 720)
-    assert reference.check_resolution([640, 360]) == (640, 360)
+    assert parse_resolution("4x4") == (4, 4)
+    assert parse_resolution("16384X16384") == (16384, 16384)
+    assert parse_resolution(" 1280x720 ") == (1280, 720)
+    assert check_resolution([640, 360]) == (640, 360)
     for bad in ([0, 0], (3, 4), (100000, 100000), (1.5, 2), ("a", 1), (1,), None, (True, 1)):
         with pytest.raises(ValueError, match="resolution must be a width and a height"):
-            reference.check_resolution(bad)
+            check_resolution(bad)
 
 
 # ---------------------------------------------------------------------------------------

@@ -162,10 +162,11 @@ def test_a_file_system_with_short_names_is_refused_before_the_study(tmp_path, mo
 def test_a_reference_names_its_cache_entry_and_out_folder_from_a_bounded_name(tmp_path):
     """A scene's name (a manifest's "name", a .blend's stem) made a path: was a name with
     "/" or ".." left the cache and --out; one of 250 characters, too long a file name."""
-    from aolab.render import reference
+    from aolab.cycles.plan import Scene, make_plan
+    from aolab.cycles.run import output_folder
     for name in ("../../outside", LONG, HOSTILE):
-        spec = reference.Scene(name, "script", tmp_path / "build.py", {}, "0" * 64)
-        plan = reference.make_plan(spec, passes=["depth", "normal"])
+        spec = Scene(name, "script", tmp_path / "build.py", {}, "0" * 64)
+        plan = make_plan(spec, passes=["depth", "normal"])
         assert plan.key_prefix() == f"{files.file_name_for(name)}-"
-        assert reference.output_folder(tmp_path / "out", plan, True) == \
+        assert output_folder(tmp_path / "out", plan, True) == \
             tmp_path / "out" / files.file_name_for(name)

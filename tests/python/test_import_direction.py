@@ -104,7 +104,7 @@ def test_the_addon_is_not_beside_the_package():
     shadow the installed add-on of the same name); it records where its source is."""
     package_root = Path(aolab.__file__).resolve().parents[1]
     assert not (package_root / "aolab_blender").exists()
-    from aolab.render.reference import bridge_script
+    from aolab.cycles.blender import bridge_script
     assert bridge_script() == ROOT / "blender_addon" / "aolab_blender" / "export" / "batch.py"
 
 
@@ -123,7 +123,7 @@ LAYERS = (
      "aolab.named_presets", "aolab.motion"),
     ("aolab",),                      # the API: aolab/__init__.py
     ("aolab.scenes",),
-    ("aolab.render",),
+    ("aolab.cycles",),
     ("aolab.study",),
     ("aolab.checks", "aolab.benchmarks"),
     ("aolab.jobs",),

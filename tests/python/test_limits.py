@@ -15,6 +15,7 @@ from aolab import scenes
 from aolab import cli
 from aolab.study import limits
 from aolab.util import files
+from aolab.util.arguments import MAX_THICKNESS_R, parse_thickness
 
 RADIUS = 0.5
 RAYS = 16
@@ -141,8 +142,8 @@ def test_a_thickness_the_method_cannot_take_is_refused_when_read(tmp_path, capsy
 
 
 def test_the_largest_thickness_is_computed(tmp_path):
-    assert limits.parse_thickness(" Inf ") == limits.parse_thickness(math.inf) == math.inf
+    assert parse_thickness(" Inf ") == parse_thickness(math.inf) == math.inf
     folder = analytic_folder(tmp_path)
-    (entry,) = limits.compute_scene(folder, (limits.MAX_THICKNESS_R,), 1, 0, False,
+    (entry,) = limits.compute_scene(folder, (MAX_THICKNESS_R,), 1, 0, False,
                                     log=lambda m: None)
-    assert entry["thickness"] == pytest.approx(limits.MAX_THICKNESS_R * RADIUS)
+    assert entry["thickness"] == pytest.approx(MAX_THICKNESS_R * RADIUS)

@@ -18,8 +18,8 @@ import aolab
 from aolab import scenes
 from aolab import cli
 from aolab import named_presets as presets
-from aolab.study import budget
-from aolab.study import runner, tune
+from aolab.cli.options import crop_of
+from aolab.study import budget, runner, tune
 
 optuna = pytest.importorskip("optuna")
 
@@ -114,7 +114,7 @@ def test_timing_counts_warmup_and_repeat():
     """tune times with the runner, as compare does: warm-up runs, then the timed ones; a
     configuration over the cap is timed by its first run, and so on every later scene."""
     calls = []
-    (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("32x18"))
+    (sc,) = tune.load_scenes([SCENES / "room"], crop_of("32x18"))
 
     def counted(*args, **kw):
         calls.append(1)
@@ -139,7 +139,7 @@ def test_timing_counts_warmup_and_repeat():
 
 
 def test_occluded_mae_is_the_studys():
-    crop = scenes.parse_crop("160x90")
+    crop = crop_of("160x90")
     (sc,) = tune.load_scenes([SCENES / "room"], crop)
     got = runner.evaluate("vao", {"samples": 4}, True, [sc], runner.Timing(0, 1))["room"]
     full = scenes.load_scene(SCENES / "room", crop)
@@ -200,7 +200,7 @@ def test_the_guard_excludes_a_choice_worse_than_ao_one_or_the_default_on_the_who
 def test_degenerate_outputs_cannot_pass_the_whole_frame_guard():
     """All dark, all grey, or the reference darkened everywhere: each is worse than AO = 1
     on the whole frame of a real scene, so no budget can choose it."""
-    (sc,) = tune.load_scenes([SCENES / "room"], scenes.parse_crop("320x180"))
+    (sc,) = tune.load_scenes([SCENES / "room"], crop_of("320x180"))
     guard = budget.Guard(ao_one={"room": sc.ao_one_mae})
     ref = sc.reference
 
@@ -399,7 +399,7 @@ def test_default_presets_file_is_the_checkouts_only_for_a_full_run(tmp_path):
     opts = tune.Options(out=tmp_path)
     assert tune.default_presets_file(every, SCENES, opts) == ROOT / tune.PACKAGE_PRESETS
     assert tune.default_presets_file(every[:2], SCENES, opts) == tmp_path / presets.TUNED_FILE
-    opts.crop = scenes.parse_crop(CROP)
+    opts.crop = crop_of(CROP)
     assert tune.default_presets_file(every, SCENES, opts) == tmp_path / presets.TUNED_FILE
 
 

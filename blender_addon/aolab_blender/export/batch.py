@@ -27,7 +27,7 @@ on (exit code 2), and `AOLAB_RESULT <sidecar json>` on success.
 
 Run as a file, not imported: it puts the folder that holds the add-on's package
 (blender_addon/) first on sys.path, and before it the folder of the aolab package that started
-Blender ($AOLAB_PACKAGE_PATH, set by aolab.render.reference), so that Blender uses that same build.
+Blender ($AOLAB_PACKAGE_PATH, set by aolab.cycles.blender), so that Blender uses that same build.
 """
 
 import json
@@ -47,7 +47,7 @@ from aolab.util.arguments import (MAX_SAMPLES, Parser, checked_type, float_optio
                                   int_list_option, int_option)
 from aolab.bridge.intrinsics import image_size  # noqa: E402
 from aolab.bridge.outputs import check_export  # noqa: E402
-from aolab.render.reference import MAX_FRAME, MIN_RESOLUTION, parse_resolution  # noqa: E402
+from aolab.util.arguments import MAX_FRAME, MIN_RESOLUTION, parse_resolution  # noqa: E402
 
 from aolab_blender.export import mesh, peers, reference  # noqa: E402
 from aolab_blender.export.scene_record import BridgeError  # noqa: E402

@@ -328,18 +328,6 @@ class Crop:
         return np.ascontiguousarray(a[self.y0:self.y0 + self.height, self.x0:self.x0 + self.width])
 
 
-def parse_crop(text: str | None) -> Crop | None:
-    if not text:
-        return None
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-        if w < 1 or h < 1:
-            raise ValueError
-    except ValueError:
-        raise ValueError(f"--crop must be WxH with positive integers, got {text!r}") from None
-    return Crop(w, h)
-
-
 @dataclass
 class Scene:
     """A scene as the studies run it: its G-buffer, reference, R and regions, the peers and

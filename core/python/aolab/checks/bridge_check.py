@@ -34,7 +34,9 @@ import numpy as np
 import aolab
 
 from ..bridge.constants import PEERS_DIR
-from ..render import reference
+from ..cycles.blender import blender_version, find_blender
+from ..cycles.plan import make_plan, resolve_scene
+from ..cycles.run import Delivery, render
 from ..scenes import find_scenes_dir, frame_folder, frame_numbers, read_y_exr, scene_files
 from ..util import files
 from ..util.files import check_paths
@@ -159,12 +161,12 @@ def check_scene(label: str, folder: Path, frame: int | None, spp: int, cache: Pa
                 blender: str | None) -> dict:
     committed_dir = frame_folder(folder, frame) if frame is not None else folder
     committed = aolab.load_gbuffer(committed_dir / "reference.exr")
-    scene = reference.resolve_scene(str(folder))
-    plan = reference.make_plan(scene, spp=spp, passes=[p for p in committed.sidecar["passes"]
-                                                       if p != "ao"])
+    scene = resolve_scene(str(folder))
+    plan = make_plan(scene, spp=spp, passes=[p for p in committed.sidecar["passes"]
+                                             if p != "ao"])
     plan.frame = frame
     t0 = time.perf_counter()
-    result, cached = reference.render(plan, cache, progress=False, blender=blender)
+    result, cached = render(plan, cache, progress=False, blender=blender)
     rendered = aolab.load_gbuffer(result / "reference.exr")
     rung_path = folder / PEERS_DIR / f"cycles_{spp}spp.exr"
     rung = read_y_exr(rung_path).astype(np.float64) if rung_path.exists() else None
@@ -214,7 +216,7 @@ def run_check(scenes: list[str], *, spp: int = CHECK_SPP, cache: str | None = No
     status.
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first."""
-    reference.Delivery(cache=cache, out=out).check()
+    Delivery(cache=cache, out=out).check()
     check_paths(edited={"--update-doc": update_doc})
     items = committed_scenes(find_scenes_dir(), scenes)   # every error before a render
     out = Path(out)
@@ -226,8 +228,8 @@ def run_check(scenes: list[str], *, spp: int = CHECK_SPP, cache: str | None = No
 
 
 def _check(items, *, spp, cache, out, update_doc) -> int:
-    blender = reference.find_blender()
-    version = reference.blender_version(blender)
+    blender = find_blender()
+    version = blender_version(blender)
     results = []
     for label, folder, frame in items:
         r = check_scene(label, folder, frame, spp, Path(cache) if cache else None,

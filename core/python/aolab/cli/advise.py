@@ -12,7 +12,7 @@ import aolab
 from ..study import advise, quick_reference
 from ..study.results import json_safe
 from ..util import files
-from ..util.arguments import int_option
+from ..util.arguments import int_option, parse_budget
 from ..util.files import check_paths
 from .common import RADIUS, gbuffer_files, mesh_files
 from .options import add_follow_symlinks_option, threads_option
@@ -67,7 +67,7 @@ def add_parser(sub):
 def run(args) -> int:
     """aolab advise: the advice per budget on stdout."""
     # Every value is checked before Blender starts; a bad one is one line, status 2.
-    budgets = [advise.parse_budget(b) for b in args.budget] if args.budget else \
+    budgets = [parse_budget(b) for b in args.budget] if args.budget else \
         list(advise.BUDGETS_MS)
     if args.reference not in advise.REFERENCE_CHOICES:
         raise ValueError(f"--reference must be one of {', '.join(advise.REFERENCE_CHOICES)}, "

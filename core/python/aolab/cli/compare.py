@@ -8,11 +8,10 @@ import sys
 from pathlib import Path
 
 from ..raytracing import RTAO_LADDER
-from ..scenes import parse_crop
 from ..study import compare
 from ..util.arguments import MAX_SIDE, float_option, int_list_option, int_option
 from .options import (add_cluster_options, add_follow_symlinks_option, add_timing_options,
-                      cluster_security)
+                      cluster_security, crop_of)
 
 
 def add_parser(sub):
@@ -70,7 +69,7 @@ def run(args) -> int:
         scenes=args.scenes, corpus=args.corpus, methods=args.methods or None,
         sweep=args.sweep, out=Path(args.out),
         threads=args.threads, warmup=args.warmup, repeat=args.repeat, budget_ms=args.budget_ms,
-        max_ms=args.max_ms, crop=parse_crop(args.crop),
+        max_ms=args.max_ms, crop=crop_of(args.crop),
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         progress=args.progress if args.progress is not None else sys.stderr.isatty(),
         image_width=args.image_width, rtao_ladder=tuple(args.rtao_rays),

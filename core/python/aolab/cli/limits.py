@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from ..study import limits
-from ..study.limits import MAX_THICKNESS_R, RAYS, THICKNESS_R, parse_thickness
-from ..util.arguments import MAX_THREADS, checked_type, int_option
+from ..study.limits import RAYS, THICKNESS_R
+from ..util.arguments import (MAX_THICKNESS_R, MAX_THREADS, checked_type, int_option,
+                              parse_thickness)
 from .options import add_follow_symlinks_option, threads_option
 
 

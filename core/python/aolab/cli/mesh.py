@@ -1,9 +1,9 @@
 """``aolab mesh``: each scene's triangles as Cycles renders them, without a render, cached
-(aolab.render.reference)."""
+(aolab.cycles)."""
 
 from __future__ import annotations
 
-from ..render import reference
+from ..cycles.run import export_meshes
 from .options import add_follow_symlinks_option
 from .reference import delivery
 
@@ -33,5 +33,5 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    return reference.export_meshes(args.scenes, delivery(args), resolution=args.resolution,
-                                   camera=args.camera, follow_symlinks=args.follow_symlinks)
+    return export_meshes(args.scenes, delivery(args), resolution=args.resolution,
+                         camera=args.camera, follow_symlinks=args.follow_symlinks)

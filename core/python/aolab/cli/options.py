@@ -1,10 +1,11 @@
-"""Options several ``aolab`` commands share: --threads and the timing options, the input
-options of run, rtao and bench, and their --set values. The value types themselves are in
+"""Options several ``aolab`` commands share: --threads and the timing options, the cluster
+options, --follow-symlinks and --crop. The value types themselves are in
 aolab.util.arguments (the bridge's entry point inside Blender shares them)."""
 
 from __future__ import annotations
 
-from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option
+from ..scenes import Crop
+from ..util.arguments import MAX_RUNS, MAX_THREADS, int_option, parse_crop
 from ..util.dask_cluster import (TLS_OPTIONS, ClusterSecurity, check_scheduler,
                                  parse_scheduler)
 
@@ -17,6 +18,13 @@ def add_follow_symlinks_option(q) -> None:
                    help="read a scene's files even where they are symbolic links (by default a "
                    "link among a scene's files is refused: its files must be regular files "
                    "inside its folder); each link followed is named on stderr")
+
+
+def crop_of(text: str | None) -> Crop | None:
+    """--crop of compare and tune (WxH: util.arguments.parse_crop) as the scenes.Crop they
+    score, or None without one."""
+    size = parse_crop(text)
+    return None if size is None else Crop(*size)
 
 
 def threads_option():

@@ -1,11 +1,13 @@
-"""``aolab reference``: Cycles AO references rendered with Blender, cached (aolab.render).
+"""``aolab reference``: Cycles AO references rendered with Blender, cached (aolab.cycles).
 The plans run in this process, or on a Dask cluster with --workers N or --scheduler ADDRESS:
-the command chooses, so that neither render module imports the other."""
+the command chooses, so that aolab.cycles.run never imports aolab.cycles.cluster."""
 
 from __future__ import annotations
 
-from ..render import cluster, reference
-from ..util.arguments import MAX_SAMPLES, checked_type, int_list_option, int_option
+from ..cycles import cluster, run as local
+from ..cycles.plan import command_plans
+from ..util.arguments import (MAX_SAMPLES, checked_type, int_list_option, int_option,
+                              parse_frames)
 from .common import RADIUS
 from .options import add_cluster_options, add_follow_symlinks_option, cluster_security
 
@@ -44,7 +46,7 @@ def add_parser(sub):
     f.add_argument("--force", action="store_true", help="render even if cached")
     f.add_argument("--quiet", action="store_true", help="no progress bar")
     add_follow_symlinks_option(f)
-    f.add_argument("--frames", type=checked_type(reference.parse_frames, "--frames"),
+    f.add_argument("--frames", type=checked_type(parse_frames, "--frames"),
                    help="animation frames: N, START-END or START-END:STEP (one reference each, "
                    "copied to OUT/frames/NNNN; default: a sequence scene's manifest frames)")
     add_cluster_options(f, "render", "one job after another",
@@ -52,23 +54,23 @@ def add_parser(sub):
     return f
 
 
-def delivery(args) -> reference.Delivery:
+def delivery(args) -> local.Delivery:
     """Where the results of `aolab reference` and `aolab mesh` go."""
-    return reference.Delivery(cache=args.cache, out=args.out, force=args.force, quiet=args.quiet)
+    return local.Delivery(cache=args.cache, out=args.out, force=args.force, quiet=args.quiet)
 
 
 def run(args) -> int:
     to = delivery(args)
     to.check()
     security = cluster_security(args)
-    plans = reference.command_plans(
+    plans = command_plans(
         args.scenes, spp=args.spp, radius=args.radius, methods=args.methods, passes=args.passes,
         resolution=args.resolution, camera=args.camera, gbuffer_samples=args.gbuffer_samples,
         peers=args.peers, ladder=args.ladder, no_eevee=args.no_eevee, frames=args.frames,
         follow_symlinks=args.follow_symlinks)
     to.check_plans(plans)
-    with reference.holding(args.out, "aolab reference"):
+    with local.holding(args.out, "aolab reference"):
         if args.scheduler is not None or args.workers > 1:
             return cluster.run_plans(plans, to, scheduler=args.scheduler, workers=args.workers,
                                      security=security)
-        return reference.run_plans(plans, to)
+        return local.run_plans(plans, to)

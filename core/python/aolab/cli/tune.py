@@ -7,12 +7,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..scenes import parse_crop
 from ..study import tune
 from ..study.tune import DEFAULT_MAX_MS, DEFAULT_TRIALS
 from ..util.arguments import float_option, int_option
 from .options import (add_cluster_options, add_follow_symlinks_option, add_timing_options,
-                      cluster_security)
+                      cluster_security, crop_of)
 
 
 def add_parser(sub):
@@ -66,7 +65,7 @@ def add_parser(sub):
 def run(args) -> int:
     opts = tune.Options(
         methods=args.methods, trials=args.trials, scenes=args.scenes or [], out=Path(args.out),
-        seed=args.seed, timeout=args.timeout, sampler=args.sampler, crop=parse_crop(args.crop),
+        seed=args.seed, timeout=args.timeout, sampler=args.sampler, crop=crop_of(args.crop),
         scenes_dir=Path(args.scenes_dir) if args.scenes_dir else None,
         presets_file=Path(args.presets_file) if args.presets_file else None,
         timing=tune.Timing(args.warmup, args.repeat, args.threads, args.max_ms),

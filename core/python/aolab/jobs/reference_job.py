@@ -18,11 +18,13 @@ import signal
 import sys
 from pathlib import Path
 
-from ..render import reference
+from ..cycles import blender
+from ..cycles.plan import make_plan, resolve_scene
+from ..cycles.run import render
 
 
 class LineBar:
-    """Stands in for the tqdm bar aolab.reference.render drives (set_description, reset,
+    """Stands in for the tqdm bar aolab.cycles.run.render drives (set_description, reset,
     n, total, refresh, close) and prints its state as AOLAB_PROGRESS lines."""
 
     def __init__(self):
@@ -59,12 +61,12 @@ def main(argv) -> int:
     signal.signal(signal.SIGTERM, terminated)
     w, h = (int(v) for v in args.resolution.split("x"))
     try:
-        scene = reference.resolve_scene(args.scene)
-        plan = reference.make_plan(scene, spp=args.spp, radius=args.radius,
-                                   passes=args.passes.split(","), resolution=(w, h))
-        folder, cached = reference.render(plan, Path(args.cache) if args.cache else None,
-                                          progress=LineBar())
-    except (reference.ReferenceError, ValueError) as e:
+        scene = resolve_scene(args.scene)
+        plan = make_plan(scene, spp=args.spp, radius=args.radius,
+                         passes=args.passes.split(","), resolution=(w, h))
+        folder, cached = render(plan, Path(args.cache) if args.cache else None,
+                                progress=LineBar())
+    except (blender.ReferenceError, ValueError) as e:
         print(f"AOLAB_ERROR {e}", flush=True)
         return 2
     except KeyboardInterrupt:

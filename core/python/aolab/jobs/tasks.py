@@ -12,9 +12,9 @@ References are rendered by `aolab reference` in a child /usr/bin/python3 (refere
 with this aolab package first on its path; not sys.executable, which inside Blender is
 whichever python3.11 comes first on PATH, possibly one without numpy: docs/blender_facts.md,
 "Blender's Python") on a copy of the user's file, so the user's scene is never changed. Its
-cache is content-keyed by the file's bytes; `find_by_content` (aolab.render.reference, which
-the add-on's inputs.find_reference calls) also finds a render by the scene's content hash
-(the add-on's scene_record.content_hash, stored in each sidecar), so that a re-saved,
+cache is content-keyed by the file's bytes; `find_by_content` (aolab.cycles.cache, which the
+add-on's inputs.find_reference calls) also finds a render by the scene's content hash (the
+add-on's export/scene_record.content_hash, stored in each sidecar), so that a re-saved,
 unchanged scene is served from the cache.
 """
 
@@ -30,7 +30,7 @@ import numpy as np
 import aolab
 
 from ..bridge.constants import RESULT_EXR
-from ..render.reference import package_path
+from ..cycles.blender import package_path
 from ..scoring import error_map, metrics_mask, nothing_to_score
 from ..study import advise, compare, quick_reference
 from .runner import Job, JobError

@@ -22,7 +22,6 @@ theirs are named beside it, as ones this reference cannot tell apart from it.
 from __future__ import annotations
 
 import math
-import re
 import time
 from pathlib import Path
 
@@ -33,7 +32,10 @@ import aolab
 from .. import named_presets as presets_mod
 from ..bridge.constants import RESULT_EXR
 from ..bridge.passes import required_passes
-from ..render import reference as render
+from ..cycles import blender
+from ..cycles.cache import default_cache, find_by_content
+from ..cycles.plan import make_plan, resolve_scene
+from ..cycles.run import render
 from ..scenes import find_scenes_dir
 from ..scoring import require_scoreable
 from ..util import files
@@ -44,8 +46,6 @@ from .findings import pareto_front
 #: The budgets the panel offers and ``aolab advise`` answers by default: ms per 1280x720
 #: frame (60, 30 and 10 frames a second).
 BUDGETS_MS = (16, 33, 100)
-#: The largest budget ``--budget`` takes (ms): beyond it, advice is not about real time.
-MAX_BUDGET_MS = 1e6
 #: A configuration whose first run is slower than this many times the largest budget asked
 #: is timed by that run alone (as aolab tune does): it is past every budget...
 SINGLE_RUN_FACTOR = 2.0
@@ -59,19 +59,6 @@ DEFAULT_SCALE = 25
 CYCLES_SPP = 1024
 #: Where the reference comes from: the Cycles one when there is one, else the quick one.
 REFERENCE_CHOICES = ("auto", quick_reference.CYCLES, quick_reference.QUICK)
-
-
-def parse_budget(text: str) -> float:
-    """"16ms", "16 ms", "16" or "1e3" -> 16.0 (1000.0): a time per 1280x720 frame in
-    (0, MAX_BUDGET_MS] ms; anything else is a ValueError naming it, with the bound in full
-    (1000000, not 1e+06, which reads as the text it refuses)."""
-    m = re.fullmatch(r"\s*((?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*(?:ms)?\s*",
-                     str(text))
-    value = float(m.group(1)) if m else math.nan
-    if not 0 < value <= MAX_BUDGET_MS:
-        raise ValueError(f"--budget must be a time per 1280x720 frame in ms, more than 0 and at "
-                         f"most {MAX_BUDGET_MS:.0f}, e.g. 16ms, 33ms or 100ms; got {text!r}")
-    return value
 
 
 # ----------------------------------------------------------------------------------------
@@ -452,19 +439,19 @@ def _rendered(path: Path, scale: int, radius: float | None, spp: int, cache: Pat
     """Blender's 1-sample G-buffer and triangles of a scene at ``scale`` % (cached), and the
     G-buffer of its cached Cycles reference at ``spp`` when ``want`` (else None)."""
     try:
-        scene = render.resolve_scene(str(path), follow_symlinks)
+        scene = resolve_scene(str(path), follow_symlinks)
         infos = [aolab.method_info(m) for m in aolab.methods()]
         passes = required_passes(infos, scene.manifest.get("effects", [])) + ["mesh"]
-        plan = render.make_plan(scene, spp=1, radius=radius, passes=passes, scale=scale)
-        cache = Path(cache) if cache else render.default_cache()
-        folder, _ = render.render(plan, cache, progress=progress)
-    except render.ReferenceError as e:
+        plan = make_plan(scene, spp=1, radius=radius, passes=passes, scale=scale)
+        cache = Path(cache) if cache else default_cache()
+        folder, _ = render(plan, cache, progress=progress)
+    except blender.ReferenceError as e:
         raise ValueError(str(e)) from None
     g = aolab.load_gbuffer(folder / RESULT_EXR)
     radius = _radius_of(g, str(folder / RESULT_EXR))
     found = None
     if want:
         side = g.sidecar or {}
-        found = render.find_by_content(cache, scene_hash=side.get("scene_hash"),
-                                       size=(g.width, g.height), radius=radius, spp=spp)
+        found = find_by_content(cache, scene_hash=side.get("scene_hash"),
+                                size=(g.width, g.height), radius=radius, spp=spp)
     return g, radius, scene.name, (aolab.load_gbuffer(found / RESULT_EXR) if found else None)

@@ -38,6 +38,7 @@ from ..scenes import (LIMITS_DIR, LIMITS_JSON, find_scenes_dir, resolve_scenes,
                       write_folder_checksums)
 from ..util import files
 from ..util import values as checked
+from ..util.arguments import parse_thickness
 from ..util.files import check_paths
 from ..util.provenance import git_commit
 
@@ -52,10 +53,6 @@ THICKNESS_R = (0.1, 0.25, 0.5, 1.0, math.inf)
 RAYS = 256
 #: A height field is the method's largest thickness.
 HEIGHT_FIELD = 1e30
-#: The largest finite thickness, in multiples of R, that --thickness takes: a shell a million
-#: times R thick is a height field for any scene (inf says so), and a larger number such as
-#: 1e300 would overflow the method's float thickness (it said "got inf").
-MAX_THICKNESS_R = 1e6
 
 
 def thickness_label(t_r: float) -> str:
@@ -64,21 +61,6 @@ def thickness_label(t_r: float) -> str:
 
 def entry_name(t_r: float) -> str:
     return f"{LIMIT_METHOD}_t_inf" if math.isinf(t_r) else f"{LIMIT_METHOD}_t{t_r:g}R"
-
-
-def parse_thickness(text) -> float:
-    """A thickness in multiples of R: a number in (0, MAX_THICKNESS_R], or inf (a height
-    field); a ValueError naming --thickness otherwise."""
-    try:
-        v = float(str(text).strip())
-    except ValueError:
-        v = math.nan
-    # Only "inf" itself asks for a height field: 1e309 is a number too large, not a wish.
-    spelled_inf = str(text).strip().lower().lstrip("+") in ("inf", "infinity")
-    if not (0 < v <= MAX_THICKNESS_R or (v == math.inf and spelled_inf)):
-        raise ValueError(f"--thickness must be a multiple of R in (0, {MAX_THICKNESS_R:g}] or "
-                         f"inf (a height field), got {str(text)!r}")
-    return v
 
 
 def read_entries(folder: Path) -> list[dict]:

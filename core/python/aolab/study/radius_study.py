@@ -36,9 +36,11 @@ import numpy as np
 
 import aolab
 
-from ..render import reference
+from ..cycles.plan import make_plan, resolve_scene
+from ..cycles.run import Delivery, render
 from ..scenes import find_scenes_dir, median_projected_radius
 from ..util import files
+from ..util.arguments import parse_resolution
 from ..util.provenance import machine_info
 from .runner import Timing, load_scene, run_configuration, score
 
@@ -194,7 +196,7 @@ OUTPUT_FILES = ("radius_study.json", "radius_study.md", "radius_study.svg")
 
 def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None,
                 follow_symlinks: bool = False) -> list:
-    """(scene name, scale, reference.Plan) for every scene and scale; the passes are given
+    """(scene name, scale, aolab.cycles.plan.Plan) for every scene and scale; the passes are given
     (depth and normal, which all three methods read), so the plans do not depend on which
     methods are registered."""
     scenes_dir = scenes_dir or find_scenes_dir()
@@ -202,12 +204,12 @@ def study_plans(scenes, scales, resolution, spp: int, scenes_dir: Path | None,
         raise ValueError("no reference_scenes folder found: give --scenes-dir")
     plans = []
     for name in scenes:
-        spec = reference.resolve_scene(str(Path(scenes_dir) / name), follow_symlinks)
+        spec = resolve_scene(str(Path(scenes_dir) / name), follow_symlinks)
         base = spec.manifest.get("radius")
         if base is None:
             raise ValueError(f"scene {spec.name!r} has no radius in its manifest")
         for scale in scales:
-            plans.append((spec.name, scale, reference.make_plan(
+            plans.append((spec.name, scale, make_plan(
                 spec, spp=spp, radius=float(base) * scale, passes=["depth", "normal"],
                 resolution=resolution)))
     return plans
@@ -222,8 +224,8 @@ def run_study(scenes: list[str] = DEFAULT_SCENES, *, scales=DEFAULT_SCALES,
     One run at a time writes into the output folder (files.output_lock): a second one is
     refused naming the first instead of mixing their files. Its paths are checked first
     (--out was refused after the renders, 35 min)."""
-    reference.Delivery(cache=cache, out=out).check()
-    size = reference.parse_resolution(resolution)
+    Delivery(cache=cache, out=out).check()
+    size = parse_resolution(resolution)
     plans = study_plans(list(scenes), list(scales), size, spp,
                         Path(scenes_dir) if scenes_dir else None, follow_symlinks)
     files.check_paths(reads={"the scene": [plan.scene.path for _, _, plan in plans]},
@@ -245,11 +247,11 @@ def measure(plans, cache, *, threads: int, warmup: int, repeat: int, quiet: bool
     part; then each method timed and scored at each radius."""
     rows = []
     for name, scale, plan in plans:   # every reference first: the renders are the long part
-        folder, cached = reference.render(plan, cache, progress=not quiet)
+        folder, cached = render(plan, cache, progress=not quiet)
         print(f"{name} x{scale:g}: reference {'cached' if cached else 'rendered'} ({folder})",
               file=sys.stderr)
     for name, scale, plan in plans:
-        folder, _ = reference.render(plan, cache, progress=False)
+        folder, _ = render(plan, cache, progress=False)
         rows += run_case(name, folder, scale, threads, warmup, repeat)
         print(f"{name} x{scale:g}: " + ", ".join(
             f"{r['label']} {r['median_ms']:.1f} ms MAE {r['mae']:.4f}" for r in rows[-5:]),

@@ -1,13 +1,17 @@
 """Command-line values checked when they are read: argparse ``type=`` functions that name the
-option and the text they refuse, the bounds they share, and ``Parser``, argparse with two gaps
-closed. Shared by the ``aolab`` command (aolab.cli) and the bridge's entry point inside
-Blender (blender_addon/aolab_blender/export/batch.py), which must not import the command line.
-They parse text into values and read no parsed options: that is the command line's work."""
+option and the text they refuse, the parsers of option texts (sizes, frames, crops, budgets,
+thicknesses: a ValueError naming the option), the bounds they share, and ``Parser``, argparse
+with two gaps closed. Shared by the ``aolab`` command (aolab.cli), the library modules that
+take an option's text (aolab.cycles, aolab.study) and the bridge's entry point inside Blender
+(blender_addon/aolab_blender/export/batch.py), none of which may import the command line: so
+the parsers live here, in the lowest layer. They parse text into values and read no parsed
+options: that is the command line's work."""
 
 from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 
 from .values import beyond_float32
@@ -127,15 +131,132 @@ def size_option(name: str):
     """An argparse ``type=`` for ``WxH`` with integers in [1, MAX_SIDE] (the analytic scenes'
     range): (width, height), or argparse.ArgumentTypeError naming the option and the text."""
     def parse(text: str) -> tuple[int, int]:
-        parts = str(text).strip().lower().split("x")
-        if len(parts) == 2 and all(p.strip().isascii() and p.strip().isdigit() for p in parts):
-            w, h = (int(p) for p in parts)
-            if 1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE:
-                return w, h
+        size = split_size(text)
+        if size is not None and all(1 <= v <= MAX_SIDE for v in size):
+            return size
         raise argparse.ArgumentTypeError(f"{name} must be WxH with integers in [1, {MAX_SIDE}], "
                                          f"got {_shown(text)}")
     parse.__name__ = name
     return parse
+
+
+# --- option texts read into values: a ValueError naming the option -----------------------
+
+#: The largest render width or height (16384 = 16K, the largest side the rest of aolab
+#: accepts, MAX_SIDE): one 100000x100000 frame of G-buffer passes would take hundreds of
+#: gigabytes and Cycles would render it for days.
+MAX_RESOLUTION = MAX_SIDE
+#: The smallest render width or height: Blender's own minimum (RenderSettings.resolution_x
+#: and resolution_y have a hard minimum of 4 in Blender 3.4 and 4.x). Blender raises a
+#: smaller value to 4 without a word, so a 1x1 request would come back as a 4x4 reference.
+MIN_RESOLUTION = 4
+#: Blender's frame range (scene.frame_current's hard limits in 3.4 and 4.x).
+MAX_FRAME = 1048574
+#: The most frames one --frames names, and the most references one command renders (every
+#: scene's frames together). A reference costs at least Blender's start-up, a second or more,
+#: so 100000 of them are days of a machine's time already: a larger request is a mistyped
+#: range, refused before anything is planned or submitted.
+MAX_FRAMES = 100000
+#: The largest budget ``--budget`` takes (ms): beyond it, advice is not about real time.
+MAX_BUDGET_MS = 1e6
+#: The largest finite thickness, in multiples of R, that --thickness takes: a shell a million
+#: times R thick is a height field for any scene (inf says so), and a larger number such as
+#: 1e300 would overflow the method's float thickness (it said "got inf").
+MAX_THICKNESS_R = 1e6
+
+
+def split_size(text) -> tuple[int, int] | None:
+    """``WxH`` (either x, spaces around the numbers) as two integers of ASCII digits, or None
+    for any other text."""
+    parts = str(text).strip().lower().split("x")
+    if len(parts) == 2 and all(p.strip().isascii() and p.strip().isdigit() for p in parts):
+        try:
+            return int(parts[0]), int(parts[1])
+        except ValueError:   # more than 4300 digits
+            return None
+    return None
+
+
+def check_resolution(resolution, name: str = "resolution") -> tuple[int, int]:
+    """(width, height) as integers in [MIN_RESOLUTION, MAX_RESOLUTION]; else a ValueError
+    naming ``name`` and the value."""
+    try:
+        w, h = resolution
+        ok = all(not isinstance(v, bool) and int(v) == v and
+                 MIN_RESOLUTION <= v <= MAX_RESOLUTION for v in (w, h))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be a width and a height, integers in "
+                         f"[{MIN_RESOLUTION}, {MAX_RESOLUTION}] (Blender renders at least "
+                         f"{MIN_RESOLUTION}x{MIN_RESOLUTION}), got {resolution!r}")
+    return int(w), int(h)
+
+
+def parse_resolution(text: str, name: str = "--resolution") -> tuple[int, int]:
+    """``WxH``: width and height integers in [MIN_RESOLUTION, MAX_RESOLUTION], else a
+    ValueError naming ``name`` and the text."""
+    size = split_size(text)
+    if size is not None and all(MIN_RESOLUTION <= v <= MAX_RESOLUTION for v in size):
+        return size
+    raise ValueError(f"{name} must be WxH with integers in [{MIN_RESOLUTION}, "
+                     f"{MAX_RESOLUTION}] (Blender renders at least "
+                     f"{MIN_RESOLUTION}x{MIN_RESOLUTION}), got {text!r}")
+
+
+def parse_frames(text: str, name: str = "--frames") -> list[int]:
+    """``N``, ``S-E`` or ``S-E:STEP`` (E included, STEP >= 1; frames may be negative, as in
+    Blender: ``-5--1``) -> the frame numbers; a ValueError naming ``name`` otherwise."""
+    m = re.fullmatch(r"\s*(-?\d+)(?:\s*-\s*(-?\d+)(?:\s*:\s*(\d+))?)?\s*", str(text))
+    if m:
+        start = int(m.group(1))
+        end = int(m.group(2)) if m.group(2) is not None else start
+        step = int(m.group(3)) if m.group(3) is not None else 1
+        if (step >= 1 and start <= end and -MAX_FRAME <= start and end <= MAX_FRAME
+                and (end - start) // step < MAX_FRAMES):
+            return list(range(start, end + 1, step))
+    raise ValueError(f"{name} must be N, START-END or START-END:STEP with START <= END, STEP "
+                     f">= 1, frames in [-{MAX_FRAME}, {MAX_FRAME}] and at most {MAX_FRAMES} of "
+                     f"them, got {text!r}")
+
+
+def parse_crop(text: str | None) -> tuple[int, int] | None:
+    """--crop ``WxH``: a centred window's width and height, positive integers (the caller
+    makes it an aolab.scenes.Crop); None for no text."""
+    if not text:
+        return None
+    size = split_size(text)
+    if size is None or min(size) < 1:
+        raise ValueError(f"--crop must be WxH with positive integers, got {text!r}")
+    return size
+
+
+def parse_budget(text: str) -> float:
+    """"16ms", "16 ms", "16" or "1e3" -> 16.0 (1000.0): a time per 1280x720 frame in
+    (0, MAX_BUDGET_MS] ms (aolab advise); anything else is a ValueError naming it, with the
+    bound in full (1000000, not 1e+06, which reads as the text it refuses)."""
+    m = re.fullmatch(r"\s*((?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*(?:ms)?\s*",
+                     str(text))
+    value = float(m.group(1)) if m else math.nan
+    if not 0 < value <= MAX_BUDGET_MS:
+        raise ValueError(f"--budget must be a time per 1280x720 frame in ms, more than 0 and at "
+                         f"most {MAX_BUDGET_MS:.0f}, e.g. 16ms, 33ms or 100ms; got {text!r}")
+    return value
+
+
+def parse_thickness(text) -> float:
+    """A thickness in multiples of R (aolab limits): a number in (0, MAX_THICKNESS_R], or inf
+    (a height field); a ValueError naming --thickness otherwise."""
+    try:
+        v = float(str(text).strip())
+    except ValueError:
+        v = math.nan
+    # Only "inf" itself asks for a height field: 1e309 is a number too large, not a wish.
+    spelled_inf = str(text).strip().lower().lstrip("+") in ("inf", "infinity")
+    if not (0 < v <= MAX_THICKNESS_R or (v == math.inf and spelled_inf)):
+        raise ValueError(f"--thickness must be a multiple of R in (0, {MAX_THICKNESS_R:g}] or "
+                         f"inf (a height field), got {str(text)!r}")
+    return v
 
 
 class Parser(argparse.ArgumentParser):
