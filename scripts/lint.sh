@@ -5,7 +5,9 @@
 #     releases lay out the same options differently (Debian 13's 19 moves lambdas passed as
 #     arguments), so where clang-format is another release the check says so and is skipped;
 #     CI and the developers' machines run Debian 12;
-#   - flake8 (Debian's, configured in .flake8) passes over every Python file.
+#   - flake8 (Debian's, configured in .flake8) passes over every Python file;
+#   - no module of the aolab package is over 800 lines, no function over 80
+#     (scripts/check_sizes.py).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -29,6 +31,10 @@ fi
 mapfile -t py < <(git ls-files -co --exclude-standard '*.py')
 if ! /usr/bin/python3 -m flake8 "${py[@]}"; then
   echo "lint: flake8 found the problems above" >&2
+  status=1
+fi
+if ! /usr/bin/python3 "$root/scripts/check_sizes.py"; then
+  echo "lint: split the modules and functions above (scripts/check_sizes.py says why)" >&2
   status=1
 fi
 [ "$status" -eq 0 ] && echo "lint: $formatted, ${#py[@]} Python files clean"

@@ -288,3 +288,23 @@ def test_core_layers_include_only_what_they_may():
 @pytest.mark.parametrize("name", ["README.md", "docs/README.md"])
 def test_the_architecture_page_is_linked(name):
     assert "architecture.md" in (ROOT / name).read_text()
+
+
+def test_the_size_check_finds_a_long_module_and_a_long_function(tmp_path):
+    """scripts/check_sizes.py (run by scripts/lint.sh) names what is over its limits, and
+    nothing else; the package itself passes it."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("check_sizes", ROOT / "scripts/check_sizes.py")
+    sizes = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sizes)
+    package = tmp_path / "core" / "python" / "aolab"
+    package.mkdir(parents=True)
+    body = "\n".join(f"    x{i} = {i}" for i in range(sizes.MAX_FUNCTION_LINES - 1))
+    (package / "short.py").write_text(f"def fits():\n{body}\n")
+    (package / "long.py").write_text(f"def too_long():\n{body}\n    return 0\n"
+                                     + "\n" * sizes.MAX_MODULE_LINES)
+    found = sizes.breaches(package)
+    assert len(found) == 2, found
+    assert f"too_long is {sizes.MAX_FUNCTION_LINES + 1} lines" in found[0] + found[1]
+    assert any("long.py:" in f and "lines >" in f and "too_long" not in f for f in found)
+    assert sizes.breaches() == [], "\n".join(sizes.breaches())
