@@ -29,7 +29,7 @@ PACKAGES=(
   python3-distributed python3-psutil
   # openssl: the TLS farm's certificates (docs/scale_out.md, "Security"), made by the tests too
   openssl
-  # headless browser: tests/python/test_report.py opens the comparison report in it
+  # headless browser: tests/python/study/test_report.py opens the comparison report in it
   chromium
   # Blender (3.4 on Debian 12, 4.3 on Debian 13; its Python is /usr/bin/python3 on both, and
   # `import aolab` is tested inside it)

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Screenshots of the comparison report for docs/comparison.md, taken in headless Chromium
-(tests/python/browser.py, the report tests' driver): a point's hover in the "All scenes" MAE
+(tests/python/support/browser.py, the report tests' driver): a point's hover in the "All scenes" MAE
 plot (docs/images/report_hover.png) and the image viewer a click on it opens
 (docs/images/report_viewer.png). Run on a complete study's report, after scripts/build.sh:
 

@@ -3,7 +3,7 @@
 // window they recommend, computed exactly as scikit-image's structural_similarity(...,
 // gaussian_weights=True, sigma=1.5, use_sample_covariance=False, data_range=1) does, so that
 // numbers in our reports can be compared with numbers computed by anyone with scikit-image
-// (tests/python/test_metrics.py checks the agreement to 1e-4).
+// (tests/python/api/test_metrics.py checks the agreement to 1e-4).
 //
 // Principles: images are 1-channel AO in [0, 1] (data range 1); all statistics are accumulated
 // in double; rows are filtered in parallel but every pixel is computed by the same code in the

@@ -1,4 +1,4 @@
-"""The motion tests' moving object (tests/python/test_motion.py): a still camera (64x48,
+"""The motion tests' moving object (tests/python/api/test_motion.py): a still camera (64x48,
 fx = 64 px) looking down -z at a plane 4 m away, and a 1 m cube whose front face is 2.5 m
 away moving 0.15625 m to the right per frame (linear keys, frames 1-3): its pixels move
 exactly 4 px to the right per frame, the plane's not at all. Run by the bridge into an empty

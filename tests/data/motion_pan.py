@@ -1,4 +1,4 @@
-"""The motion tests' pan (tests/python/test_motion.py): a camera looking down -z at a plane
+"""The motion tests' pan (tests/python/api/test_motion.py): a camera looking down -z at a plane
 4 m away (planar depth 4), 64x48 with fx = 64 px, moving 0.125 m to the left per frame
 (linear keys, frames 1-3), so the image content moves exactly 2 px to the right per frame.
 The plane ends at x = 0.95 m: the right-hand columns are background. Run by the bridge into

@@ -1,6 +1,6 @@
 // Known answers for core/scoring/ssim.h, and agreement with a direct (non-separable) transcription
 // of Wang et al. 2004 eqs. (13)–(16) with scipy's 'reflect' boundary written independently here.
-// The scikit-image cross-check is in tests/python/test_metrics.py.
+// The scikit-image cross-check is in tests/python/api/test_metrics.py.
 #include "core/scoring/ssim.h"
 
 #include <gtest/gtest.h>

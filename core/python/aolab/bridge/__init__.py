@@ -11,6 +11,6 @@ as pure I/O that needs neither Blender nor the study.
 
 The bpy side (``blender_addon/aolab_blender``: its export package, the panel's classes)
 imports these modules; nothing in ``aolab`` imports bpy or ``aolab_blender``
-(tests/python/test_import_direction.py). The panel's work off Blender's main thread is in
+(tests/python/repository/test_import_direction.py). The panel's work off Blender's main thread is in
 ``aolab.jobs``.
 """

@@ -2,7 +2,7 @@
 
 Blender's own camera projection, written out (the formulas and how they were measured:
 docs/blender_facts.md, "Camera intrinsics"): verified against Cycles' Position pass by
-tests/python/test_bridge.py (tests/blender/camera_check.py) for every sensor fit, with
+tests/python/bridge/test_bridge.py (tests/blender/camera_check.py) for every sensor fit, with
 shifts and non-square pixels.
 """
 

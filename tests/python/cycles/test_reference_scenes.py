@@ -15,7 +15,7 @@ import aolab
 from aolab import scenes as scenes_mod
 from aolab.util import files
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = sorted(p for p in (ROOT / "reference_scenes").iterdir() if (p / "manifest.json").exists())
 BLENDER = shutil.which("blender")
 REQUIRED_SCENES = {"analytic", "room", "engine", "grille", "street", "colored_room"}

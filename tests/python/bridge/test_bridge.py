@@ -18,7 +18,7 @@ from aolab.bridge.intrinsics import intrinsics
 from aolab.bridge.passes import parse_passes, required_passes
 from aolab.cycles.blender import package_path
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
 BLENDER = shutil.which("blender")
 

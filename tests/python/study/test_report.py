@@ -1,6 +1,6 @@
 """report.html of aolab compare: the pieces (WebP images, Pareto front, hover text, figures,
 static SVG points), and the page in headless Chromium, driven through the DevTools protocol
-(tests/python/browser.py): no console error, one trace per method in every plot, hover naming
+(tests/python/support/browser.py): no console error, one trace per method in every plot, hover naming
 the preset, a click opening the point's images, a legend click hiding a method in the three
 plots of its section. The Chromium tests skip, saying why, only where Chromium is absent
 (scripts/install-deps.sh installs it, so CI runs them)."""
@@ -291,7 +291,7 @@ def test_the_vendored_plotly_js_is_the_pinned_release():
     """core/web/vendor holds the file of the release core/web/package-lock.json pins (its
     header names the version), unchanged since scripts/update_plotly.sh wrote SHA256SUMS; and
     the build's copy is that file."""
-    web = Path(__file__).resolve().parents[2] / "core" / "web"
+    web = Path(__file__).resolve().parents[3] / "core" / "web"
     lock = json.loads((web / "package-lock.json").read_text())
     version = lock["packages"]["node_modules/plotly.js-basic-dist-min"]["version"]
     vendored = web / "vendor" / report_files.PLOTLY_FILE

@@ -12,7 +12,7 @@ import numpy as np
 
 import aolab
 
-DOCS = Path(__file__).resolve().parents[2] / "docs" / "methods"
+DOCS = Path(__file__).resolve().parents[3] / "docs" / "methods"
 
 
 def docs_rows(method: str, page: Path | None = None) -> list[list[str]]:

@@ -8,7 +8,7 @@ a digest per row, so that a failure names the rows whose scores moved; and the r
 plotted values, bars and check verdicts (not its times) as one more digest. Regenerate the
 stored digests only for a change that is meant to move scores, and say so in CHANGES.md:
 
-    AOLAB_WRITE_DIGEST=1 pytest tests/python/test_score_digest.py
+    AOLAB_WRITE_DIGEST=1 pytest tests/python/study/test_score_digest.py
 """
 from __future__ import annotations
 

@@ -23,7 +23,7 @@ from aolab.study import budget, runner, tune
 
 optuna = pytest.importorskip("optuna")
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
 CROP = "96x54"
 # Two families (thin, mechanical) where HBAO beats AO = 1 on the whole frame of the crop.

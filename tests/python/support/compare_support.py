@@ -13,7 +13,7 @@ import OpenImageIO as oiio
 
 import aolab
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
 LADDER = (1, 4, 16, 64, 256)
 CROP = "160x90"

@@ -14,7 +14,7 @@ import optuna
 import psutil
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
 COMMON = ["--scenes-dir", str(SCENES), "--warmup", "0", "--repeat", "1", "--no-progress"]
 

@@ -20,7 +20,7 @@ from aolab.scoring import reference_noise
 from aolab.study import advise, budget, quick_reference, runner, tune
 from aolab.util.arguments import parse_budget
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
 TINY_SCENE = ROOT / "tests" / "data" / "tiny_scene.py"
 BLENDER = shutil.which("blender")

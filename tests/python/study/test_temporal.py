@@ -11,7 +11,7 @@ import aolab
 from docs_settings import assert_docs_settings_table
 from gil_support import ticks_while
 
-DOC = Path(__file__).resolve().parents[2] / "docs" / "temporal.md"
+DOC = Path(__file__).resolve().parents[3] / "docs" / "temporal.md"
 
 
 def flat(w, h, depth=2.0):

@@ -15,7 +15,7 @@ import pytest
 
 import aolab
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
 CHECK = ROOT / "tests" / "blender" / "addon_check.py"
 from test_bridge import BLENDER, BLENDER_VERSION  # noqa: E402

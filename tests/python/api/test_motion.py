@@ -17,7 +17,7 @@ from aolab import cli
 from aolab.bridge import exr
 from aolab.bridge.motion import from_cycles_vector
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 DATA = ROOT / "tests" / "data"
 BLENDER = shutil.which("blender")
 

@@ -14,7 +14,7 @@ import pytest
 import aolab
 from import_graph import find_cycles, import_graph, module_names
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SOURCE = ROOT / "core" / "python" / "aolab"
 #: Top-level modules `aolab` must not import: Blender's API and the add-on.
 FORBIDDEN = ("bpy", "bmesh", "mathutils", "aolab_blender")

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from import_graph import import_graph
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 ADDON = ROOT / "blender_addon" / "aolab_blender"
 BLENDER = shutil.which("blender")
 #: The add-on's modules, lowest first, as docs/blender_addon.md ("Modules") lists them: each

@@ -8,7 +8,7 @@ import pytest
 
 from aolab.scenes import FAMILIES
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 PRESETS = ROOT / "core" / "python" / "aolab" / "tuned_presets.json"
 METHODS = json.loads(PRESETS.read_text())["methods"]
 GUARDED = {m: e for m, e in METHODS.items() if "whole_frame_guard" in e}

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SPEC = importlib.util.spec_from_file_location("sample_counts", ROOT / "scripts/sample_counts.py")
 sample_counts = importlib.util.module_from_spec(SPEC)
 SPEC.loader.exec_module(sample_counts)
