@@ -18,7 +18,7 @@ import aolab
 ROOT = Path(__file__).resolve().parents[3]
 TINY = ROOT / "tests" / "data" / "tiny_scene.py"
 CHECK = ROOT / "tests" / "blender" / "addon_check.py"
-from test_bridge import BLENDER, BLENDER_VERSION  # noqa: E402
+from blender_support import BLENDER, BLENDER_VERSION  # noqa: E402
 
 pytestmark = [pytest.mark.blender,
               pytest.mark.skipif(BLENDER is None, reason="Blender is not installed "

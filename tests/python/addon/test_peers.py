@@ -9,8 +9,8 @@ import OpenImageIO as oiio
 import pytest
 
 import aolab
-from test_bridge import (BLENDER, EEVEE_PEER, ROOT, TINY, aolab_reference, checkout_env,
-                         needs_blender)
+from blender_support import (BLENDER, EEVEE_PEER, ROOT, TINY, aolab_reference, checkout_env,
+                             needs_blender)
 
 needs_xvfb = pytest.mark.skipif(shutil.which("xvfb-run") is None,
                                 reason="xvfb-run is not installed (scripts/install-deps.sh)")

@@ -510,7 +510,7 @@ def test_compare_names_a_mesh_of_another_scene_where_rtao_did_not_run(tmp_path):
     """Was: "no scene has a mesh beside its reference", while room had one, of another
     scene."""
     from compare_support import SCENES, copy_files
-    from test_compare import run_compare
+    from compare_support import run_compare
     room = tmp_path / "scenes" / "room"
     copy_files(SCENES / "room", room, ("reference.exr", "reference.json", "manifest.json"))
     copy_files(SCENES / "colored_room", room,   # colored_room's geometry
@@ -530,7 +530,7 @@ def test_compare_notes_a_scene_rtao_refuses_and_goes_on(tmp_path):
     ao_distance 1e-5): noted, and the study goes on. Was: the ValueError ended the study."""
     import json
     from compare_support import SCENES, copy_files
-    from test_compare import run_compare
+    from compare_support import run_compare
     room = tmp_path / "scenes" / "room"
     copy_files(SCENES / "room", room,
                ("reference.exr", "manifest.json", "reference.mesh", "reference.mesh.json"))

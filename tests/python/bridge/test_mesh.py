@@ -16,7 +16,7 @@ import pytest
 import aolab
 from aolab.bridge import mesh as meshfile
 from aolab.bridge.passes import parse_passes, required_passes
-from test_bridge import ROOT, TINY, blender_check, blender_spy, needs_blender
+from blender_support import ROOT, TINY, blender_check, blender_spy, needs_blender
 
 SCENES = ROOT / "reference_scenes"
 MESH_SCENE = ROOT / "tests" / "data" / "mesh_scene.py"

@@ -5,43 +5,15 @@ command line is read (argparse: usage line, exit status 2), any error of a comma
 import json
 import math
 import os
-import subprocess
-import sys
 
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import aolab
 from aolab import cli
+from cli_support import aolab_cmd, assert_one_error_line, status_of, terminal_lines
 
 TINY = ["--width", "8", "--height", "8", "--threads", "1"]
-
-
-def status_of(argv) -> int:
-    """cli.main's exit status, argparse's SystemExit included."""
-    try:
-        return cli.main(argv)
-    except SystemExit as e:
-        return e.code
-
-
-def aolab_cmd(*args, timeout=120):
-    return subprocess.run([sys.executable, "-m", "aolab", *args], capture_output=True,
-                          text=True, timeout=timeout)
-
-
-def terminal_lines(text: str) -> list[str]:
-    """Lines as a terminal shows them: split at newlines only. str.splitlines() also splits
-    at \x1c-\x1e, \x85 and \u2028, which a user's argument may hold (hypothesis found
-    '\x1e0') and which argparse echoes inside its one-line message."""
-    return text.strip().split("\n")
-
-
-def assert_one_error_line(err: str, *parts: str) -> None:
-    lines = terminal_lines(err)
-    assert len(lines) == 1 and lines[0].startswith("aolab: "), err
-    for part in parts:
-        assert part in lines[0], err
 
 
 # --- the property: generated option values give 0 or 2, never a traceback --------------------

@@ -17,7 +17,7 @@ import pytest
 from aolab import scenes
 from aolab.util import files
 from compare_support import SCENES
-from test_cli_errors import aolab_cmd, assert_one_error_line
+from cli_support import aolab_cmd, assert_one_error_line
 
 #: The smallest committed scene (about 0.8 MB with its peers and limits).
 SMALL = "thin_balustrade"

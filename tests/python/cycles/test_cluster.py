@@ -27,10 +27,10 @@ from aolab.cycles.plan import make_plan, per_frame, resolve_scene
 from aolab.cycles.run import Delivery
 from aolab.util.arguments import MAX_FRAMES, parse_frames
 
-from test_bridge import ROOT, needs_blender
+from blender_support import needs_blender
+from farm_support import (ANIMATION, FRAMES, blender_children_of, ctrl_c_while_rendering,
+                          kill_a_worker_while_rendering)
 
-ANIMATION = ROOT / "tests" / "data" / "tiny_animation.py"
-FRAMES = "1-4"
 distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed "
                                   "(scripts/install-deps.sh installs it)")
 
@@ -68,45 +68,6 @@ def test_a_frame_has_its_own_cache_key_and_stills_keep_theirs():
     assert len(keys) == 3 and "-f0002-" in framed[1].key() and "-f0" not in still.key()
 
 
-def blender_children_of(pids: set[int], marker: str) -> dict[int, int]:
-    """Running Blender processes whose command line holds ``marker``: pid -> parent pid."""
-    found = {}
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            cmd = (entry / "cmdline").read_bytes().split(b"\0")
-            stat = (entry / "stat").read_text()
-        except OSError:
-            continue
-        if cmd and cmd[0].endswith(b"blender") and marker.encode() in b" ".join(cmd):
-            ppid = int(stat.rsplit(")", 1)[1].split()[1])
-            if not pids or ppid in pids:
-                found[int(entry.name)] = ppid
-    return found
-
-
-def kill_a_worker_while_rendering(run: subprocess.Popen, cache: Path):
-    """Waits for a Blender rendering into ``cache`` and kills its worker process (SIGKILL: no
-    clean-up of any kind, as when a machine goes away), then lets the command ``run`` finish;
-    returns ((Blender's pid, the worker's) or None, stdout, stderr)."""
-    killed = None
-    try:
-        deadline = time.monotonic() + 120
-        while killed is None and time.monotonic() < deadline and run.poll() is None:
-            for pid, worker in blender_children_of(set(), str(cache)).items():
-                if worker != run.pid:      # a worker process, not the command itself
-                    os.kill(worker, signal.SIGKILL)
-                    killed = (pid, worker)
-                    break
-            time.sleep(0.05)
-        out, err = run.communicate(timeout=600)
-    finally:
-        if run.poll() is None:
-            run.kill()
-    return killed, out, err
-
-
 @needs_blender
 def test_a_killed_worker_loses_no_frame_and_leaves_nothing_partial(tmp_path):
     seq = aolab_reference(str(ANIMATION), "--frames", FRAMES, "--spp", "256", "--cache",
@@ -139,27 +100,6 @@ def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
     assert "--scheduler 'tcp://127.0.0.1:9'" in r.stderr and "Traceback" not in r.stderr
-
-
-def ctrl_c_while_rendering(args: list[str], cache: Path):
-    """Runs the command ``args`` as a terminal would, sends Ctrl-C (SIGINT to its process
-    group) once a Blender renders into ``cache``; returns (process, stdout, stderr)."""
-    # A background shell (CI's) starts children with SIGINT ignored, and the command would then
-    # run to its end (status 0); a terminal's Ctrl-C reaches a command with the default.
-    run = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           start_new_session=True,
-                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    try:
-        deadline = time.monotonic() + 120
-        while not blender_children_of(set(), str(cache)) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert blender_children_of(set(), str(cache)), "no render started"
-        os.killpg(run.pid, signal.SIGINT)
-        out, err = run.communicate(timeout=120)
-    finally:
-        if run.poll() is None:
-            os.killpg(run.pid, signal.SIGKILL)
-    return run, out, err
 
 
 @needs_blender

@@ -5,7 +5,6 @@ interface, certificates made here with openssl) renders a reference for a client
 certificate of its CA and refuses one without; and a cache entry whose files no longer
 have the SHA-256 recorded when they were rendered is rendered again, never served."""
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -19,15 +18,13 @@ from aolab.util import files
 from aolab.util.dask_cluster import (ClusterSecurity, check_scheduler, is_loopback,
                                      parse_scheduler)
 
-from test_bridge import TINY, needs_blender
-from test_cluster import (ANIMATION, FRAMES, blender_children_of, ctrl_c_while_rendering,
+from blender_support import TINY, needs_blender
+from farm_support import (ANIMATION, FRAMES, blender_children_of, ctrl_c_while_rendering,
                           kill_a_worker_while_rendering)
+from farm_support import make_ca, make_cert, needs_openssl
 
 distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed "
                                   "(scripts/install-deps.sh installs it)")
-OPENSSL = shutil.which("openssl")
-needs_openssl = pytest.mark.skipif(OPENSSL is None, reason="openssl is not installed "
-                                   "(scripts/install-deps.sh installs it)")
 
 
 def aolab(*args, timeout=300):
@@ -94,28 +91,6 @@ def test_tls_needs_its_three_files(tmp_path, monkeypatch):
         check_scheduler("ws://10.0.0.5:8786")
     r = aolab("reference", str(TINY), "--scheduler", "tls://127.0.0.1:8786")
     assert r.returncode == 2 and "needs --tls-ca-file" in r.stderr, r.stderr
-
-
-def make_ca(folder: Path, name: str) -> tuple[Path, Path]:
-    """A certificate authority: (its certificate, its key)."""
-    cert, key = folder / f"{name}-ca.pem", folder / f"{name}-ca.key"
-    subprocess.run([OPENSSL, "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2",
-                    "-subj", f"/CN={name} CA", "-keyout", str(key), "-out", str(cert)],
-                   check=True, capture_output=True)
-    return cert, key
-
-
-def make_cert(folder: Path, name: str, ca: tuple[Path, Path]) -> tuple[Path, Path]:
-    """A certificate for 127.0.0.1 signed by ``ca``: (certificate, key)."""
-    cert, key, csr = folder / f"{name}.pem", folder / f"{name}.key", folder / f"{name}.csr"
-    ext = folder / f"{name}.ext"
-    ext.write_text("subjectAltName = IP:127.0.0.1, DNS:localhost\n")
-    subprocess.run([OPENSSL, "req", "-newkey", "rsa:2048", "-nodes", "-subj", f"/CN={name}",
-                    "-keyout", str(key), "-out", str(csr)], check=True, capture_output=True)
-    subprocess.run([OPENSSL, "x509", "-req", "-in", str(csr), "-CA", str(ca[0]), "-CAkey",
-                    str(ca[1]), "-CAcreateserial", "-days", "2", "-extfile", str(ext),
-                    "-out", str(cert)], check=True, capture_output=True)
-    return cert, key
 
 
 #: Dask's comm timeouts for every process of the test farm (scheduler, workers, the jobs'

@@ -15,8 +15,8 @@ from aolab.cycles.plan import make_plan, resolve_scene
 from aolab.cycles.run import Delivery
 from aolab.util.dask_cluster import parse_scheduler
 
-from test_bridge import TINY
-from test_farm_security import OPENSSL, make_ca, make_cert, needs_openssl
+from blender_support import TINY
+from farm_support import OPENSSL, make_ca, make_cert, needs_openssl
 
 distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed "
                                   "(scripts/install-deps.sh installs it)")

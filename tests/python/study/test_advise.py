@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
 TINY_SCENE = ROOT / "tests" / "data" / "tiny_scene.py"
 BLENDER = shutil.which("blender")
-from test_cli_errors import assert_one_error_line, status_of  # noqa: E402
+from cli_support import assert_one_error_line, status_of  # noqa: E402
 
 
 # --- the noise a reference of N binary rays puts on an MAE: known answers ---------------------

@@ -22,12 +22,7 @@ from aolab.study import charts, compare, findings, report_files, report_tables, 
 from aolab.study import results as results_mod
 from compare_support import (CROP, LADDER, ROOT, SYNTHETIC_LIMITS, make_scenes, parse_report,
                              read_csv)
-
-
-def run_compare(scenes: Path, out: Path, *extra) -> int:
-    return cli.main(["compare", "--scenes-dir", str(scenes), "--out", str(out), "--crop", CROP,
-                     "--repeat", "2", "--warmup", "0", "--threads", "2", "--no-progress",
-                     *extra])
+from compare_support import run_compare
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,7 @@ from aolab.study import report, report_files, results_doc
 from aolab.util import files, markdown
 from browser import Browser, poll
 from compare_support import SCENES
-from test_report import need_chromium
+from browser import need_chromium
 
 #: A scene folder's name that is HTML, a comment opener, a table's cell separator and a line
 #: break: each would break a page that put it in unescaped.

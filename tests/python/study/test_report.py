@@ -1,8 +1,8 @@
 """report.html of aolab compare: the pieces (WebP images, Pareto front, hover text, figures,
 static SVG points), and the page in headless Chromium, driven through the DevTools protocol
-(tests/python/support/browser.py): no console error, one trace per method in every plot, hover naming
-the preset, a click opening the point's images, a legend click hiding a method in the three
-plots of its section. The Chromium tests skip, saying why, only where Chromium is absent
+(tests/python/support/browser.py): no console error, one trace per method in every plot,
+hover naming the preset, a click opening the point's images, a legend click hiding a method in
+the three plots of its section. The Chromium tests skip, saying why, only where Chromium is absent
 (scripts/install-deps.sh installs it, so CI runs them)."""
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ from aolab import cli, scoring
 from aolab.study import charts, findings, report, report_files
 from browser import Browser, chromium, plot_point, poll
 from compare_support import CROP, make_scenes, parse_report
+from browser import need_chromium
 
 
 def test_webp_bytes_decode_close_to_the_image():
@@ -141,12 +142,6 @@ def small_report(tmp_path_factory):
     assert cli.main(["compare", "room", "--scenes-dir", str(scenes), "--out", str(out),
                      "--crop", CROP, "--repeat", "1", "--warmup", "0", "--no-progress"]) == 0
     return out / "report.html"
-
-
-def need_chromium():
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (Debian: apt-get install chromium; "
-                    "scripts/install-deps.sh installs it)")
 
 
 def dump_dom(path) -> str:

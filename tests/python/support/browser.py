@@ -20,6 +20,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
+import pytest
 
 
 def chromium() -> str | None:
@@ -247,3 +248,9 @@ def plot_point(b: Browser, plot: str, name: str | None = None, key: str | None =
         }});
         return best;
     }})()""")
+
+
+def need_chromium():
+    if chromium() is None:
+        pytest.skip("Chromium is not installed (Debian: apt-get install chromium; "
+                    "scripts/install-deps.sh installs it)")

@@ -12,6 +12,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 import aolab
+from aolab import cli
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "reference_scenes"
@@ -244,3 +245,9 @@ def add_motion(path: Path, motion: np.ndarray) -> None:
             layers.append((pass_name, np.stack([channels[n] for n in names], -1), "float"))
     layers.append(("Motion", np.asarray(motion, np.float32), "float"))
     exr.write_multilayer(str(path), layers, view_layer=prefix.rstrip(".") or "ViewLayer")
+
+
+def run_compare(scenes: Path, out: Path, *extra) -> int:
+    return cli.main(["compare", "--scenes-dir", str(scenes), "--out", str(out), "--crop", CROP,
+                     "--repeat", "2", "--warmup", "0", "--threads", "2", "--no-progress",
+                     *extra])

@@ -22,7 +22,7 @@ from aolab import cli
 from aolab.util import files
 from aolab.cycles.run import copy_result
 
-from test_hostile_outputs import FILES, compare_cli, small_scenes, snapshot
+from hostile_support import FILES, compare_cli, small_scenes, snapshot
 
 
 def aolab_cmd(*args, timeout=60):

@@ -14,7 +14,7 @@ import pytest
 import aolab
 from aolab.checks import rtao_check
 
-from test_bridge import ROOT, TINY, needs_blender
+from blender_support import ROOT, TINY, needs_blender
 
 COINCIDENT = ROOT / "tests" / "data" / "coincident_faces.py"
 

@@ -1,7 +1,7 @@
-"""`aolab bridge-check` (aolab/bridge_check.py): its comparison on known differences, the
-scenes it covers and its document block. The check itself, on the committed scenes with the
-Blender at hand, is `aolab bridge-check` (docs/blender_bridge.md); tests/python/bridge/test_bridge.py
-renders with Blender."""
+"""`aolab bridge-check` (aolab/checks/bridge_check.py): its comparison on known differences,
+the scenes it covers and its document block. The check itself, on the committed scenes with
+the Blender at hand, is `aolab bridge-check` (docs/blender_bridge.md);
+tests/python/bridge/test_bridge.py renders with Blender."""
 import copy
 from dataclasses import dataclass, field
 
