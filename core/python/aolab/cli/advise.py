@@ -14,6 +14,7 @@ from ..study.results import json_safe
 from ..util import files
 from ..util.arguments import int_option, parse_budget
 from ..util.files import check_paths
+from ..util.progress import bar as progress_bar
 from .common import RADIUS, gbuffer_files, mesh_files
 from .options import add_follow_symlinks_option, threads_option
 
@@ -137,16 +138,10 @@ def _numbers(got: dict) -> dict:
 
 
 class _Progress:
-    """A tqdm bar over the configurations (advise.run's on_step), when tqdm is there."""
+    """The progress bar over the configurations (advise.run's on_step)."""
 
     def __init__(self):
-        try:
-            from tqdm import tqdm
-        except ImportError:
-            self.tqdm = None
-        else:
-            self.tqdm = tqdm(total=0, unit="config", dynamic_ncols=True, leave=False,
-                             file=sys.stderr)
+        self.tqdm = progress_bar(True, unit="config", leave=False)
 
     def step(self, i: int, n: int, config: dict) -> None:
         if self.tqdm is not None:

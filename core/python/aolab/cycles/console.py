@@ -11,18 +11,6 @@ from .cache import count_cached
 from .plan import Plan
 
 
-def progress_bar(enabled: bool, desc: str):
-    """The tqdm bar a render drives when its ``progress`` is True (None when tqdm is
-    missing or ``enabled`` is False)."""
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=0, desc=desc, unit="spp", dynamic_ncols=True, leave=False)
-
-
 def unit(plans: list[Plan]) -> str:
     """What the plans are, for a count: frames, scenes or references (a mix)."""
     framed = {p.frame is not None for p in plans}

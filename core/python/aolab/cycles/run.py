@@ -23,7 +23,8 @@ from ..util.arguments import parse_resolution
 from ..util.files import check_paths
 from .blender import ReferenceError, bridge_command, find_blender, recorded_source, run_bridge
 from .cache import cached_result, complete_result, default_cache, remove_stale_temporaries
-from .console import interrupted_line, progress_bar, result_line
+from ..util.progress import bar as progress_bar
+from .console import interrupted_line, result_line
 from .plan import Plan, make_plan, resolve_scene
 
 
@@ -52,7 +53,8 @@ def render(plan: Plan, cache: Path | None = None, *, force: bool = False,
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
     name = plan.scene.name
-    bar = progress_bar(progress, name) if isinstance(progress, bool) else progress
+    bar = (progress_bar(progress, unit="spp", desc=name, leave=False)
+           if isinstance(progress, bool) else progress)
     try:
         tail = run_bridge(cmd, name, bar, should_stop)
         if not complete_result(tmp, plan):   # never an entry without its files

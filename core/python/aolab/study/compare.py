@@ -48,7 +48,8 @@ from .output import OUTPUT_FILES, check_out, publish, staging_folder
 from .findings import ACCUMULATED_SUFFIX, WEAK_FRACTION
 from .results import (BASELINE, LIMIT_KIND, aggregate, flag_rows, flicker, flicker_floor,
                       make_row, reference_samples, score_row, tuned_results, write_results)
-from .runner import (Timing, load_scene, progress, run_configuration, score, score_outputs,
+from ..util.progress import bar as progress_bar
+from .runner import (Timing, load_scene, run_configuration, score, score_outputs,
                      score_remotely, still_scenes, time_fields, timed, vs_limit)
 from .temporal import Accumulation, accumulation_scores
 
@@ -313,7 +314,7 @@ class Study:
                                for m in methods},
         }
         threads = opts.threads
-        bar = progress(opts.progress, n_units, "run")
+        bar = progress_bar(opts.progress, n_units, "run")
         if opts.scheduler is not None or opts.workers > 1:
             self.client, self.cluster = connect(opts.scheduler, opts.workers, opts.security)
         try:

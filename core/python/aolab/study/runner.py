@@ -7,14 +7,13 @@ Its parts: the scene (:func:`load_scene`, :func:`make_scene`: a ``scenes.Scene``
 time scale), the time (:class:`Timing`, :func:`timed`, :func:`time_fields`), the score
 (:func:`score`, :func:`calibration`, :func:`vs_limit`), the run (:func:`run_configuration`,
 :func:`score_remotely` on a worker), the whole-frame guard (:func:`whole_frame_ok`) and what
-the drivers share around them (:func:`progress`, :func:`still_scenes`).
+the drivers share around them (:func:`still_scenes`; the progress bar is util.progress.bar).
 """
 
 from __future__ import annotations
 
 import math
 import statistics
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -418,18 +417,6 @@ def whole_frame_ok(all_mae: dict, ao_one: dict, default_mae: float | None = None
 
 # ----------------------------------------------------------------------------------------
 # What the drivers share
-
-
-def progress(enabled: bool, total: int, unit: str):
-    """A progress bar on stderr of ``total`` ``unit``s (tqdm), or None when not ``enabled``
-    or without tqdm."""
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, unit=unit, dynamic_ncols=True, file=sys.stderr)
 
 
 def still_scenes(scenes: dict) -> list[str]:

@@ -50,7 +50,8 @@ from ..util.files import check_paths
 from ..util.provenance import git_commit, machine_info
 from ..util.dask_cluster import ClusterSecurity, connect, wait_all
 from . import budget
-from .runner import Timing, evaluate, load_scene, progress, score_remotely, trial_scores
+from ..util.progress import bar as progress_bar
+from .runner import Timing, evaluate, load_scene, score_remotely, trial_scores
 
 #: The time budgets of the tuned presets, ms per 1280x720 frame (method + blur: runner.hd_scale).
 BUDGETS_MS = (50, 100, 200, 500)
@@ -695,7 +696,7 @@ def run(opts: Options) -> dict:
                       f"per scene; a configuration whose first run exceeds "
                       f"{opts.timing.max_ms:g} ms is timed by that run alone",
             "sampler": opts.sampler, "seed": opts.seed, "budgets_ms": list(BUDGETS_MS)}
-    bar = progress(opts.progress, opts.trials * len(methods), "trial")
+    bar = progress_bar(opts.progress, opts.trials * len(methods), "trial")
     results = {}
     from optuna.exceptions import StorageInternalError
     from sqlalchemy.exc import SQLAlchemyError
