@@ -17,13 +17,11 @@ Ctrl-C keeps what is done in DIR.partial/ and leaves the results of an earlier c
 DIR untouched (docs/conventions.md, "Output folders").
 """
 
-import json
 import math
 import os
 import signal
 import sys
 import time
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,23 +33,23 @@ from .. import catalog
 from .. import named_presets as presets_mod
 from ..raytracing import RTAO_LADDER
 from ..regions import DESCRIPTIONS as REGION_DESCRIPTIONS
-from ..regions import REGIONS
 from ..scenes import (Crop, Scene, check_sequence, find_scenes_dir, frame_folder, frame_numbers,
-                      frame_scene_name, load_cropped, manifest, noise_floor_peer,
-                      resolve_scenes, scene_files)
+                      frame_scene_name, load_cropped, manifest, resolve_scenes, scene_files)
 from ..scoring import signed_error_rgb
 from ..util import files
 from ..util.dask_cluster import ClusterSecurity, connect, wait_all
+from ..util.progress import bar as progress_bar
 from ..util.provenance import git_commit, machine_info
 from . import report, report_files
+from .companions import noise_floor, peer_images, peer_rows, rtao_rows
+from .findings import WEAK_FRACTION
 from .output import OUTPUT_FILES, check_out, publish, staging_folder
-from .findings import ACCUMULATED_SUFFIX, WEAK_FRACTION
-from .results import (BASELINE, LIMIT_KIND, aggregate, flag_rows, flicker, flicker_floor,
-                      make_row, reference_samples, score_row, tuned_results, write_results)
-from ..util.progress import bar as progress_bar
+from .results import (BASELINE, LIMIT_KIND, aggregate, config_row, flag_rows, make_row,
+                      score_row, tuned_results, write_results)
 from .runner import (Timing, load_scene, run_configuration, score, score_outputs,
-                     score_remotely, still_scenes, time_fields, timed, vs_limit)
-from .temporal import Accumulation, accumulation_scores
+                     score_remotely, still_scenes, time_fields, vs_limit)
+from .sequence_rows import accumulated_rows, sequence_info, sequence_means, set_flicker
+from .temporal import Accumulation
 
 # ----------------------------------------------------------------------------------------
 # The study
@@ -153,37 +151,13 @@ class _Images:
                 yield self.fastest[name], False
 
 
-#: Peers whose images the report shows: those plotted (the Cycles ladder, EEVEE) and the
-#: screen-space limits (the image grid shows the chosen one).
-IMAGED_PEERS = ("cycles", "eevee", LIMIT_KIND)
-
-
-def _peer_images(scene: Scene, rows: list[dict], images: _Images):
-    """Encodes every peer of IMAGED_PEERS; yields, for the grid, EEVEE, the Cycles rung with
-    most samples within the budget (else the cheapest), and the scene's screen-space limit."""
-    by_name = {r["method"]: r for r in rows if r["scene"] == scene.name}
-    for p in scene.peers:
-        if p.kind in IMAGED_PEERS and p.name in by_name:
-            images.encode(by_name[p.name], p.ao)
-    cycles = [p for p in scene.peers if p.kind == "cycles" and p.render_time_s is not None]
-    fits = [p for p in cycles if p.render_time_s * 1000 <= images.budget]
-    pick = max(fits, key=lambda p: p.entry.get("samples", 0)) if fits else (
-        min(cycles, key=lambda p: p.render_time_s) if cycles else None)
-    chosen = [p for p in scene.peers if p.kind == "eevee"] + ([pick] if pick else [])
-    for p in chosen:
-        if p.name in by_name:
-            yield by_name[p.name], p is not pick or bool(fits)
-    if scene.limit is not None and scene.limit.name in by_name:
-        yield by_name[scene.limit.name], True
-
-
 def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
     """A scene's images for the report, encoded (report_files.webp_bytes): the reference,
     every imaged configuration's AO and signed error ("configs", by "method/label"), and the
     image grid's entries, each naming its configuration."""
     valid = scene.regions["all"]
     entries = []
-    shown = list(images.chosen()) + list(_peer_images(scene, rows, images))
+    shown = list(images.chosen()) + list(peer_images(scene, rows, images))
     for row, within in shown:
         entries.append({"key": row["key"], "config": f'{row["method"]}/{row["label"]}',
                         "method": row["method"], "label": row["label"],
@@ -192,16 +166,6 @@ def scene_images(scene: Scene, images: _Images, rows: list[dict]) -> dict:
     reference = _downscale(np.where(valid, scene.reference, 1.0), images.width)
     return {"reference": report_files.webp_bytes(reference), "configs": images.configs,
             "entries": entries, "size": [reference.shape[1], reference.shape[0]]}
-
-
-def rtao_not_run_reason(e: BaseException) -> str:
-    """Why rtao did not run on a scene, as results.json keeps it: a missing mesh said without
-    its path (the run's command line says where; the results name no folder of the machine),
-    any other reason (a mesh of another scene, a refused range) as it is."""
-    if isinstance(e, FileNotFoundError):
-        return ("no reference.mesh beside its G-buffer (`aolab mesh` exports one, "
-                "docs/methods/rtao.md)")
-    return str(e)
 
 
 def _method_runs(method: str, sweep: str) -> list[tuple[dict, list]]:
@@ -353,46 +317,14 @@ class Study:
                                     shown=frame == frames[0],
                                     temporal=(temporal, index) if temporal else None)
             if previous is not None:
-                floors.append(self._flicker(previous, scene))
+                floors.append(set_flicker(previous, scene, self.rows))
             previous = scene
-        first = self.scene_info[names[0]]
-        floor = [f for f in floors if f is not None]
-        self.scene_info[name] = {
-            "folder": str(folder), "sequence": True, "frames": frames, "frame_scenes": names,
-            "width": first["width"], "height": first["height"], "radius": first["radius"],
-            "title": manifest(folder).get("title", name), "samples": reference_samples(previous),
-            "flicker_floor": {
-                "value": float(np.mean(floor)), "pairs": floors, "estimated": True,
-                "source": "upper estimate from the reference's own values: binomial noise "
-                          "v(1 - v)/N per pixel and frame, independent between frames (2-4x "
-                          "the noise Cycles' stratified samples have on the stills)"}
-            if floor else None}
-        mine = [r for r in self.rows if r.get("sequence") == name]
-        means = aggregate(mine, names, name, unit="frame")
-        if temporal is not None:
-            self.scene_info[name]["accumulation"] = accumulation_scores(mine, means, frames,
-                                                                        temporal)
-        for r in means:
-            r["sequence"] = name
-            self.rows.append(r)
+        info = self.scene_info[name] = sequence_info(folder, frames, names,
+                                                     self.scene_info[names[0]], previous, floors)
+        self.rows.extend(sequence_means(self.rows, name, names, frames, info, temporal))
         self.images[name] = self.images.get(names[0])
         self.complete_scenes.append(name)
         self.write(partial=True)
-
-    def _flicker(self, previous: Scene, scene: Scene) -> float | None:
-        """Sets the flicker of every row of ``scene`` scored in both frames (against
-        ``previous``) and returns the reference's flicker floor for the pair."""
-        valid_prev, valid = previous.regions["all"], scene.regions["all"]
-        for r in self.rows:
-            if r["scene"] != scene.name:
-                continue
-            kept = (r["kind"], r["method"], r["label"])
-            if kept in previous.outputs and kept in scene.outputs:
-                r["flicker"] = flicker(previous.outputs[kept], scene.outputs[kept],
-                                       previous.reference, scene.reference, valid_prev, valid)
-        previous.outputs = None     # only the frame before is needed: free its images
-        return flicker_floor(previous.reference, scene.reference, valid_prev, valid,
-                             min(reference_samples(previous), reference_samples(scene)))
 
     def _run_scene(self, folder: Path, plan: dict, threads: int, bar, name: str | None = None,
                    sequence: tuple[str, int] | None = None, shown: bool = True,
@@ -428,7 +360,7 @@ class Study:
                         note="no occlusion at all (AO = 1 everywhere)")
         score_row(scene, base, np.ones_like(scene.reference))
         self.rows.append(base)
-        self._peers(scene)
+        self.rows.extend(peer_rows(scene, self.scene_info[scene.name]))
         if bar is not None:
             bar.update(1)
         frame = temporal[1] if temporal is not None else None
@@ -443,8 +375,11 @@ class Study:
                                  temporal[0] if temporal is not None else None)
                 if bar is not None:
                     bar.update(1)
-        self._rtao_ladder(scene, threads, images, bar)
-        self._noise_floor(scene)
+        timing = Timing(opts.warmup, opts.repeat, threads, opts.max_ms)
+        for row in rtao_rows(scene, opts.rtao_ladder, timing, images,
+                             self.scene_info[scene.name], self.notes, bar):
+            self.rows.append(row)   # (one by one: Ctrl-C keeps the rungs timed so far)
+        self.scene_info[scene.name]["noise_floor"] = noise_floor(scene, self.rows)
         if shown:
             self.images[scene.name] = scene_images(scene, images, self.rows)
         if sequence is None:   # a sequence is complete with its last frame (_run_sequence)
@@ -469,22 +404,13 @@ class Study:
         wait_all(self.client, list(futures.values()), lambda: None)
         return {k: f.result() for k, f in futures.items()}
 
-    def _config_row(self, scene, method, s, threads, temporal, accumulated=False, **fields):
-        """The row of configuration ``s`` of ``method`` (its accumulated one if
-        ``accumulated``) on ``scene``."""
-        extra = {} if temporal is None else {"accumulated": accumulated,
-                                             "frame_index": temporal.index}
-        label = s.label + (ACCUMULATED_SUFFIX if accumulated else "")
-        return make_row(scene, "method", method, label, preset=s.preset or "",
-                        settings=s.recorded_settings(), threads=threads, **extra, **fields)
-
     def _run_config(self, scene, method, compute_settings, settings, threads, images,
                     remote: dict | None = None, temporal: Accumulation | None = None):
         """One group of configurations (the same compute settings, blurred or not): run by
         the runner, timed here, scored here or, with ``remote`` (runner.score_remotely's
         result), on the cluster. With ``temporal`` (a frame of a sequence with motion) the
         method runs at frame=k, and each configuration also gets its accumulated row
-        (_accumulated_rows)."""
+        (sequence_rows.accumulated_rows)."""
         opts = self.opts
         timing = Timing(opts.warmup, opts.repeat, threads, opts.max_ms)
         try:
@@ -494,8 +420,8 @@ class Study:
                                     frame=temporal.index if temporal is not None else None)
         except (ValueError, RuntimeError) as e:
             for accumulated in (False, True) if temporal is not None else (False,):
-                self.rows.extend(self._config_row(scene, method, s, threads, temporal,
-                                                  accumulated, note=f"error: {e}")
+                self.rows.extend(config_row(scene, method, s, threads, temporal, accumulated,
+                                            note=f"error: {e}")
                                  for s in settings)
             return
         # Configurations of the group with the same blur switch give the same image: it is
@@ -503,9 +429,9 @@ class Study:
         score_outputs(run, scene, timing, [bool(s.blur) for s in settings], remote=remote)
         for s in settings:
             out = run.output(s.blur)
-            row = self._config_row(scene, method, s, threads, temporal, runs=len(run.times),
-                                   **time_fields("method", run.times),
-                                   **time_fields("blur", out.blur_times))
+            row = config_row(scene, method, s, threads, temporal, runs=len(run.times),
+                             **time_fields("method", run.times),
+                             **time_fields("blur", out.blur_times))
             row["total_ms"] = row["method_ms"] + (row.get("blur_ms") or 0.0)
             if out.scores is None:
                 row["note"] = (f"output has shape {out.ao.shape} (RGB, e.g. colour bleeding): "
@@ -516,128 +442,9 @@ class Study:
                 images.offer(row, out.ao)
             self.rows.append(row)
         if temporal is not None:
-            self._accumulated_rows(scene, compute_settings, settings, threads, temporal, run)
-
-    def _accumulated_rows(self, scene, compute_settings, settings, threads,
-                          temporal: Accumulation, run) -> None:
-        """Each configuration of a group accumulated: its output of this frame (``run``'s)
-        blended into the history of that output, scored like any output; its time the
-        method's and the blur's, as its single-frame row's, plus the step's
-        (Accumulation.begin_frame). An RGB output is not accumulated."""
-        accumulated: dict[bool, tuple] = {}
-        for s in settings:
-            blur, out = run.blurred(s.blur), run.output(s.blur)
-            row = self._config_row(scene, run.method, s, threads, temporal, True,
-                                   runs=len(run.times), **time_fields("method", run.times),
-                                   **time_fields("blur", out.blur_times),
-                                   **time_fields("accumulate", temporal.times))
-            row["total_ms"] = (row["method_ms"] + (row.get("blur_ms") or 0.0)
-                               + row["accumulate_ms"])
-            if out.scores is None:
-                row["note"] = "RGB output: not accumulated (the step takes 1-channel AO)"
+            for row in accumulated_rows(scene, compute_settings, settings, threads, temporal,
+                                        run):
                 self.rows.append(row)
-                continue
-            if blur not in accumulated:
-                key = (run.method, json.dumps(compute_settings, sort_keys=True, default=str),
-                       blur)
-                step = temporal.step(key, out.ao, scene.g, threads)
-                accumulated[blur] = (step, score(step, scene), vs_limit(step, scene))
-            out, got, limit = accumulated[blur]
-            score_row(scene, row, out, got)
-            row["occluded_mae_vs_limit"] = limit
-            self.rows.append(row)
-
-    def _rtao_ladder(self, scene: Scene, threads: int, images, bar) -> None:
-        """rtao at each rung of the ladder against the scene's mesh (the file beside its
-        reference.exr), timed like a method: the BVH is built once and timed apart, its time
-        stated in each row's note and settings, not added to the rung's time."""
-        ladder = self.opts.rtao_ladder
-        if not ladder:
-            return
-        try:
-            mesh = aolab.mesh_for_gbuffer(scene.g)
-            rays_scene = aolab.ray_scene(mesh, scene.g, threads=threads)
-            # rtao's range rule (docs/conventions.md, "Ranges"), before any rung is timed:
-            # a refused scene is noted like a missing mesh, a warned one once.
-            offsets = aolab.rtao_range(scene.g, rays_scene, radius=scene.radius,
-                                       threads=threads)
-            if offsets["refusal"]:
-                raise ValueError(offsets["refusal"])
-        except (ValueError, OSError) as e:
-            self.notes.append(f"{scene.name}: rtao not run ({e})")
-            self.scene_info[scene.name]["rtao_not_run"] = rtao_not_run_reason(e)
-            if bar is not None:
-                bar.update(len(ladder))
-            return
-        if offsets["warning"]:
-            self.notes.append(f"{scene.name}: {offsets['warning']}")
-        build_ms = rays_scene.build_seconds * 1000.0
-        info = {"triangles": rays_scene.triangles, "bvh_build_ms": build_ms}
-        self.scene_info[scene.name]["rtao"] = info
-        self.scene_info[scene.name]["rtao_offset"] = {
-            k: offsets[k] for k in ("pixels", "warned", "largest_share_of_radius")}
-        for rays in ladder:
-            if bar is not None:
-                bar.set_description(f"{scene.name}: rtao {rays} rays")
-            with warnings.catch_warnings():   # noted above, once
-                warnings.simplefilter("ignore", aolab.RtaoRangeWarning)
-                ao, times = timed(lambda: aolab.rtao(scene.g, rays_scene, radius=scene.radius,
-                                                     rays=rays, threads=threads),
-                                  self.opts.warmup, self.opts.repeat, self.opts.max_ms)
-            row = make_row(scene, "rtao", "rtao", f"{rays} ray{'s' if rays != 1 else ''}",
-                           preset="", settings={"rays": rays, **info}, threads=threads,
-                           runs=len(times),
-                           note=f"Embree BVH of {rays_scene.triangles} triangles built in "
-                                f"{build_ms:.1f} ms, apart (not in the time)",
-                           **time_fields("method", times))
-            row["total_ms"] = row["method_ms"]
-            score_row(scene, row, ao)
-            row["occluded_mae_vs_limit"] = vs_limit(ao, scene)
-            images.offer(row, ao)
-            self.rows.append(row)
-            if bar is not None:
-                bar.update(1)
-
-    def _peers(self, scene: Scene) -> None:
-        mine = []
-        for p in scene.peers:
-            ms = p.render_time_s * 1000 if p.render_time_s is not None else None
-            settings = {k: v for k, v in p.entry.items()
-                        if k not in ("name", "kind", "file", "render_time_s", "note")}
-            row = make_row(scene, p.kind, p.name, p.entry.get("label", p.name), preset="",
-                           settings=settings, method_ms=ms, total_ms=ms, runs=1 if ms else None,
-                           note=p.entry.get("note", ""))
-            score_row(scene, row, p.ao)
-            self.rows.append(row)
-            mine.append((p, row))
-        limits = [(p, r) for p, r in mine if p.kind == LIMIT_KIND
-                  and math.isfinite(r["metrics"]["occluded"]["mae"])]
-        if limits:
-            p, r = min(limits, key=lambda pr: pr[1]["metrics"]["occluded"]["mae"])
-            scene.limit = p
-            self.scene_info[scene.name]["limit"] = {
-                "key": r["key"], "name": p.name, "label": r["label"],
-                "thickness_r": p.entry.get("thickness_r"),
-                **{f"{reg}_mae": r["metrics"][reg]["mae"] for reg in REGIONS}}
-        for p, r in mine:
-            if p.kind != LIMIT_KIND:
-                r["occluded_mae_vs_limit"] = vs_limit(p.ao, scene)
-
-    def _noise_floor(self, scene: Scene) -> None:
-        """The reference's own noise floor (noise_floor_peer), per region, or unknown."""
-        mine = {r["method"]: r for r in self.rows if r["scene"] == scene.name and "metrics" in r}
-        info = self.scene_info[scene.name]
-        chosen = noise_floor_peer(scene.peers)
-        if chosen is None:
-            info["noise_floor"] = None
-            return
-        peer, factor, source = chosen
-        r = mine[peer.name]
-        info["noise_floor"] = {"source": source, "key": r["key"], "estimated": factor != 1.0,
-                               **{f"{reg}_mae": r["metrics"][reg]["mae"] * factor
-                                  for reg in REGIONS}}
-        if factor == 1.0:
-            info["noise_floor"]["all_ssim"] = r["metrics"]["all"]["ssim"]
 
 
 def run_study(opts: Options) -> int:

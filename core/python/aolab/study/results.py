@@ -19,7 +19,7 @@ from ..regions import REGIONS
 from ..scenes import Scene
 from ..util import files
 from . import stats
-from .findings import WEAK_FRACTION
+from .findings import ACCUMULATED_SUFFIX, WEAK_FRACTION
 from .runner import score
 from .temporal import DISOCCLUDED
 
@@ -109,6 +109,18 @@ def make_row(scene: Scene | str, kind: str, method: str, label: str, **extra) ->
             row.update(sequence=scene.sequence, frame=scene.frame)
     row.update(extra)
     return row
+
+
+def config_row(scene: Scene, method: str, s, threads: int, temporal=None,
+               accumulated: bool = False, **fields) -> dict:
+    """The row of configuration ``s`` (a named_presets setting) of ``method`` on ``scene``;
+    with ``temporal`` (a sequence's temporal.Accumulation) the frame's index and whether it
+    is the accumulated row (``accumulated``: its label + ACCUMULATED_SUFFIX)."""
+    extra = {} if temporal is None else {"accumulated": accumulated,
+                                         "frame_index": temporal.index}
+    label = s.label + (ACCUMULATED_SUFFIX if accumulated else "")
+    return make_row(scene, "method", method, label, preset=s.preset or "",
+                    settings=s.recorded_settings(), threads=threads, **extra, **fields)
 
 
 def add_scores(row: dict, scored: dict) -> None:
