@@ -26,9 +26,9 @@ struct Method {
   /// then checks for it itself, after validating the settings, so that a bad setting is
   /// reported as such rather than as missing colour. False: needs_color decides.
   bool color_depends_on_settings = false;
-  /// An oracle: the reference's definition evaluated on what a screen-space method can see;
-  /// correct, not fast — the study shows it as a bound, not as a contender.
-  bool oracle = false;
+  /// A bound: the reference's definition evaluated on what a screen-space method can see;
+  /// correct, not fast — a bound for the study, not a contender.
+  bool bound = false;
   /// True when the method has a SIMD kernel (RunOptions::kernel chooses); false: its scalar
   /// code is all it has, and Kernel::Simd runs that.
   bool has_simd_kernel = false;

@@ -1,6 +1,7 @@
 // HBAO timing at 1280x720 on the `blocks` analytic scene (not a test: run `aolab_bench`,
 // or `scripts/bench.sh`, and record the medians in docs/benchmarks.md).
-//  - BM_HbaoOracle: the straightforward scalar single-thread implementation (the oracle);
+//  - BM_HbaoTextbook: the straightforward scalar single-thread implementation (the textbook
+//    version, tests/textbook);
 //  - BM_Hbao/threads: the library's implementation, N_d = 8, N_s = 8;
 //  - BM_HbaoRadius/scale: how time grows with R at fixed N_d, N_s (the samples spread out,
 //    so cache misses grow) and BM_HbaoRadiusDensity/scale at constant sample density
@@ -10,7 +11,7 @@
 #include "core/methods/hbao/hbao.h"
 #include "core/scenes/analytic_scenes.h"
 #include "tests/bench/bench_scene.h"
-#include "tests/oracles/hbao_oracle.h"
+#include "tests/textbook/hbao_textbook.h"
 
 namespace {
 
@@ -25,12 +26,12 @@ HbaoSettings settings(float radius_scale = 1.0f, int steps = kHbaoDefaultSteps) 
   return st;
 }
 
-void BM_HbaoOracle(benchmark::State& state) {
+void BM_HbaoTextbook(benchmark::State& state) {
   const GBuffer g = gbuffer();
-  for (auto _ : state) benchmark::DoNotOptimize(hbao_oracle(g, settings()));
+  for (auto _ : state) benchmark::DoNotOptimize(hbao_textbook(g, settings()));
   state.counters["threads"] = 1;
 }
-BENCHMARK(BM_HbaoOracle)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HbaoTextbook)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Hbao(benchmark::State& state) {
   const GBuffer g = gbuffer();

@@ -1,7 +1,7 @@
 // Screen-space limit timing at 1280x720 on the `blocks` analytic scene, R = 0.25, 2 threads
 // (not a test: run `aolab_bench --benchmark_filter=ScreenSpaceLimit` and record the medians
 // in docs/methods/screen_space_limit.md). The cost is linear in the ray count, so a few low
-// counts measure it; the default 256 rays takes minutes, which is why it is an oracle.
+// counts measure it; the default 256 rays takes minutes: a bound, correct but not fast.
 //  - BM_ScreenSpaceLimit/rays: 4, 16, 64 rays, unbounded thickness.
 #include <benchmark/benchmark.h>
 

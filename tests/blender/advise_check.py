@@ -55,7 +55,7 @@ if mode == "timing":
     from aolab.named_presets import preset_names
     for m in scene.aolab.methods:
         g = getattr(scene.aolab, "m_" + m)
-        if not library.aolab.method_info(m).get("oracle", False):
+        if not library.aolab.method_info(m)["bound"]:
             g.use_method = True
             if "medium" in preset_names(m):
                 g.preset = "medium"

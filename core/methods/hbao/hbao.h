@@ -153,8 +153,8 @@ Image hbao(const GBuffer& g, const HbaoSettings& settings, const RunOptions& opt
 /// The registry entry.
 Method hbao_method();
 
-// ---- The per-pixel sampling pattern, shared with the test oracle so both sample the same
-// texels; the oracle re-derives everything else in double precision. ----
+// ---- The per-pixel sampling pattern, shared with the textbook version (tests/textbook)
+// so both sample the same texels; it re-derives everything else in double precision. ----
 
 struct HbaoPixelPattern {
   float rotation;  ///< fraction of one direction spacing, [0, 1)

@@ -196,9 +196,9 @@ inline LsaoWeight lsao_falloff(float q2, LsaoFalloff falloff) {
           std::min(1.0f, (1.0f + kLsaoFalloffOffset) * rest)};
 }
 
-// ---- The layout of lines and samples (§5.1, §5.2), shared with the test oracle so both
-// sweep the same samples and gather the same way; the oracle re-derives the hull and the
-// estimator in double precision. ----
+// ---- The layout of lines and samples (§5.1, §5.2), shared with the textbook version
+// (tests/textbook) so both sweep the same samples and gather the same way; the textbook
+// version re-derives the hull and the estimator in double precision. ----
 
 /// One line of samples: sample j is at origin + j·step (pixel coordinates, the centre of
 /// pixel (i, j) is (i + 0.5, j + 0.5)), for j in [first, first + count).
@@ -248,7 +248,8 @@ struct LsaoPlan {
 LsaoPlan lsao_plan(const GBuffer& g, const LsaoSettings& s);
 
 /// Position (pixels) of sample j of a line of `lines` whose step is (step_x, step_y):
-/// computed one way everywhere, so the sweep, the gather and the oracle agree to the bit.
+/// computed one way everywhere, so the sweep, the gather and the textbook version agree to
+/// the bit.
 inline void lsao_sample_position(const LsaoLine& line, const SweepDirection& d, int j, double& x,
                                  double& y) {
   x = line.origin_x + double(j) * d.step_x;

@@ -224,12 +224,12 @@ Image screen_space_limit(const GBuffer& g, const ScreenSpaceLimitSettings& s,
 
 Method screen_space_limit_method() {
   Method m = registered_method(
-      "screen_space_limit", "Screen-space limit (oracle)",
-      "the reference's definition (Cycles' AO pass) evaluated on the depth buffer; an oracle, "
-      "not a published method",
+      "screen_space_limit", "Screen-space limit (bound)",
+      "the reference's definition (Cycles' AO pass) evaluated on the depth buffer; a bound "
+      "for the study, not a published method",
       kScreenSpaceLimitFields, screen_space_limit);
   m.needs_normal = true;
-  m.oracle = true;
+  m.bound = true;
   return m;
 }
 

@@ -1,6 +1,6 @@
 // The screen-space limit: the reference's own definition of AO evaluated on what a
-// screen-space method can see. Not a published method but an oracle: the best any method
-// that reads only this G-buffer could do, so the study can show it as a bound.
+// screen-space method can see. Not a published method but a bound: the best any method that
+// reads only this G-buffer could do, which the study shows beside the contenders.
 //
 // The reference is Cycles' AO pass (docs/blender_facts.md, "The Cycles AO pass"):
 //   A(P) = (1/π) ∫_Ω V_R(P, ω) (n·ω) dω,     V_R = 0 if a ray from P along ω hits within R,
@@ -24,7 +24,7 @@
 namespace aolab {
 
 /// Rays per pixel by default: 16 × 16 strata, a binomial standard error of at most
-/// 0.5/√256 = 0.031 per pixel — an oracle's noise must sit well below the errors it bounds.
+/// 0.5/√256 = 0.031 per pixel — a bound's noise must sit well below the errors it bounds.
 constexpr int kScreenSpaceLimitDefaultRays = 256;
 
 /// The largest thickness, and its default: 1e30 view-space units stands for "unbounded"
@@ -88,7 +88,7 @@ std::vector<Image> screen_space_limit_thicknesses(const GBuffer& g,
                                                   const std::vector<float>& thicknesses,
                                                   const RunOptions& options = {});
 
-/// The registry entry (an oracle: Method::oracle).
+/// The registry entry (a bound: Method::bound).
 Method screen_space_limit_method();
 
 }  // namespace aolab

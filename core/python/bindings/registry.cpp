@@ -39,7 +39,7 @@ py::dict describe(const Method& m) {
   out["paper"] = m.paper;
   out["needs_normal"] = m.needs_normal;
   out["needs_color"] = m.needs_color;
-  out["oracle"] = m.oracle;
+  out["bound"] = m.bound;
   out["simd_kernel"] = m.has_simd_kernel;
   out["settings"] = settings;
   return out;

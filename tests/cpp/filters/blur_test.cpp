@@ -56,7 +56,8 @@ TEST(GaussianBlur, BackgroundNeitherContributesNorChanges) {
   }
 }
 
-// The filter as its definition reads, pixel by pixel: the oracle of the row-vectorised passes.
+// The filter as its definition reads, pixel by pixel: the textbook version the row-vectorised
+// passes are checked against.
 Image blur_by_definition(const Image& ao, const GBuffer& g, const BlurSettings& s) {
   const int w = ao.width(), h = ao.height(), half = s.taps / 2;
   std::vector<float> weights(s.taps);

@@ -85,7 +85,7 @@ const std::vector<SettingValues>& extra_configurations(const std::string& method
   return it == table.end() ? none : it->second;
 }
 
-// What the suite runs a method with instead of its defaults, for oracles too slow at their
+// What the suite runs a method with instead of its defaults, for bounds too slow at their
 // defaults for a suite of many runs: the screen-space limit's 256 rays per pixel march
 // every pixel a ray crosses, up to the image border at the huge radii, and the contract
 // does not depend on the number of rays.

@@ -109,7 +109,7 @@ def test_a_preset_is_checked_as_compute_checks_it_before_any_timing(args, said):
 
 
 def test_a_method_without_the_default_preset_is_labelled_with_what_ran():
-    """screen_space_limit (an oracle: only its defaults) was labelled medium."""
+    """screen_space_limit (a bound: only its defaults) was labelled medium."""
     rows = kernel_bench.table(["screen_space_limit", "alchemy"], repeat=1, size=(8, 8),
                               blur=False, progress=None)
     assert [(r["method"], r["preset"]) for r in rows] == [("screen_space_limit", "default"),

@@ -76,7 +76,7 @@ def info(method):
     return aolab.method_info(method)
 
 
-# What the suite runs a method with instead of its defaults: an oracle too slow at its
+# What the suite runs a method with instead of its defaults: a bound too slow at its
 # defaults for a suite of many runs (the screen-space limit marches every pixel each of its
 # 256 rays crosses, to the image border at the huge radii); the contract does not depend on
 # the number of rays. Every variant is run on top of it.
@@ -265,7 +265,7 @@ def test_progress_and_cancel(method):
 def test_gil_is_released_during_compute(method):
     # 1920x1080: long enough (tens of ms for the fastest method on one thread) that a main
     # thread starved by a loaded machine still gets its handful of turns when the GIL is free;
-    # the oracle takes seconds at 1280x720 already
+    # the screen-space limit, a bound, takes seconds at 1280x720 already
     size = (1280, 720) if method == "screen_space_limit" else (1920, 1080)
     g = aolab.analytic_scene("blocks", *size)
     ticks = ticks_while(

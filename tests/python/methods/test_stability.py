@@ -37,7 +37,7 @@ def facing_normals(h, w):
     return n
 
 
-# What the suite runs a method with beside the case's own settings: an oracle too slow at
+# What the suite runs a method with beside the case's own settings: a bound too slow at
 # its defaults for a suite of many runs; what is checked does not depend on its ray count.
 SUITE_BASE = {"screen_space_limit": dict(rays=16)}
 

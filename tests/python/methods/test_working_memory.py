@@ -11,7 +11,8 @@ import aolab
 # 640 x 420: a float per pixel is just over 1 MiB, so every frame-sized array goes through the
 # cache (smaller blocks go straight to malloc).
 WIDTH, HEIGHT = 640, 420
-# The oracle's default 256 rays a pixel take minutes at this size; 4 exercise the same code.
+# The screen-space limit's default 256 rays a pixel take minutes at this size; 4 exercise
+# the same code.
 FAST = {"screen_space_limit": {"rays": 4}}
 
 

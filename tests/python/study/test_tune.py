@@ -86,14 +86,14 @@ def test_suggestions_respect_the_constraints():
             study.tell(trial, [0.0, 0.0])
 
 
-def test_default_methods_leave_out_oracles(monkeypatch):
+def test_default_methods_leave_out_bounds(monkeypatch):
     real = aolab.method_info
     first = aolab.methods()[0]
     monkeypatch.setattr(aolab, "method_info",
-                        lambda m: {**real(m), "oracle": True} if m == first else real(m))
+                        lambda m: {**real(m), "bound": True} if m == first else real(m))
     assert first not in tune.default_methods()
     assert tune.default_methods() == [m for m in aolab.methods()
-                                      if m != first and not real(m).get("oracle", False)]
+                                      if m != first and not real(m)["bound"]]
 
 
 def test_presets_enter_as_trials_inside_the_bounds():

@@ -80,7 +80,7 @@ DEFAULT_BENCH_PRESET = "medium"
 def bench_preset(method: str, preset: str | None) -> str:
     """The preset timed for ``method``: ``preset``, checked as ``aolab.compute(preset=...)``
     checks it (an unknown method or name is a ValueError listing what there is), or when
-    None DEFAULT_BENCH_PRESET, else the method's own defaults (an oracle such as
+    None DEFAULT_BENCH_PRESET, else the method's own defaults (a bound such as
     screen_space_limit has no presets: its row says "default", not a name it lacks)."""
     if preset is None:
         has = DEFAULT_BENCH_PRESET in presets_module.preset_names(method)
@@ -120,14 +120,14 @@ def peak_memory_mb(method: str, settings: dict, size=LARGE_SIZE) -> float:
 
 
 def default_methods() -> list[str]:
-    """Every method but the oracles."""
-    return [m for m in aolab.methods() if not aolab.method_info(m)["oracle"]]
+    """Every method but the bounds."""
+    return [m for m in aolab.methods() if not aolab.method_info(m)["bound"]]
 
 
 def table(methods=None, *, preset: str | None = None, repeat: int = 5, scaling: bool = False,
           radii: bool = False, size=SIZE, blur: bool = True, progress=print) -> list[dict]:
     """One row per method (see the module docstring) at ``preset`` (:func:`bench_preset`);
-    oracles are left out unless named. ``blur`` adds the shared blur's row (method
+    bounds are left out unless named. ``blur`` adds the shared blur's row (method
     ``BLUR_ROW``: no scalar/SIMD split, its time in every column). Every method and preset
     is checked before the first timing."""
     methods = methods or default_methods()

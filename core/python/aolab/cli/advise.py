@@ -51,7 +51,7 @@ def add_parser(sub):
                    help="samples of the cached Cycles reference looked for (default "
                    f"{advise.CYCLES_SPP})")
     a.add_argument("--methods", nargs="+", metavar="METHOD",
-                   help="methods to run (default: every method that is not an oracle)")
+                   help="methods to run (default: every method but the bounds)")
     a.add_argument("--threads", type=threads_option(), default=0,
                    help="worker threads (0 = all cores)")
     a.add_argument("--cache", help="cache folder of the renders (default $AOLAB_CACHE or "

@@ -23,7 +23,7 @@ def add_parser(sub):
     # No `choices`: Python 3.11 argparse checks an empty nargs="*" list against them and
     # refuses it; an unknown name is a ValueError from aolab.method_info instead.
     bt.add_argument("methods", nargs="*", metavar="METHOD",
-                    help="methods (default: every method but the oracles)")
+                    help="methods (default: every method but the bounds)")
     bt.add_argument("--preset", help="the preset to time, a name of `aolab presets METHOD` "
                     "(default medium, or default for a method without it; the shared blur is "
                     "left out)")

@@ -34,7 +34,7 @@ def add_parser(sub):
                    "(about 2.5 times the default study's time: 13 min on 2 cores)")
     c.add_argument("--methods", nargs="+", metavar="METHOD",
                    help="methods to run (default: every method of aolab.methods() except "
-                   "the oracles, such as screen_space_limit, which run only when named)")
+                   "the bounds, such as screen_space_limit, which run only when named)")
     c.add_argument("--sweep", choices=("quick", "presets", "full"), default="quick")
     c.add_argument("--out", default="out/compare", help="output folder (default out/compare)")
     add_timing_options(c, repeat=3, warmup=1, repeat_help="timed runs per configuration")

@@ -12,7 +12,7 @@ from .options import add_follow_symlinks_option, threads_option
 def add_parser(sub):
     p = sub.add_parser(
         "limits", help="compute the screen-space limit of each reference scene (committed)",
-        description="Computes the screen_space_limit oracle on each reference scene at several "
+        description="Computes the screen-space limit, a bound, on each reference scene at several "
         "thicknesses (multiples of R) and writes reference_scenes/<scene>/limits/ "
         "(limits.json and one EXR each), which aolab compare reads. Up-to-date entries are "
         "kept; minutes per scene and thickness on 2 cores.")

@@ -26,7 +26,7 @@ def add_parser(sub):
         "(docs/tuning.md). Trials are kept in DIR/tune.db: Ctrl-C keeps them and the same "
         "command resumes.")
     t.add_argument("--methods", nargs="+", metavar="METHOD",
-                   help="methods to tune (default: every method that is not an oracle)")
+                   help="methods to tune (default: every method but the bounds)")
     t.add_argument("--trials", type=int_option("--trials", 1, max_trials),
                    default=DEFAULT_TRIALS,
                    help=f"trials each method's study should have, 1 to {max_trials} (a rerun "

@@ -1,7 +1,7 @@
 """``aolab advise`` and the add-on's Advise: which method, at which settings, for this scene
 within a time budget (docs/comparison.md, "Advise: which method for this scene").
 
-Every method but the oracles runs each of its named presets — default, the study's presets
+Every method but the bounds runs each of its named presets — default, the study's presets
 and the tuned ones (aolab.presets) — once per distinct configuration on the scene's
 G-buffer, timed and scored by the study's runner as ``aolab tune``'s trials are (a warm-up,
 the median of the repeats, the shared blur timed apart and added, scaled to a 1280x720

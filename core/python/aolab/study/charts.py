@@ -320,7 +320,7 @@ def hlines_for(rows: list[dict], column: str, floor: dict | None) -> list[dict]:
     if limit is not None and metric(limit, column) is not None:
         out.append({"key": limit["key"], "value": metric(limit, column), "cls": "limit",
                     "label": f"screen-space limit ({limit['label']})",
-                    "title": "the screen-space limit at its best thickness (an oracle)"})
+                    "title": "the screen-space limit at its best thickness (a bound)"})
     for r in rows:
         if r["kind"] == "baseline":
             out.append({"key": r["key"], "value": metric(r, column), "cls": "baseline",

@@ -252,10 +252,10 @@ class Study:
             else:
                 load_cropped(folder, opts.crop, follow_symlinks=follow)
         report_files.check_names_fit(Path(opts.out))
-        # Oracles (method_info "oracle") are bounds, not contenders, and slow: they run only
-        # when named.
+        # Bounds (method_info "bound") are not contenders, and slow: they run only when
+        # named.
         methods = opts.methods if opts.methods else [
-            m for m in aolab.methods() if not aolab.method_info(m).get("oracle", False)]
+            m for m in aolab.methods() if not aolab.method_info(m)["bound"]]
         known = aolab.methods()
         for m in methods:
             if m not in known:

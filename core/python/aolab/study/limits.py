@@ -119,7 +119,7 @@ def compute_scene(folder: Path, thickness_r, rays: int, threads: int, force: boo
                          "file": f"{name}.exr", "thickness": t, **want,
                          "render_time_s": seconds, "computed_with": together,
                          "threads": threads, "aolab_commit": commit, "date": date,
-                         "note": "the screen-space limit (an oracle): the reference's AO on "
+                         "note": "the screen-space limit (a bound): the reference's AO on "
                                  "the depth buffer alone, solid for T behind each surface; "
                                  "render_time_s is the one pass that computed the entries of "
                                  "computed_with"}

@@ -312,7 +312,7 @@ def image_grid(scene: str, imgs: dict | None, names: dict | None, budget_ms: flo
                        + ("" if e["within_budget"] else f" — <i>fastest setting; none within "
                           f"{budget_ms:g} ms</i>"))
         else:
-            what = "oracle" if e["kind"] == "limit" else "render"
+            what = "bound" if e["kind"] == "limit" else "render"
             t = f'{e["total_ms"] / 1000:.1f} s {what}' if e.get("total_ms") else "no time"
             caption = f'<b>{html.escape(e["method"])}</b> ({t}), MAE {e["mae"]:.4f}'
         ao, err = names["configs"].get(e["config"]) or (None, None)

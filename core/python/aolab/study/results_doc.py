@@ -56,7 +56,7 @@ def _table(rows: list[dict]) -> list[str]:
         t = number(r.get("total_ms"))
         tms = "—" if t is None else (f"{t:.1f}" if r["kind"] in ("method", "rtao") else
                                      f"{t:.0f} (render)" if r["kind"] != "limit" else
-                                     f"{t / 1000:.0f} s (oracle)")
+                                     f"{t / 1000:.0f} s (bound)")
         flag = "**weak on occluded**" if r.get("flag") == "weak" else ""
         iv = r.get("intervals") or {}
         out.append(

@@ -253,8 +253,8 @@ class Options:
 
 
 def default_methods() -> list[str]:
-    """Every method but the oracles (method_info's "oracle": True)."""
-    return [m for m in aolab.methods() if not aolab.method_info(m).get("oracle", False)]
+    """Every method but the bounds (method_info's "bound": True)."""
+    return [m for m in aolab.methods() if not aolab.method_info(m)["bound"]]
 
 
 def trial_constraints(trial) -> list[float]:

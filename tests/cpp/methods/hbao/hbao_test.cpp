@@ -1,5 +1,5 @@
 // Known answers for HBAO (Bavoil et al. 2008) on analytic scenes, agreement with the
-// double-precision oracle, the seed. What every method promises (planes, background,
+// double-precision textbook version, the seed. What every method promises (planes, background,
 // threads, settings errors) is conformance_test's.
 #include "core/methods/hbao/hbao.h"
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "tests/cpp/test_support.h"
-#include "tests/oracles/hbao_oracle.h"
+#include "tests/textbook/hbao_textbook.h"
 
 namespace aolab {
 namespace {
@@ -37,7 +37,7 @@ TEST(Hbao, PerDirectionTangentShowsSnappingBiasOnTiltedPlane) {
   EXPECT_LT(min_valid(hbao(tilted.g, s), tilted.g), 0.99f);
 }
 
-TEST(Hbao, MatchesOracle) {
+TEST(Hbao, MatchesTextbook) {
   // {per_sample_tangent, incremental_attenuation, integral, attenuation}: the paper's
   // definition in both tangent modes and with eq. 2, then the reference's cosine integral and
   // no attenuation, alone and together, in both tangent modes.
@@ -66,10 +66,10 @@ TEST(Hbao, MatchesOracle) {
       s.incremental_attenuation = modes[mode].incremental;
       s.integral = int(modes[mode].integral);
       s.attenuation = int(modes[mode].attenuation);
-      const Image fast = hbao(f.g, s), oracle = hbao_oracle(f.g, s);
+      const Image fast = hbao(f.g, s), textbook = hbao_textbook(f.g, s);
       float worst = 0;
       for (std::size_t i = 0; i < fast.pixels().size(); ++i)
-        worst = std::max(worst, std::abs(fast.pixels()[i] - oracle.pixels()[i]));
+        worst = std::max(worst, std::abs(fast.pixels()[i] - textbook.pixels()[i]));
       EXPECT_LT(worst, 1e-4f) << scene << " mode " << mode;
     }
 }

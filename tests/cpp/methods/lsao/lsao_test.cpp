@@ -14,7 +14,7 @@
 
 #include "core/io/image_io.h"
 #include "tests/cpp/test_support.h"
-#include "tests/oracles/lsao_oracle.h"
+#include "tests/textbook/lsao_textbook.h"
 
 namespace aolab {
 namespace {
@@ -261,13 +261,13 @@ TEST(Lsao, RealTangentStrategiesKeepTiltedPlanesOpen) {
 
 struct HullStats {
   double mismatch_rate;  // share of geometry samples whose value differs by more than 1e-4
-  double mean_abs;       // mean |A_hull − A_oracle| over geometry pixels
+  double mean_abs;       // mean |A_hull − A_textbook| over geometry pixels
   double max_abs;
 };
 
-HullStats compare_with_oracle(const GBuffer& g, const LsaoSettings& s) {
+HullStats compare_with_textbook(const GBuffer& g, const LsaoSettings& s) {
   const LsaoSweep fast = lsao_sweep(g, s);
-  const LsaoSweep slow = lsao_oracle_sweep(g, s);
+  const LsaoSweep slow = lsao_textbook_sweep(g, s);
   EXPECT_EQ(fast.buffer.size(), slow.buffer.size());
   std::size_t samples = 0, mismatches = 0;
   const LsaoPlan& plan = fast.plan;
@@ -311,7 +311,7 @@ TEST_P(LsaoHull, MatchesBruteForceExceptRareDegenerateCases) {
   LsaoSettings s;
   s.radius = c.radius;
   s.tangent_strategy = c.strategy;
-  const HullStats h = compare_with_oracle(f.g, s);
+  const HullStats h = compare_with_textbook(f.g, s);
   std::cout << "[hull] " << c.scene << " R " << c.radius << " strategy " << c.strategy
             << ": samples differing " << 100 * h.mismatch_rate << " %, mean |dA| "
             << 100 * h.mean_abs << " %, max |dA| " << h.max_abs << "\n";
@@ -334,7 +334,7 @@ TEST(Lsao, HullSearchLiesBetweenAlgorithmOneAndBruteForce) {
   SceneFixture f("blocks", 128, 72);
   LsaoSettings s;
   s.radius = 2.0f;
-  const LsaoSweep paper = lsao_sweep(f.g, s), slow = lsao_oracle_sweep(f.g, s);
+  const LsaoSweep paper = lsao_sweep(f.g, s), slow = lsao_textbook_sweep(f.g, s);
   for (int search : {4, 256}) {
     s.hull_search = search;
     const LsaoSweep fast = lsao_sweep(f.g, s);
@@ -363,7 +363,7 @@ TEST(Lsao, HullMatchesBruteForceInOtherLayouts) {
   for (int i : {1, 4, 5, 6}) {
     LsaoSettings s = config(i);
     s.radius = 1.0f;
-    const HullStats h = compare_with_oracle(f.g, s);
+    const HullStats h = compare_with_textbook(f.g, s);
     EXPECT_LT(h.mean_abs, 0.005) << "config " << i;
   }
 }
@@ -375,7 +375,7 @@ TEST(Lsao, GatherPicksTheNearestPassingValueOfEveryDirection) {
   for (int i : {0, 4, 5, 7}) {
     const LsaoSettings s = config(i);
     const LsaoSweep sweep = lsao_sweep(f.g, s);
-    const Image fast = lsao_gather(f.g, s, sweep), slow = lsao_oracle_gather(f.g, s, sweep);
+    const Image fast = lsao_gather(f.g, s, sweep), slow = lsao_textbook_gather(f.g, s, sweep);
     int differ = 0;
     for (std::size_t p = 0; p < fast.pixels().size(); ++p)
       if (std::abs(fast.pixels()[p] - slow.pixels()[p]) > 1e-6f) ++differ;
@@ -412,7 +412,7 @@ TEST(Lsao, OcclusionGrowsWithRadiusAndEq3IsLighter) {
   // Per sample, by brute force: the largest weighted occluder can only lose weight.
   LsaoSettings eq2, eq3;
   eq3.falloff = 3;
-  const LsaoSweep a = lsao_oracle_sweep(f.g, eq2), b = lsao_oracle_sweep(f.g, eq3);
+  const LsaoSweep a = lsao_textbook_sweep(f.g, eq2), b = lsao_textbook_sweep(f.g, eq3);
   for (std::size_t i = 0; i < a.buffer.size(); ++i)  // depths are equal, values can only drop
     if (a.buffer[i] == a.buffer[i]) {
       ASSERT_LE(b.buffer[i], a.buffer[i] + 1e-6f) << i;
@@ -420,7 +420,7 @@ TEST(Lsao, OcclusionGrowsWithRadiusAndEq3IsLighter) {
 }
 
 // The cutoff falloff (ρ = 1 within R, 0 beyond, the reference's) against the brute-force
-// oracle, per sample never lighter than eq. 3 (ρ0 ≤ 1 within R, 0 beyond, so the largest
+// textbook version, per sample never lighter than eq. 3 (ρ0 ≤ 1 within R, 0 beyond, so the largest
 // weighted occluder can only gain weight), and on the scenes with a closed form
 // (cycles_ao_beside_wall) closer to Cycles than the paper's eq. 2: measured MAE 0.041 against
 // 0.089 (wall), 0.022 against 0.075 (crease).
@@ -436,11 +436,11 @@ TEST(Lsao, CutoffMatchesBruteForceAndIsDarkerThanEq3) {
       std::cout << "[cutoff] " << scene << " MAE eq. 2 " << e2 << ", cutoff " << ec << "\n";
       EXPECT_LT(ec, 0.6 * e2) << scene;
     }
-    const HullStats h = compare_with_oracle(f.g, cutoff);
+    const HullStats h = compare_with_textbook(f.g, cutoff);
     std::cout << "[hull] cutoff " << scene << ": samples differing " << 100 * h.mismatch_rate
               << " %, mean |dA| " << 100 * h.mean_abs << " %, max |dA| " << h.max_abs << "\n";
     EXPECT_LT(h.mean_abs, kCutoffHullMeanAbs) << scene;
-    const LsaoSweep a = lsao_oracle_sweep(f.g, eq3), b = lsao_oracle_sweep(f.g, cutoff);
+    const LsaoSweep a = lsao_textbook_sweep(f.g, eq3), b = lsao_textbook_sweep(f.g, cutoff);
     for (std::size_t i = 0; i < a.buffer.size(); ++i)
       if (a.buffer[i] == a.buffer[i]) {
         ASSERT_GE(b.buffer[i], a.buffer[i] - 1e-6f) << scene << " " << i;
@@ -481,7 +481,7 @@ TEST(Lsao, RegistryNeedsDepthOnly) {
 }
 
 // The same acceptance on the committed Cycles reference scenes (their real G-buffers, at
-// each scene's R). The brute-force oracle walks every earlier sample of a line for each
+// each scene's R). The brute-force textbook version walks every earlier sample of a line for each
 // receiver (quadratic in the line length), so each scene is cropped to its central 320x180:
 // the crop is a G-buffer of its own (principal point shifted).
 struct ReferenceCrop {
@@ -520,7 +520,7 @@ TEST_P(LsaoHullOnReferences, MatchesBruteForce) {
     LsaoSettings s;
     s.radius = float(data.sidecar.ao_distance);
     s.hull_search = search;
-    const HullStats hs = compare_with_oracle(g, s);
+    const HullStats hs = compare_with_textbook(g, s);
     std::cout << "[hull] reference " << name << " R " << s.radius << " hull_search " << search
               << ": samples differing " << 100 * hs.mismatch_rate << " %, mean |dA| "
               << 100 * hs.mean_abs << " %, max |dA| " << hs.max_abs << "\n";

@@ -249,10 +249,10 @@ TEST(ScreenSpaceLimit, ThicknessesAreValidatedLikeTheSetting) {
   EXPECT_NE(negative.find("-1"), std::string::npos) << negative;
 }
 
-TEST(ScreenSpaceLimit, IsMarkedAsAnOracle) {
-  EXPECT_TRUE(screen_space_limit_method().oracle);
+TEST(ScreenSpaceLimit, IsMarkedAsABound) {
+  EXPECT_TRUE(screen_space_limit_method().bound);
   EXPECT_TRUE(screen_space_limit_method().needs_normal);
-  EXPECT_FALSE(find_method("hbao").oracle);
+  EXPECT_FALSE(find_method("hbao").bound);
 }
 
 }  // namespace

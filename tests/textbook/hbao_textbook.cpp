@@ -1,4 +1,4 @@
-#include "tests/oracles/hbao_oracle.h"
+#include "tests/textbook/hbao_textbook.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,7 +38,7 @@ double cosine_band(const dvec3& n, double ux, double uy, double alpha, double t)
 
 }  // namespace
 
-Image hbao_oracle(const GBuffer& g, const HbaoSettings& s) {
+Image hbao_textbook(const GBuffer& g, const HbaoSettings& s) {
   const int w = g.width(), h = g.height();
   const Image normals = prepared_normals(g, 1);
   const CameraIntrinsics& cam = g.camera;

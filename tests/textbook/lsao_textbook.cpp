@@ -1,4 +1,4 @@
-#include "tests/oracles/lsao_oracle.h"
+#include "tests/textbook/lsao_textbook.h"
 
 #include <algorithm>
 #include <cmath>
@@ -68,7 +68,7 @@ double tangent_sin(const dvec2& n2, const dvec2& u, double fixed) {
 
 }  // namespace
 
-LsaoSweep lsao_oracle_sweep(const GBuffer& g, const LsaoSettings& s) {
+LsaoSweep lsao_textbook_sweep(const GBuffer& g, const LsaoSettings& s) {
   LsaoSweep sweep;
   sweep.plan = lsao_plan(g, s);
   const LsaoPlan& plan = sweep.plan;
@@ -137,7 +137,7 @@ LsaoSweep lsao_oracle_sweep(const GBuffer& g, const LsaoSettings& s) {
   return sweep;
 }
 
-Image lsao_oracle_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep) {
+Image lsao_textbook_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSweep& sweep) {
   const LsaoPlan& plan = sweep.plan;
   const int w = g.width(), h = g.height();
   const Buffer<float> depth = depth_with_background_as_nan(g);
@@ -187,8 +187,8 @@ Image lsao_oracle_gather(const GBuffer& g, const LsaoSettings& s, const LsaoSwee
   return out;
 }
 
-Image lsao_oracle(const GBuffer& g, const LsaoSettings& s) {
-  return lsao_gather(g, s, lsao_oracle_sweep(g, s));
+Image lsao_textbook(const GBuffer& g, const LsaoSettings& s) {
+  return lsao_gather(g, s, lsao_textbook_sweep(g, s));
 }
 
 }  // namespace aolab

@@ -2,7 +2,8 @@
 // trigonometry (α = atan(D.z/|D.xy|), sin h - sin t, or the cosine band from the angles
 // themselves), positions reconstructed per sample.
 // It shares only the per-pixel sampling pattern with core/methods/hbao/hbao.cpp (so both read the
-// same texels). It is the test oracle of the fast implementation and the baseline of its speed.
+// same texels). The textbook version the fast implementation is tested against, and the baseline
+// of its speed.
 #pragma once
 
 #include "core/base/gbuffer.h"
@@ -11,6 +12,6 @@
 
 namespace aolab {
 
-Image hbao_oracle(const GBuffer& g, const HbaoSettings& settings);
+Image hbao_textbook(const GBuffer& g, const HbaoSettings& settings);
 
 }  // namespace aolab
