@@ -31,8 +31,9 @@ def _sha256_of(path: Path, what: str) -> str:
 
 
 @dataclass
-class Scene:
-    """A scene Blender renders and the hash of what its render depends on."""
+class BlenderScene:
+    """A scene Blender renders (a .blend or a build script) and the hash of what its render
+    depends on: what a plan is made of, not the loaded scene the study scores (scenes.Scene)."""
     name: str
     kind: str            # "blend" or "script"
     path: Path           # the .blend or the build script
@@ -40,7 +41,7 @@ class Scene:
     content_sha256: str = ""
 
 
-def resolve_scene(spec: str, follow_symlinks: bool = False) -> Scene:
+def resolve_scene(spec: str, follow_symlinks: bool = False) -> BlenderScene:
     """The scene of ``spec`` (a .blend, a build script or a scene folder) and the hash of
     what its render depends on. A scene folder is confined (scenes.check_confined: a symbolic
     link among its files is refused unless ``follow_symlinks``), its build script a plain
@@ -54,14 +55,14 @@ def resolve_scene(spec: str, follow_symlinks: bool = False) -> Scene:
     if p.is_dir():
         return _scene_folder(p, spec, follow_symlinks)
     if p.suffix == ".blend":
-        return Scene(p.stem, "blend", p, {}, _sha256_of(p, "scene .blend"))
+        return BlenderScene(p.stem, "blend", p, {}, _sha256_of(p, "scene .blend"))
     if p.suffix == ".py":
-        return Scene(p.stem, "script", p, {}, _sha256_of(p, "scene build script"))
+        return BlenderScene(p.stem, "script", p, {}, _sha256_of(p, "scene build script"))
     raise ReferenceError(f"{spec}: a scene is a .blend, a .py build script or a folder with "
                          "manifest.json")
 
 
-def _scene_folder(p: Path, spec: str, follow_symlinks: bool) -> Scene:
+def _scene_folder(p: Path, spec: str, follow_symlinks: bool) -> BlenderScene:
     """The scene of a reference_scenes/<name> folder: its manifest, build script, the scene
     kit and the modules it uses, all hashed."""
     scenes.check_confined(p, follow_symlinks)
@@ -83,7 +84,7 @@ def _scene_folder(p: Path, spec: str, follow_symlinks: bool) -> Scene:
         h.update(files.read_bytes(kit, "scene kit"))
     for used in scene_uses(manifest, mpath):
         h.update(files.read_bytes(p.resolve().parent / used, "scene module"))
-    return Scene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
+    return BlenderScene(manifest.get("name", p.name), "script", script, manifest, h.hexdigest())
 
 
 def scene_uses(manifest: dict, mpath: Path) -> list[str]:
@@ -102,7 +103,7 @@ def scene_uses(manifest: dict, mpath: Path) -> list[str]:
 @dataclass
 class Plan:
     """One Blender run: a scene and what to render of it."""
-    scene: Scene
+    scene: BlenderScene
     spp: int
     radius: float | None      # None: the scene world's AO distance (a .blend's own)
     passes: list[str]
@@ -160,7 +161,7 @@ class Plan:
         return [folder / RESULT_EXR, *mesh, folder / RESULT_JSON]
 
 
-def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = None,
+def make_plan(scene: BlenderScene, *, spp: int | None = None, radius: float | None = None,
               methods: list[str] | None = None, passes: list[str] | None = None,
               resolution: tuple[int, int] | None = None, camera: str | None = None,
               gbuffer_samples: int = 1, scale: int | None = None) -> Plan:
@@ -191,7 +192,7 @@ def make_plan(scene: Scene, *, spp: int | None = None, radius: float | None = No
                 scale=scale)
 
 
-def manifest_frames(scene: Scene) -> list[int] | None:
+def manifest_frames(scene: BlenderScene) -> list[int] | None:
     """The frames a sequence scene's manifest names ({"start", "end", "step"}), or None."""
     f = scene.manifest.get("frames")
     if f is None:
