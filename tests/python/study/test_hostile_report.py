@@ -162,10 +162,10 @@ def test_a_file_system_with_short_names_is_refused_before_the_study(tmp_path, mo
 def test_a_reference_names_its_cache_entry_and_out_folder_from_a_bounded_name(tmp_path):
     """A scene's name (a manifest's "name", a .blend's stem) made a path: was a name with
     "/" or ".." left the cache and --out; one of 250 characters, too long a file name."""
-    from aolab.cycles.plan import Scene, make_plan
+    from aolab.cycles.plan import BlenderScene, make_plan
     from aolab.cycles.run import output_folder
     for name in ("../../outside", LONG, HOSTILE):
-        spec = Scene(name, "script", tmp_path / "build.py", {}, "0" * 64)
+        spec = BlenderScene(name, "script", tmp_path / "build.py", {}, "0" * 64)
         plan = make_plan(spec, passes=["depth", "normal"])
         assert plan.key_prefix() == f"{files.file_name_for(name)}-"
         assert output_folder(tmp_path / "out", plan, True) == \
